@@ -1,0 +1,244 @@
+"""Heading-sensor noise: Gaussian, zero-order held, seeded per run.
+
+The measured heading is ``theta_hat(t) = theta(t) + n(t)`` with
+``n(t) = std * z[held_sample_index(t, rate)]``, where ``z`` is the run's row of
+:func:`standard_noise`. A run's ``z`` depends only on ``(seed, index)``, so every
+controller, trajectory or noise level that shares a seed index sees the same sequence,
+scaled by ``std`` (common random numbers), however the runs are batched or distributed.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from numbers import Integral, Real
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+__all__ = [
+    "HeadingNoise",
+    "held_sample_index",
+    "noise_samples_needed",
+    "run_generator",
+    "standard_noise",
+]
+
+#: Relative tolerance of :func:`held_sample_index`: ``t * rate`` within this of an
+#: integer ``k`` counts as ``k`` (absorbs the rounding of ``k * ts * rate``).
+_INDEX_TOL = 1e-9
+
+
+def _real(value: object, name: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, Real):
+        raise ValueError(f"{name} must be a real number, got {value!r}")
+    out = float(value)
+    if not math.isfinite(out):
+        raise ValueError(f"{name} must be finite, got {value!r}")
+    return out
+
+
+def _nonneg_int(value: object, name: str) -> int:
+    if isinstance(value, bool) or not isinstance(value, Integral) or value < 0:
+        raise ValueError(f"{name} must be an integer >= 0, got {value!r}")
+    return int(value)
+
+
+@dataclass(frozen=True, kw_only=True)
+class HeadingNoise:
+    """Gaussian heading noise held constant for ``1 / rate`` seconds at a time.
+
+    Parameters
+    ----------
+    std : float, default 0.0
+        Standard deviation in rad, finite and >= 0 (0: no noise).
+    rate : float, default 100.0
+        Noise sample rate in Hz, finite and > 0; each value is held (zero-order hold)
+        for ``1 / rate`` s.
+
+    Raises
+    ------
+    ValueError
+        If ``std`` < 0 or ``rate`` <= 0 or either is not finite; the message names the
+        field and the value.
+
+    Examples
+    --------
+    >>> HeadingNoise.from_band_limited_power(0.1, 0.01)  # the paper's 0.1 W at 100 Hz
+    HeadingNoise(std=3.1622776601683795, rate=100.0)
+    """
+
+    std: float = 0.0
+    rate: float = 100.0
+
+    def __post_init__(self) -> None:
+        std = _real(self.std, "std")
+        if std < 0.0:
+            raise ValueError(f"std must be >= 0, got {self.std!r}")
+        rate = _real(self.rate, "rate")
+        if rate <= 0.0:
+            raise ValueError(f"rate must be > 0, got {self.rate!r}")
+        object.__setattr__(self, "std", std)
+        object.__setattr__(self, "rate", rate)
+
+    @classmethod
+    def from_band_limited_power(cls, power: float, sample_time: float) -> HeadingNoise:
+        """Noise equivalent to Simulink's "Band-Limited White Noise" block.
+
+        That block outputs Gaussian samples of variance ``power / sample_time`` held for
+        ``sample_time``.
+
+        Parameters
+        ----------
+        power : float
+            Noise power P (the block's "noise power"), finite and >= 0.
+        sample_time : float
+            Sample time Ts in s, finite and > 0.
+
+        Returns
+        -------
+        HeadingNoise
+            With ``std = sqrt(power / sample_time)`` and ``rate = 1 / sample_time``.
+
+        Raises
+        ------
+        ValueError
+            If ``power`` < 0 or ``sample_time`` <= 0 or either is not finite.
+        """
+        p = _real(power, "power")
+        if p < 0.0:
+            raise ValueError(f"power must be >= 0, got {power!r}")
+        ts = _real(sample_time, "sample_time")
+        if ts <= 0.0:
+            raise ValueError(f"sample_time must be > 0, got {sample_time!r}")
+        return cls(std=math.sqrt(p / ts), rate=1.0 / ts)
+
+
+def run_generator(seed: int, index: int) -> np.random.Generator:
+    """Generator of run number ``index`` under base ``seed``.
+
+    ``default_rng(SeedSequence(seed, spawn_key=(index,)))``, identical to the generator
+    of ``SeedSequence(seed).spawn(n)[index]`` for any ``n > index``: a run's random
+    numbers depend only on ``(seed, index)``, never on the worker, batch or chunk.
+
+    Parameters
+    ----------
+    seed : int
+        Base seed, >= 0.
+    index : int
+        Run index, >= 0.
+
+    Returns
+    -------
+    numpy.random.Generator
+
+    Raises
+    ------
+    ValueError
+        If ``seed`` or ``index`` is not an integer >= 0.
+    """
+    s = _nonneg_int(seed, "seed")
+    i = _nonneg_int(index, "index")
+    return np.random.default_rng(np.random.SeedSequence(s, spawn_key=(i,)))
+
+
+def standard_noise(seed: int, indices: ArrayLike, n_samples: int) -> NDArray[np.float64]:
+    """Standard-normal noise rows for the given runs.
+
+    Parameters
+    ----------
+    seed : int
+        Base seed, >= 0.
+    indices : array_like of int, shape (n_runs,)
+        Run indices, each >= 0 (repeats allowed).
+    n_samples : int
+        Samples per run, >= 0.
+
+    Returns
+    -------
+    ndarray, shape (n_runs, n_samples)
+        Row ``j`` is ``run_generator(seed, indices[j]).standard_normal(n_samples)``, so it
+        does not depend on which other indices are in the call.
+
+    Raises
+    ------
+    ValueError
+        If ``indices`` is not 1-D of integers >= 0, or ``seed`` or ``n_samples`` is not an
+        integer >= 0.
+    """
+    s = _nonneg_int(seed, "seed")
+    n = _nonneg_int(n_samples, "n_samples")
+    idx = np.asarray(indices)
+    if idx.ndim != 1:
+        raise ValueError(f"indices must be 1-D, got shape {idx.shape}")
+    if idx.size and (not np.issubdtype(idx.dtype, np.integer) or idx.min() < 0):
+        raise ValueError(f"indices must be integers >= 0, got {indices!r}")
+    out = np.empty((idx.size, n))
+    for row, i in enumerate(idx.tolist()):
+        out[row] = run_generator(s, i).standard_normal(n)
+    return out
+
+
+def held_sample_index(times: ArrayLike, rate: float) -> NDArray[np.int64]:
+    """Index of the held noise sample active at each time.
+
+    ``floor(t * rate)``, rounded so that a time on a sample boundary (``t = k / rate``
+    up to floating-point rounding, e.g. ``t = k * ts`` with ``ts = 1 / rate``) gives
+    ``k`` and never ``k - 1``: ``t * rate`` within a relative 1e-9 of an integer counts
+    as that integer.
+
+    Parameters
+    ----------
+    times : array_like of float, any shape
+        Times in s, finite and >= 0.
+    rate : float
+        Noise sample rate in Hz, finite and > 0.
+
+    Returns
+    -------
+    ndarray of int64, same shape as ``times``
+
+    Raises
+    ------
+    ValueError
+        If any time is negative or not finite, or ``rate`` is not finite and > 0.
+
+    Examples
+    --------
+    >>> held_sample_index([0.0, 0.01, 0.02, 0.03, 0.3], 50.0).tolist()
+    [0, 0, 1, 1, 15]
+    """
+    r = _real(rate, "rate")
+    if r <= 0.0:
+        raise ValueError(f"rate must be > 0, got {rate!r}")
+    t = np.asarray(times, dtype=np.float64)
+    if not np.all(np.isfinite(t)) or np.any(t < 0.0):
+        raise ValueError("times must be finite and >= 0")
+    u = t * r
+    return np.floor(u + _INDEX_TOL * np.maximum(1.0, u)).astype(np.int64)
+
+
+def noise_samples_needed(duration: float, rate: float) -> int:
+    """Number of held samples that cover the times ``0 <= t <= duration``.
+
+    Parameters
+    ----------
+    duration : float
+        Simulated time in s, finite and >= 0.
+    rate : float
+        Noise sample rate in Hz, finite and > 0.
+
+    Returns
+    -------
+    int
+        ``held_sample_index(duration, rate) + 1`` (e.g. 1001 for 10 s at 100 Hz).
+
+    Raises
+    ------
+    ValueError
+        If ``duration`` < 0 or ``rate`` <= 0 or either is not finite.
+    """
+    d = _real(duration, "duration")
+    if d < 0.0:
+        raise ValueError(f"duration must be >= 0, got {duration!r}")
+    return int(held_sample_index(d, rate)) + 1
