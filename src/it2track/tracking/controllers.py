@@ -1,0 +1,133 @@
+"""Heading controllers: map the heading error ``e`` and its change ``de`` to a voltage ``u``.
+
+A heading controller is evaluated on a batch of runs at each control instant::
+
+    state = controller.initial_state(n, ts)      # ndarray (n_state, n), possibly (0, n)
+    u = controller.output(e, de, state)           # e, de, u: (n,); updates state in place
+
+The closed loop turns ``u`` into wheel voltages ``V_R = V0 + u``, ``V_L = V0 - u`` (DESIGN.md
+sec. 5). Controllers are immutable descriptions (frozen dataclasses), so one controller object
+can serve any number of runs; their per-run memory lives in ``state``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..fuzzy import IT2Sugeno, T1Sugeno
+
+__all__ = ["FuzzyHeadingController", "HeadingController", "PDHeadingController"]
+
+FloatArray = NDArray[np.float64]
+
+
+class HeadingController:
+    """Interface of a batch heading controller (see the module docstring)."""
+
+    name: str
+
+    def initial_state(self, n: int, ts: float) -> FloatArray:
+        """Per-run state at ``t = 0`` for ``n`` runs, period ``ts``: ``(n_state, n)``."""
+        return np.zeros((0, n))
+
+    def output(self, e: FloatArray, de: FloatArray, state: FloatArray) -> FloatArray:
+        """Control voltage ``u`` (shape ``(n,)``) for errors ``e`` and changes ``de``."""
+        raise NotImplementedError
+
+
+def _check(owner: str, **values: float) -> None:
+    for key, value in values.items():
+        if not isinstance(value, int | float) or not math.isfinite(value):
+            raise ValueError(f"{owner}: {key}={value!r} must be a finite number")
+
+
+@dataclass(frozen=True, kw_only=True)
+class FuzzyHeadingController(HeadingController):
+    """Fuzzy heading controller: ``u = fls(clip(ke e), clip(kde de))`` (paper Fig. 3).
+
+    Parameters
+    ----------
+    fls : IT2Sugeno or T1Sugeno
+        A two-input system (error, change of error); its inputs are clipped to its universes.
+    ke, kde : float
+        Input gains (default 1, as in the paper).
+    name : str
+        Label used in results (default: the system's name).
+    """
+
+    fls: IT2Sugeno | T1Sugeno
+    ke: float = 1.0
+    kde: float = 1.0
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.fls, IT2Sugeno | T1Sugeno):
+            raise ValueError(f"fls={self.fls!r} must be an IT2Sugeno or T1Sugeno")
+        if self.fls.n_inputs != 2:
+            raise ValueError(f"fls must have 2 inputs (e, de), has {self.fls.n_inputs}")
+        _check("FuzzyHeadingController", ke=self.ke, kde=self.kde)
+        if not self.name:
+            object.__setattr__(self, "name", self.fls.name or "fuzzy")
+
+    def output(self, e: FloatArray, de: FloatArray, state: FloatArray) -> FloatArray:
+        x1 = e * self.ke if self.ke != 1.0 else e
+        x2 = de * self.kde if self.kde != 1.0 else de
+        return np.asarray(self.fls(x1, x2), dtype=np.float64)
+
+
+@dataclass(frozen=True, kw_only=True)
+class PDHeadingController(HeadingController):
+    """PD heading controller with a first-order filter on the derivative.
+
+    ``u = clip(kp e + kd D, -u_max, u_max)``, where ``D`` is the derivative of ``e`` through
+    the filter ``1 / (tf s + 1)``, discretised by backward Euler on the control grid::
+
+        D_k = (tf D_{k-1} + de_k) / (tf + ts),     D_0 = 0
+
+    (``de_k = e_k - e_{k-1}``; ``tf = 0`` gives the raw backward difference ``de_k / ts``).
+
+    Parameters
+    ----------
+    kp : float
+        Proportional gain, V/rad.
+    kd : float
+        Derivative gain, V s/rad.
+    tf : float
+        Derivative filter time constant, s (>= 0).
+    u_max : float
+        Output limit, V (default 12, the fuzzy controllers' output range).
+    name : str
+    """
+
+    kp: float
+    kd: float = 0.0
+    tf: float = 0.02
+    u_max: float = 12.0
+    name: str = "PD"
+
+    def __post_init__(self) -> None:
+        _check("PDHeadingController", kp=self.kp, kd=self.kd, tf=self.tf, u_max=self.u_max)
+        if self.tf < 0:
+            raise ValueError(f"PDHeadingController: tf={self.tf!r} must be >= 0")
+        if self.u_max <= 0:
+            raise ValueError(f"PDHeadingController: u_max={self.u_max!r} must be > 0")
+
+    def initial_state(self, n: int, ts: float) -> FloatArray:
+        # Row 0: filtered derivative D; row 1 holds ts (constant) so output() needs no extra
+        # argument.
+        state = np.zeros((2, n))
+        state[1] = ts
+        return state
+
+    def output(self, e: FloatArray, de: FloatArray, state: FloatArray) -> FloatArray:
+        d = state[0]
+        ts = state[1]
+        d *= self.tf
+        d += de
+        d /= self.tf + ts
+        u = self.kp * e + self.kd * d
+        return np.clip(u, -self.u_max, self.u_max)

@@ -1,0 +1,164 @@
+"""Tracking metrics, accumulated on the fly over the control grid (paper eqs. 24-27 and more).
+
+Integrals use the trapezoid rule over the samples ``k = 0 ... N`` of the control grid
+``t_k = k ts`` (ITAE and ITSE weight sample ``k`` by ``t_k``). The accumulator keeps O(B)
+memory whatever the duration, so metrics of huge batches never need the time series.
+
+Metric names (all arrays of shape ``(B,)``):
+
+========== ================================================================== ==========
+name       definition                                                         unit
+========== ================================================================== ==========
+IAE        integral of ``|e|`` (``e = wrap(theta_d - theta)``, true heading)   rad s
+ITAE       integral of ``t |e|``                                              rad s^2
+ISE        integral of ``e^2``                                                rad^2 s
+ITSE       integral of ``t e^2``                                              rad^2 s^2
+*_meas     the same four on the measured error ``wrap(theta_d - theta_hat)``
+pos_rms    RMS over the samples of the distance to the reference point        m
+pos_max    largest distance to the reference point                            m
+pos_final  distance at ``t_N``                                                m
+effort     integral of ``u^2``                                                V^2 s
+u_tv       total variation ``sum |u_k - u_(k-1)|``                            V
+sat_time   time during which a requested wheel voltage exceeds the limit      s
+========== ================================================================== ==========
+
+``sat_time`` counts the control periods ``k = 0 ... N-1`` (the ones applied to the plant).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["METRIC_NAMES", "MetricAccumulator", "integral_errors"]
+
+FloatArray = NDArray[np.float64]
+
+INTEGRAL_NAMES = ("IAE", "ITAE", "ISE", "ITSE")
+METRIC_NAMES: tuple[str, ...] = (
+    *INTEGRAL_NAMES,
+    *(f"{n}_meas" for n in INTEGRAL_NAMES),
+    "pos_rms",
+    "pos_max",
+    "pos_final",
+    "effort",
+    "u_tv",
+    "sat_time",
+)
+
+
+class _IntegralErrors:
+    """Running trapezoid sums of |e|, t|e|, e^2, t e^2 on a uniform grid."""
+
+    def __init__(self, n: int, ts: float, n_steps: int) -> None:
+        self.ts = ts
+        self.n_steps = n_steps
+        self.sums = np.zeros((4, n))
+        self.ends = np.zeros((4, n))
+        self._abs = np.empty(n)
+        self._sq = np.empty(n)
+
+    def update(self, k: int, e: FloatArray) -> None:
+        t = k * self.ts
+        a = np.abs(e, out=self._abs)
+        s = np.multiply(e, e, out=self._sq)
+        self.sums[0] += a
+        self.sums[1] += t * a
+        self.sums[2] += s
+        self.sums[3] += t * s
+        if k == 0 or k == self.n_steps:
+            self.ends[0] += a
+            self.ends[1] += t * a
+            self.ends[2] += s
+            self.ends[3] += t * s
+
+    def result(self) -> FloatArray:
+        return self.ts * (self.sums - 0.5 * self.ends)
+
+
+class MetricAccumulator:
+    """Accumulate every metric of :data:`METRIC_NAMES` for ``n`` runs, one sample at a time.
+
+    Call :meth:`update` for ``k = 0 ... n_steps`` in order, then :meth:`result`.
+    """
+
+    def __init__(self, n: int, ts: float, n_steps: int, voltage_limit: float) -> None:
+        self.n = n
+        self.ts = ts
+        self.n_steps = n_steps
+        self.voltage_limit = voltage_limit
+        self.true = _IntegralErrors(n, ts, n_steps)
+        self.meas = _IntegralErrors(n, ts, n_steps)
+        self.dist_sq = np.zeros(n)
+        self.dist_max = np.zeros(n)
+        self.dist_final = np.zeros(n)
+        self.effort = _IntegralErrors(n, ts, n_steps)  # only its ISE row is used
+        self.u_prev = np.zeros(n)
+        self.u_tv = np.zeros(n)
+        self.sat_steps = np.zeros(n)
+        self._k = 0
+
+    def update(
+        self,
+        k: int,
+        *,
+        e_true: FloatArray,
+        e_meas: FloatArray,
+        distance: FloatArray,
+        u: FloatArray,
+        v_requested: tuple[FloatArray, FloatArray],
+    ) -> None:
+        if k != self._k:
+            raise RuntimeError(f"metric samples out of order: got k={k}, expected {self._k}")
+        self._k += 1
+        self.true.update(k, e_true)
+        self.meas.update(k, e_meas)
+        self.dist_sq += distance * distance
+        np.maximum(self.dist_max, distance, out=self.dist_max)
+        if k == self.n_steps:
+            self.dist_final[:] = distance
+        self.effort.update(k, u)
+        if k > 0:
+            self.u_tv += np.abs(u - self.u_prev)
+        self.u_prev[:] = u
+        if k < self.n_steps:
+            lim = self.voltage_limit
+            vr, vl = v_requested
+            self.sat_steps += (np.abs(vr) > lim) | (np.abs(vl) > lim)
+
+    def result(self) -> dict[str, FloatArray]:
+        if self._k != self.n_steps + 1:
+            raise RuntimeError(f"metrics incomplete: {self._k} of {self.n_steps + 1} samples")
+        true = self.true.result()
+        meas = self.meas.result()
+        out: dict[str, FloatArray] = {}
+        for i, name in enumerate(INTEGRAL_NAMES):
+            out[name] = true[i]
+            out[f"{name}_meas"] = meas[i]
+        out["pos_rms"] = np.sqrt(self.dist_sq / (self.n_steps + 1))
+        out["pos_max"] = self.dist_max.copy()
+        out["pos_final"] = self.dist_final.copy()
+        out["effort"] = self.effort.result()[2]
+        out["u_tv"] = self.u_tv.copy()
+        out["sat_time"] = self.sat_steps * self.ts
+        return out
+
+
+def integral_errors(e: FloatArray, ts: float) -> dict[str, FloatArray]:
+    """IAE, ITAE, ISE, ITSE of error series ``e`` of shape ``(..., N+1)`` sampled every ``ts``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> m = integral_errors(np.full(1001, 0.5), 0.01)   # constant error 0.5 over 10 s
+    >>> [round(float(m[k]), 9) for k in ("IAE", "ITAE", "ISE", "ITSE")]
+    [5.0, 25.0, 2.5, 12.5]
+    """
+    e = np.asarray(e, dtype=np.float64)
+    batch = e.shape[:-1]
+    flat = e.reshape(-1, e.shape[-1])
+    acc = _IntegralErrors(flat.shape[0], ts, flat.shape[1] - 1)
+    for k in range(flat.shape[1]):
+        acc.update(k, np.ascontiguousarray(flat[:, k]))
+    res = acc.result()
+    return {name: res[i].reshape(batch) for i, name in enumerate(INTEGRAL_NAMES)}

@@ -1,0 +1,468 @@
+"""Batched closed-loop simulation of the paper's control scheme (Fig. 3, DESIGN.md sec. 5).
+
+One call advances ``B`` runs in lock-step as numpy arrays. A run is one combination of a
+heading controller, a reference trajectory, a noise level and a noise realisation (seed index);
+:class:`RunTable` lists them and :func:`run_grid` builds the cartesian product. Shared physics
+(period, duration, robot, noise rate, start pose, base seed) lives in :class:`LoopConfig`.
+
+At control instant ``k`` (``t_k = k ts``, ``k = 0 ... N``) every run:
+
+1. computes ``theta_d = atan2(y_d(t_k) - y_k, x_d(t_k) - x_k)`` from the pose the previous period
+   produced and the reference point at ``t_k``;
+2. measures ``theta_hat = theta_k + sigma z[j(t_k)]`` (Gaussian noise held at the noise rate)
+   and forms ``e_k = wrap(theta_d - theta_hat)`` in ``(-pi, pi]`` and
+   ``de_k = wrap(e_k - e_(k-1))`` (``de_0 = 0``);
+3. evaluates its controller, ``u = controller.output(e, de, state)``;
+4. sets ``V_R = sat(V0 + u)``, ``V_L = sat(V0 - u)`` with the feed-forward ``V0`` that runs the
+   wheels at the reference speed ``|p_d'(t_k)| / r`` in steady state;
+5. advances motors and pose by one period with the voltages held (``k < N``).
+
+Noise uses common random numbers: the standard-normal sequence ``z`` of a run depends only on
+``(config.seed, run seed index)``, so every controller, trajectory and noise level with the same
+seed index sees the same sequence, scaled by its ``sigma``. Every operation is elementwise over
+the batch, so a run's numbers are bit-for-bit the same whatever the batch it is computed in.
+
+Outputs: :func:`simulate` returns a :class:`Trace` of time series (arrays ``(B, N+1)``, runs
+first, then time); :func:`simulate_metrics` streams runs through in chunks of ``batch_size`` and
+keeps only the metrics (``dict`` of ``(B,)`` arrays), so memory stays flat as ``B`` grows.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..plant import DifferentialDrive, RobotParams, held_sample_index, standard_noise
+from .controllers import HeadingController
+from .metrics import MetricAccumulator
+from .trajectories import Trajectory
+
+__all__ = [
+    "TRACE_FIELDS",
+    "LoopConfig",
+    "RunTable",
+    "Trace",
+    "run_grid",
+    "simulate",
+    "simulate_metrics",
+    "wrap_angle",
+]
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
+
+TWO_PI = 2.0 * math.pi
+
+
+def wrap_angle(a: ArrayLike) -> FloatArray:
+    """Wrap angles to ``(-pi, pi]``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> wrap_angle(np.array([np.pi, -np.pi, 3 * np.pi / 2])).round(6).tolist()
+    [3.141593, 3.141593, -1.570796]
+    """
+    a = np.asarray(a, dtype=np.float64)
+    return math.pi - np.mod(math.pi - a, TWO_PI)
+
+
+@dataclass(frozen=True, kw_only=True)
+class LoopConfig:
+    """Physics and timing shared by every run of a batch.
+
+    Parameters
+    ----------
+    duration : float
+        Simulated time T, s (default 10).
+    ts : float
+        Control period, s (default 0.01); ``T / ts`` must be an integer N.
+    robot : RobotParams
+        Robot and motor parameters (paper Table 3 by default).
+    noise_rate : float
+        Rate at which the heading noise is resampled and held, Hz (default 100).
+    start_pose : (float, float, float)
+        Initial ``(x, y, theta)``; the robot starts at rest.
+    seed : int
+        Base seed of the noise realisations (>= 0).
+    quadrature_nodes : int
+        Nodes per period of the position integral (see :class:`DifferentialDrive`).
+    """
+
+    duration: float = 10.0
+    ts: float = 0.01
+    robot: RobotParams = field(default_factory=RobotParams)
+    noise_rate: float = 100.0
+    start_pose: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    seed: int = 0
+    quadrature_nodes: int = 4
+
+    def __post_init__(self) -> None:
+        for key in ("duration", "ts", "noise_rate"):
+            value = getattr(self, key)
+            if not isinstance(value, int | float) or not math.isfinite(value) or value <= 0:
+                raise ValueError(f"LoopConfig.{key}={value!r} must be a finite number > 0")
+        n = self.duration / self.ts
+        if abs(n - round(n)) > 1e-9 * max(1.0, n):
+            raise ValueError(
+                f"LoopConfig: duration={self.duration!r} must be a whole number of periods "
+                f"ts={self.ts!r}"
+            )
+        pose = tuple(float(v) for v in self.start_pose)
+        if len(pose) != 3 or not all(math.isfinite(v) for v in pose):
+            raise ValueError(f"LoopConfig.start_pose={self.start_pose!r} must be 3 finite numbers")
+        object.__setattr__(self, "start_pose", pose)
+        if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
+            raise ValueError(f"LoopConfig.seed={self.seed!r} must be an integer >= 0")
+        if not isinstance(self.robot, RobotParams):
+            raise ValueError(f"LoopConfig.robot={self.robot!r} must be a RobotParams")
+
+    @property
+    def n_steps(self) -> int:
+        """Number of control periods N (instants ``k = 0 ... N``)."""
+        return round(self.duration / self.ts)
+
+    @property
+    def times(self) -> FloatArray:
+        """Control instants ``t_k = k ts``, shape ``(N+1,)``."""
+        return np.arange(self.n_steps + 1) * self.ts
+
+
+@dataclass(frozen=True)
+class RunTable:
+    """The runs of a batch, one entry per run (all arrays shape ``(B,)``).
+
+    Attributes
+    ----------
+    controller : ndarray of int
+        Index into the ``controllers`` sequence given to :func:`simulate`.
+    trajectory : ndarray of int
+        Index into the ``trajectories`` sequence.
+    noise_std : ndarray of float
+        Heading-noise standard deviation, rad (>= 0).
+    seed : ndarray of int
+        Noise realisation index (>= 0) under ``LoopConfig.seed``.
+    """
+
+    controller: IntArray
+    trajectory: IntArray
+    noise_std: FloatArray
+    seed: IntArray
+
+    def __init__(
+        self,
+        controller: ArrayLike,
+        trajectory: ArrayLike,
+        noise_std: ArrayLike,
+        seed: ArrayLike,
+    ) -> None:
+        arrays = np.broadcast_arrays(
+            np.asarray(controller), np.asarray(trajectory), np.asarray(noise_std),
+            np.asarray(seed),
+        )
+        c, t, s, z = (np.ascontiguousarray(a).reshape(-1) for a in arrays)
+        for name, arr in (("controller", c), ("trajectory", t), ("seed", z)):
+            if arr.size and (not np.issubdtype(arr.dtype, np.integer) or arr.min() < 0):
+                raise ValueError(f"RunTable.{name} must hold integers >= 0")
+        s = s.astype(np.float64)
+        if s.size and (not np.isfinite(s).all() or s.min() < 0):
+            raise ValueError("RunTable.noise_std must be finite and >= 0")
+        object.__setattr__(self, "controller", c.astype(np.int64))
+        object.__setattr__(self, "trajectory", t.astype(np.int64))
+        object.__setattr__(self, "noise_std", s)
+        object.__setattr__(self, "seed", z.astype(np.int64))
+
+    def __len__(self) -> int:
+        return int(self.controller.size)
+
+    def take(self, index: ArrayLike) -> RunTable:
+        """The runs at ``index`` (an int array or a slice object)."""
+        idx = index
+        return RunTable(
+            self.controller[idx], self.trajectory[idx], self.noise_std[idx], self.seed[idx]
+        )
+
+
+def run_grid(
+    n_controllers: int,
+    n_trajectories: int,
+    noise_stds: Sequence[float],
+    seeds: Sequence[int] | int,
+) -> RunTable:
+    """Cartesian product of controllers x trajectories x noise levels x seeds.
+
+    Runs are ordered with the seed varying fastest, then noise, trajectory, controller.
+    ``seeds`` may be a count ``n`` (seed indices ``0 ... n-1``).
+
+    Examples
+    --------
+    >>> len(run_grid(2, 3, [0.0, 0.1], 5))
+    60
+    """
+    seed_list = np.arange(seeds) if isinstance(seeds, int) else np.asarray(seeds)
+    c, t, s, z = np.meshgrid(
+        np.arange(n_controllers), np.arange(n_trajectories), np.asarray(noise_stds, float),
+        seed_list, indexing="ij",
+    )
+    return RunTable(c, t, s, z)
+
+
+#: Time-series fields of a :class:`Trace`, each an array of shape ``(B, N+1)``.
+TRACE_FIELDS: tuple[str, ...] = (
+    "x", "y", "theta",          # pose at t_k (theta unwrapped), m, m, rad
+    "x_ref", "y_ref",           # reference point at t_k, m
+    "theta_d",                  # desired heading atan2(...), rad
+    "theta_meas",               # measured heading theta + noise, rad
+    "e_true", "e_meas",         # wrapped heading errors (true / measured), rad
+    "de",                       # change of the measured error, rad
+    "u",                        # controller output, V
+    "v_right", "v_left",        # wheel voltages applied (saturated), V
+    "omega_right", "omega_left",  # wheel speeds at t_k, rad/s
+    "v", "omega",               # body translational (m/s) and rotational (rad/s) speed
+)  # fmt: skip
+
+
+@dataclass(frozen=True)
+class Trace:
+    """Time series of a batch of runs.
+
+    Attributes
+    ----------
+    t : ndarray, shape (N+1,)
+        Control instants.
+    runs : RunTable
+        The runs, in the order of the first axis below.
+    series : dict of str -> ndarray, shape (B, N+1)
+        One array per name in :data:`TRACE_FIELDS` (axis 0: run, axis 1: time).
+    metrics : dict of str -> ndarray, shape (B,)
+        The metrics of :mod:`it2track.tracking.metrics`.
+    """
+
+    t: FloatArray
+    runs: RunTable
+    series: dict[str, FloatArray]
+    metrics: dict[str, FloatArray]
+
+    def __getitem__(self, name: str) -> FloatArray:
+        return self.series[name]
+
+    def run(self, i: int) -> dict[str, FloatArray]:
+        """The time series of run ``i``, each of shape ``(N+1,)``, plus ``"t"``."""
+        return {"t": self.t, **{k: v[i] for k, v in self.series.items()}}
+
+
+def _check_inputs(
+    controllers: Sequence[HeadingController],
+    trajectories: Sequence[Trajectory],
+    runs: RunTable,
+) -> None:
+    if not isinstance(runs, RunTable):
+        raise ValueError(f"runs must be a RunTable, got {type(runs).__name__}")
+    for i, c in enumerate(controllers):
+        if not isinstance(c, HeadingController):
+            raise ValueError(f"controllers[{i}]={c!r} is not a HeadingController")
+    for i, tr in enumerate(trajectories):
+        if not isinstance(tr, Trajectory):
+            raise ValueError(f"trajectories[{i}]={tr!r} is not a Trajectory")
+    if len(runs):
+        if runs.controller.max() >= len(controllers):
+            raise ValueError(
+                f"runs name controller {runs.controller.max()} but only {len(controllers)} given"
+            )
+        if runs.trajectory.max() >= len(trajectories):
+            raise ValueError(
+                f"runs name trajectory {runs.trajectory.max()} but only {len(trajectories)} given"
+            )
+
+
+class _Engine:
+    """Precomputed, batch-independent pieces of a simulation (plant maps, references)."""
+
+    def __init__(self, trajectories: Sequence[Trajectory], config: LoopConfig) -> None:
+        self.config = config
+        self.drive = DifferentialDrive(
+            config.robot, config.ts, quadrature_nodes=config.quadrature_nodes
+        )
+        t = config.times
+        ref = np.stack([tr.sample(t) for tr in trajectories])  # (n_traj, N+1, 4)
+        motor = config.robot.motor
+        gain = config.robot.wheel_radius * motor.dc_gain
+        # Rows indexed by time so that row k is contiguous: (N+1, n_traj).
+        self.x_ref = np.ascontiguousarray(ref[:, :, 0].T)
+        self.y_ref = np.ascontiguousarray(ref[:, :, 1].T)
+        self.v0 = np.ascontiguousarray((np.hypot(ref[:, :, 2], ref[:, :, 3]) / gain).T)
+        self.hold = held_sample_index(t, config.noise_rate)
+        self.n_noise = int(self.hold[-1]) + 1
+        self.v_lim = motor.voltage_limit
+
+    def run(
+        self,
+        controllers: Sequence[HeadingController],
+        runs: RunTable,
+        *,
+        record: bool,
+    ) -> tuple[dict[str, FloatArray], dict[str, FloatArray] | None]:
+        cfg = self.config
+        n = len(runs)
+        n_steps = cfg.n_steps
+        # Work in controller-sorted order so each controller sees one contiguous slice.
+        order = np.argsort(runs.controller, kind="stable")
+        ctrl = runs.controller[order]
+        tidx = runs.trajectory[order]
+        one_traj = bool((tidx == tidx[0]).all()) if n else True
+        std = runs.noise_std[order]
+        seeds = runs.seed[order]
+        uniq, inverse = np.unique(seeds, return_inverse=True)
+        z_unique = standard_noise(cfg.seed, uniq, self.n_noise)  # (n_unique, n_noise)
+        z = np.ascontiguousarray(z_unique.T[:, inverse])  # (n_noise, B): row j contiguous
+        z *= std  # noise rows in rad
+        bounds = np.flatnonzero(np.diff(ctrl)) + 1
+        starts = np.concatenate([[0], bounds])
+        stops = np.concatenate([bounds, [n]])
+        groups = [
+            (controllers[int(ctrl[a])], slice(int(a), int(b)))
+            for a, b in zip(starts, stops, strict=True)
+        ] if n else []
+        states = [c.initial_state(s.stop - s.start, cfg.ts) for c, s in groups]
+
+        pose = np.empty((3, n))
+        pose[0], pose[1], pose[2] = cfg.start_pose
+        wheels = np.zeros((4, n))
+        volts = np.empty((2, n))
+        e_prev = np.zeros(n)
+        u = np.empty(n)
+        acc = MetricAccumulator(n, cfg.ts, n_steps, self.v_lim)
+        rec = {f: np.empty((n_steps + 1, n)) for f in TRACE_FIELDS} if record else None
+        half_r = 0.5 * cfg.robot.wheel_radius
+        w_scale = cfg.robot.wheel_radius / (2.0 * cfg.robot.half_track)
+
+        for k in range(n_steps + 1):
+            if one_traj:
+                j = int(tidx[0]) if n else 0
+                xr, yr, v0 = self.x_ref[k, j], self.y_ref[k, j], self.v0[k, j]
+            else:
+                xr, yr, v0 = self.x_ref[k][tidx], self.y_ref[k][tidx], self.v0[k][tidx]
+            dx = xr - pose[0]
+            dy = yr - pose[1]
+            theta_d = np.arctan2(dy, dx)
+            theta_meas = pose[2] + z[self.hold[k]]
+            e_true = wrap_angle(theta_d - pose[2])
+            e_meas = wrap_angle(theta_d - theta_meas)
+            de = wrap_angle(e_meas - e_prev) if k else np.zeros(n)
+            e_prev = e_meas
+            for (c, sl), state in zip(groups, states, strict=True):
+                u[sl] = c.output(e_meas[sl], de[sl], state)
+            vr_req = v0 + u
+            vl_req = v0 - u
+            np.clip(vr_req, -self.v_lim, self.v_lim, out=volts[0])
+            np.clip(vl_req, -self.v_lim, self.v_lim, out=volts[1])
+            dist = np.hypot(dx, dy)
+            acc.update(
+                k, e_true=e_true, e_meas=e_meas, distance=dist, u=u,
+                v_requested=(vr_req, vl_req),
+            )
+            if rec is not None:
+                row = {
+                    "x": pose[0], "y": pose[1], "theta": pose[2], "x_ref": xr, "y_ref": yr,
+                    "theta_d": theta_d, "theta_meas": theta_meas, "e_true": e_true,
+                    "e_meas": e_meas, "de": de, "u": u, "v_right": volts[0],
+                    "v_left": volts[1], "omega_right": wheels[1], "omega_left": wheels[3],
+                    "v": half_r * (wheels[1] + wheels[3]),
+                    "omega": w_scale * (wheels[1] - wheels[3]),
+                }  # fmt: skip
+                for name, value in row.items():
+                    rec[name][k] = value
+            if k < n_steps:
+                pose, wheels = self.drive.step(pose, wheels, volts)
+
+        inv = np.empty_like(order)
+        inv[order] = np.arange(n)
+        metrics = {name: value[inv] for name, value in acc.result().items()}
+        series = None
+        if rec is not None:
+            series = {name: np.ascontiguousarray(value.T[inv]) for name, value in rec.items()}
+        return metrics, series
+
+
+def simulate(
+    controllers: Sequence[HeadingController],
+    trajectories: Sequence[Trajectory],
+    runs: RunTable,
+    config: LoopConfig | None = None,
+) -> Trace:
+    """Simulate a batch of runs and keep their time series.
+
+    Parameters
+    ----------
+    controllers : sequence of HeadingController
+        Indexed by ``runs.controller``.
+    trajectories : sequence of Trajectory
+        Indexed by ``runs.trajectory``.
+    runs : RunTable
+        The ``B`` runs.
+    config : LoopConfig, optional
+        Defaults to ``LoopConfig()`` (10 s at 100 Hz, paper Table 3 robot).
+
+    Returns
+    -------
+    Trace
+        Series of shape ``(B, N+1)`` and metrics of shape ``(B,)``, in the order of ``runs``.
+        Memory is ``17 * 8 * B * (N+1)`` bytes; use :func:`simulate_metrics` for big batches.
+    """
+    config = config or LoopConfig()
+    _check_inputs(controllers, trajectories, runs)
+    engine = _Engine(trajectories, config)
+    metrics, series = engine.run(controllers, runs, record=True)
+    assert series is not None
+    return Trace(t=config.times, runs=runs, series=series, metrics=metrics)
+
+
+def simulate_metrics(
+    controllers: Sequence[HeadingController],
+    trajectories: Sequence[Trajectory],
+    runs: RunTable,
+    config: LoopConfig | None = None,
+    *,
+    batch_size: int = 4096,
+    progress: Callable[[int], object] | None = None,
+) -> dict[str, FloatArray]:
+    """Simulate runs in chunks of ``batch_size`` and return only their metrics.
+
+    The time series are never stored: memory grows with ``batch_size``, not with ``len(runs)``.
+    Results are bit-for-bit independent of ``batch_size``.
+
+    Parameters
+    ----------
+    progress : callable, optional
+        Called with the number of runs finished after each chunk (e.g. ``tqdm.update``).
+
+    Returns
+    -------
+    dict of str -> ndarray, shape (B,)
+        Every metric of :data:`~it2track.tracking.metrics.METRIC_NAMES`, in the order of ``runs``.
+    """
+    config = config or LoopConfig()
+    if isinstance(batch_size, bool) or not isinstance(batch_size, int) or batch_size < 1:
+        raise ValueError(f"batch_size={batch_size!r} must be a positive integer")
+    _check_inputs(controllers, trajectories, runs)
+    engine = _Engine(trajectories, config)
+    n = len(runs)
+    out: dict[str, FloatArray] | None = None
+    for start in range(0, n, batch_size):
+        stop = min(start + batch_size, n)
+        metrics, _ = engine.run(controllers, runs.take(slice(start, stop)), record=False)
+        if out is None:
+            out = {name: np.empty(n) for name in metrics}
+        for name, value in metrics.items():
+            out[name][start:stop] = value
+        if progress is not None:
+            progress(stop - start)
+    if out is None:
+        from .metrics import METRIC_NAMES
+
+        out = {name: np.empty(0) for name in METRIC_NAMES}
+    return out
