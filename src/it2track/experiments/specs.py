@@ -1,0 +1,330 @@
+"""Declarative pieces shared by the study, the sweeps and the optimiser.
+
+- :class:`ControllerSpec`: a heading controller described by plain values (kind, FoU, gains,
+  reducer, file), buildable into a :class:`~it2track.tracking.HeadingController` anywhere --
+  in this process, a worker process or a Dask worker;
+- :class:`ConfigError` and the TOML helpers used to map configuration files onto frozen
+  dataclasses: unknown keys and bad values are errors naming the file, the key and the value.
+"""
+
+from __future__ import annotations
+
+import enum
+import math
+import tomllib
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, fields, replace
+from pathlib import Path
+from typing import Any
+
+from ..fuzzy import Reducer, TNorm
+from ..paper import dead_zone_matched_fls, heading_fls
+from ..plant import MotorParams, RobotParams
+from ..tracking import (
+    FuzzyHeadingController,
+    HeadingController,
+    LoopConfig,
+    PDHeadingController,
+)
+
+__all__ = [
+    "ConfigError",
+    "ControllerKind",
+    "ControllerSpec",
+    "Table",
+    "loop_config_from_table",
+    "read_toml",
+    "robot_from_table",
+]
+
+
+class ConfigError(ValueError):
+    """A configuration file or table has an unknown key or a bad value."""
+
+
+class ControllerKind(enum.Enum):
+    """What a :class:`ControllerSpec` builds."""
+
+    FLC = "flc"  # the paper's type-1 FLC (FoU 0)
+    IT2 = "it2"  # the paper's IT2FLC with FoU width `fou`
+    T1_MATCHED = "t1-matched"  # type-1 FLC with the dead zone of the IT2FLC of width `fou`
+    PD = "pd"  # PD heading controller with a filtered derivative
+    FILE = "file"  # a fuzzy system loaded from a .t2fis / .fis / .toml file
+
+
+@dataclass(frozen=True, kw_only=True)
+class ControllerSpec:
+    """A heading controller as plain data.
+
+    Parameters
+    ----------
+    kind : ControllerKind
+    fou : float
+        FoU width for ``IT2`` and ``T1_MATCHED`` (``0 <= fou < 1.6``).
+    ke, kde : float
+        Input gains of the fuzzy controllers.
+    reducer : str
+        Type-reducer name (``km``, ``ekm``, ``eiasc``, ``exhaustive``, ``nie-tan``,
+        ``wu-mendel``) for IT2 systems.
+    tnorm : str
+        ``"product"`` or ``"min"``.
+    kp, kd, tf : float
+        PD gains (V/rad, V s/rad) and derivative filter time constant (s).
+    path : str
+        Fuzzy-system file for ``FILE``.
+    label : str
+        Name used in results; derived from the other fields when empty.
+
+    Examples
+    --------
+    >>> ControllerSpec(kind=ControllerKind.IT2, fou=0.2).label
+    'IT2FLC FoU 0.2'
+    """
+
+    kind: ControllerKind
+    fou: float = 0.0
+    ke: float = 1.0
+    kde: float = 1.0
+    reducer: str = "exhaustive"
+    tnorm: str = "product"
+    kp: float = 0.0
+    kd: float = 0.0
+    tf: float = 0.02
+    path: str = ""
+    label: str = ""
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.kind, ControllerKind):
+            raise ValueError(f"controller kind={self.kind!r} must be a ControllerKind")
+        for key in ("fou", "ke", "kde", "kp", "kd", "tf"):
+            value = getattr(self, key)
+            if isinstance(value, bool) or not isinstance(value, int | float):
+                raise ValueError(f"controller {key}={value!r} must be a number")
+            if not math.isfinite(value):
+                raise ValueError(f"controller {key}={value!r} must be finite")
+        if not 0.0 <= self.fou < 1.6:
+            raise ValueError(f"controller fou={self.fou!r} must satisfy 0 <= fou < 1.6")
+        if self.kind is ControllerKind.FLC and self.fou != 0.0:
+            raise ValueError("controller kind 'flc' is the FoU-0 FLC; use kind 'it2' with fou")
+        if self.kind is ControllerKind.IT2 and self.fou == 0.0:
+            raise ValueError("controller kind 'it2' needs fou > 0 (fou 0 is kind 'flc')")
+        Reducer.from_name(self.reducer)
+        TNorm.from_name(self.tnorm)
+        if self.kind is ControllerKind.FILE and not self.path:
+            raise ValueError("controller kind 'file' needs a path")
+        if not self.label:
+            object.__setattr__(self, "label", self._default_label())
+
+    def _default_label(self) -> str:
+        k = self.kind
+        gains = "" if (self.ke, self.kde) == (1.0, 1.0) else f" Ke {self.ke:g} Kde {self.kde:g}"
+        if k is ControllerKind.FLC:
+            return "FLC" + gains
+        if k is ControllerKind.IT2:
+            return f"IT2FLC FoU {self.fou:g}" + gains
+        if k is ControllerKind.T1_MATCHED:
+            return f"T1 dead-zone-matched {self.fou:g}" + gains
+        if k is ControllerKind.PD:
+            return f"PD kp {self.kp:.3g} kd {self.kd:.3g}"
+        return Path(self.path).name + gains
+
+    def build(self) -> HeadingController:
+        """The controller this spec describes."""
+        tnorm = TNorm.from_name(self.tnorm)
+        k = self.kind
+        if k is ControllerKind.PD:
+            return PDHeadingController(kp=self.kp, kd=self.kd, tf=self.tf, name=self.label)
+        if k is ControllerKind.FLC:
+            fls: Any = heading_fls(0.0, tnorm=tnorm)
+        elif k is ControllerKind.IT2:
+            fls = heading_fls(self.fou, reducer=Reducer.from_name(self.reducer).value, tnorm=tnorm)
+        elif k is ControllerKind.T1_MATCHED:
+            fls = dead_zone_matched_fls(self.fou, tnorm=tnorm)
+        else:
+            from ..io import load
+
+            fls = load(self.path)
+        return FuzzyHeadingController(fls=fls, ke=self.ke, kde=self.kde, name=self.label)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain values (TOML/JSON-ready), only the fields that matter for the kind."""
+        keep = {"kind", "label"}
+        k = self.kind
+        if k in (ControllerKind.IT2, ControllerKind.T1_MATCHED):
+            keep |= {"fou"}
+        if k is ControllerKind.IT2:
+            keep |= {"reducer"}
+        if k is not ControllerKind.PD:
+            keep |= {"ke", "kde", "tnorm"}
+        else:
+            keep |= {"kp", "kd", "tf"}
+        if k is ControllerKind.FILE:
+            keep |= {"path"}
+        out = {f.name: getattr(self, f.name) for f in fields(self) if f.name in keep}
+        out["kind"] = k.value
+        return out
+
+    @classmethod
+    def from_table(cls, table: Mapping[str, Any], *, where: str) -> ControllerSpec:
+        """Build from a TOML table, e.g. ``{kind = "it2", fou = 0.2}``; errors name ``where``."""
+        t = Table(table, where)
+        kind_name = t.get("kind", str)
+        try:
+            kind = ControllerKind(kind_name)
+        except ValueError:
+            known = ", ".join(m.value for m in ControllerKind)
+            raise ConfigError(f"{where}: kind={kind_name!r} must be one of {known}") from None
+        values: dict[str, Any] = {"kind": kind}
+        for f in fields(cls):
+            if f.name == "kind":
+                continue
+            if f.name in t:
+                kind_type: type = str if f.name in ("reducer", "tnorm", "path", "label") else float
+                values[f.name] = t.get(f.name, kind_type)
+        t.done()
+        if kind is ControllerKind.FILE and "path" in values and t.base_dir is not None:
+            p = Path(values["path"])
+            values["path"] = str(p if p.is_absolute() else t.base_dir / p)
+        try:
+            return cls(**values)
+        except ValueError as exc:
+            raise ConfigError(f"{where}: {exc}") from None
+
+
+class Table:
+    """A TOML table being mapped onto Python values, tracking which keys were used.
+
+    Every lookup checks the value's type; :meth:`done` raises on keys never looked up.
+    Messages name ``where`` (``"configs/paper.toml [study]"``) and the key.
+    """
+
+    def __init__(
+        self,
+        data: Mapping[str, Any],
+        where: str,
+        base_dir: Path | None = None,
+        *,
+        section: str = "",
+    ) -> None:
+        self.file = where
+        self.section = section
+        self.where = f"{where} [{section}]" if section else where
+        if not isinstance(data, Mapping):
+            raise ConfigError(f"{self.where}: expected a table, got {data!r}")
+        self.data = data
+        self.base_dir = base_dir
+        self.used: set[str] = set()
+
+    def __contains__(self, key: str) -> bool:
+        return key in self.data
+
+    def get(self, key: str, kind: type | Callable[[Any], Any], default: Any = ...) -> Any:
+        if key not in self.data:
+            if default is ...:
+                raise ConfigError(f"{self.where}: missing key {key!r}")
+            return default
+        self.used.add(key)
+        value = self.data[key]
+        return _convert(value, kind, f"{self.where}: {key}")
+
+    def get_list(self, key: str, kind: type, default: Any = ...) -> Any:
+        if key not in self.data:
+            if default is ...:
+                raise ConfigError(f"{self.where}: missing key {key!r}")
+            return default
+        self.used.add(key)
+        value = self.data[key]
+        if not isinstance(value, list):
+            raise ConfigError(f"{self.where}: {key}={value!r} must be a list")
+        return [_convert(v, kind, f"{self.where}: {key}[{i}]") for i, v in enumerate(value)]
+
+    def sub(self, key: str) -> Table:
+        """A nested table (empty if absent)."""
+        value = self.data.get(key, {})
+        if key in self.data:
+            self.used.add(key)
+        section = f"{self.section}.{key}" if self.section else key
+        return Table(value, self.file, self.base_dir, section=section)
+
+    def done(self) -> None:
+        unknown = sorted(set(self.data) - self.used)
+        if unknown:
+            raise ConfigError(f"{self.where}: unknown key(s) {unknown}")
+
+
+def _convert(value: Any, kind: type | Callable[[Any], Any], what: str) -> Any:
+    if kind is float:
+        if isinstance(value, bool) or not isinstance(value, int | float):
+            raise ConfigError(f"{what}={value!r} must be a number")
+        if not math.isfinite(value):
+            raise ConfigError(f"{what}={value!r} must be finite")
+        return float(value)
+    if kind is int:
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise ConfigError(f"{what}={value!r} must be an integer")
+        return value
+    if kind is str:
+        if not isinstance(value, str):
+            raise ConfigError(f"{what}={value!r} must be a string")
+        return value
+    if kind is bool:
+        if not isinstance(value, bool):
+            raise ConfigError(f"{what}={value!r} must be true or false")
+        return value
+    try:
+        return kind(value)  # type: ignore[call-arg]
+    except (TypeError, ValueError) as exc:
+        raise ConfigError(f"{what}={value!r}: {exc}") from None
+
+
+def read_toml(path: str | Path) -> dict[str, Any]:
+    """Parse a TOML file; syntax errors become :class:`ConfigError` naming the file."""
+    path = Path(path)
+    try:
+        with path.open("rb") as fh:
+            return tomllib.load(fh)
+    except OSError as exc:
+        raise ConfigError(f"{path}: cannot read: {exc.strerror}") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"{path}: invalid TOML: {exc}") from None
+
+
+def robot_from_table(t: Table) -> RobotParams:
+    """``[robot]`` (``half_track``, ``wheel_radius``) with ``[robot.motor]`` (MotorParams
+    fields) onto :class:`RobotParams`; absent keys keep the paper's Table 3 values."""
+    base = RobotParams()
+    motor_t = t.sub("motor")
+    motor_values = {
+        f.name: motor_t.get(f.name, float) for f in fields(MotorParams) if f.name in motor_t
+    }
+    motor_t.done()
+    values: dict[str, Any] = {
+        key: t.get(key, float) for key in ("half_track", "wheel_radius") if key in t
+    }
+    t.done()
+    try:
+        motor = replace(base.motor, **motor_values)
+        return replace(base, motor=motor, **values)
+    except ValueError as exc:
+        raise ConfigError(f"{t.where}: {exc}") from None
+
+
+def loop_config_from_table(t: Table, robot: RobotParams, *, seed: int) -> LoopConfig:
+    """``[simulation]`` (``duration``, ``ts``, ``noise_rate``, ``start_pose``,
+    ``quadrature_nodes``) onto :class:`LoopConfig`."""
+    values: dict[str, Any] = {}
+    for key in ("duration", "ts", "noise_rate"):
+        if key in t:
+            values[key] = t.get(key, float)
+    if "start_pose" in t:
+        pose = t.get_list("start_pose", float)
+        if len(pose) != 3:
+            raise ConfigError(f"{t.where}: start_pose={pose!r} must be [x, y, theta]")
+        values["start_pose"] = tuple(pose)
+    if "quadrature_nodes" in t:
+        values["quadrature_nodes"] = t.get("quadrature_nodes", int)
+    t.done()
+    try:
+        return LoopConfig(robot=robot, seed=seed, **values)
+    except ValueError as exc:
+        raise ConfigError(f"{t.where}: {exc}") from None
