@@ -23,6 +23,8 @@ voltages held (zero-order hold):
 from __future__ import annotations
 
 import math
+import threading
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from numbers import Integral, Real
 
@@ -202,15 +204,19 @@ def _product_weights(
         e_start = e_start @ e_panel
     return out * ts
 
-# --- elementwise sine/cosine -------------------------------------------------------------
-# numpy's float64 sin/cos call the scalar C library (~10-15 ns per element here), which made
-# them ~80 % of a step. This vectorised version (Cody-Waite reduction by pi/2, fdlibm's
-# minimax kernels on [-pi/4, pi/4], quadrant selection by exact arithmetic) is ~5x faster,
-# within 1 ulp of the C library, and purely elementwise, so bit-identical for any batch.
+
+# --- elementwise sine and cosine --------------------------------------------------------
+# numpy's float64 sin/cos call the scalar C library (~8-15 ns per element), which made them
+# most of a step. These vectorised versions (Cody-Waite reduction by pi/2, fdlibm's minimax
+# kernels on [-pi/4, pi/4], quadrant selection by exact arithmetic) give sin and cos together
+# in about the time the C library takes for one, within 1 ulp of it, and are purely
+# elementwise, so bit-identical for any batch. They write into caller-provided buffers: the
+# step allocates no large temporaries (repeatedly freeing and re-faulting ~100 kB arrays
+# cost more than the arithmetic).
 _TWO_OVER_PI = 6.36619772367581382433e-01
 _PIO2_HI = 1.57079632673412561417e00  # first 33 bits of pi/2: k * _PIO2_HI exact, |k| < 2^20
 _PIO2_LO = 6.07710050650619224932e-11  # pi/2 - _PIO2_HI
-_SIN_KERNEL = (  # fdlibm __kernel_sin S1..S6
+_SIN_KERNEL = (  # fdlibm __kernel_sin S1..S6, for |r| <= pi/4
     -1.66666666666666324348e-01,
     8.33333333332248946124e-03,
     -1.98412698298579493134e-04,
@@ -218,7 +224,7 @@ _SIN_KERNEL = (  # fdlibm __kernel_sin S1..S6
     -2.50507602534068634195e-08,
     1.58969099521155010221e-10,
 )
-_COS_KERNEL = (  # fdlibm __kernel_cos C1..C6
+_COS_KERNEL = (  # fdlibm __kernel_cos C1..C6, for |r| <= pi/4
     4.16666666666666019037e-02,
     -1.38888888888741095749e-03,
     2.48015872894767294178e-05,
@@ -226,68 +232,132 @@ _COS_KERNEL = (  # fdlibm __kernel_cos C1..C6
     2.08757232129817482790e-09,
     -1.13596475577881948265e-11,
 )
-_SINCOS_LIMIT = 1.0e6  # beyond this |x| the reduction is not exact: fall back to libm
+_KERNEL_LIMIT = math.pi / 4.0  # the kernels alone serve |r| <= pi/4
+_SINCOS_LIMIT = 1.0e6  # beyond this |x| the reduction is not exact: C library instead
+_N_WORK = 7  # work buffers _sincos needs
 
 
-def _sincos(x: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Elementwise ``(sin x, cos x)`` of a float64 array, within 1 ulp of ``np.sin/np.cos``.
-
-    Every output element depends on its input element only (the ``|x| > 1e6`` fallback
-    to ``np.sin``/``np.cos`` is applied element by element).
-    """
-    k = x * _TWO_OVER_PI
-    np.rint(k, out=k)  # x = k pi/2 + r, |r| <= pi/4 (plus rounding)
-    r = k * _PIO2_HI
-    np.subtract(x, r, out=r)  # exact (Sterbenz)
-    t = k * _PIO2_LO
-    r -= t
-    z = r * r
-    ps = z * _SIN_KERNEL[5]
+def _sincos_kernels(
+    r: NDArray[np.float64],
+    s: NDArray[np.float64],
+    c: NDArray[np.float64],
+    z: NDArray[np.float64],
+    t: NDArray[np.float64],
+) -> None:
+    """``s = sin r``, ``c = cos r`` for ``|r| <= pi/4`` (fdlibm kernels); z, t: work."""
+    np.multiply(r, r, out=z)
+    np.multiply(z, _SIN_KERNEL[5], out=s)
     for coef in _SIN_KERNEL[4::-1]:
-        ps += coef
-        ps *= z
-    ps *= r
-    ps += r  # sin r
-    pc = z * _COS_KERNEL[5]
+        s += coef
+        s *= z
+    s *= r
+    s += r  # r + r^3 (S1 + z (S2 + ...))
+    np.multiply(z, _COS_KERNEL[5], out=c)
     for coef in _COS_KERNEL[4::-1]:
-        pc += coef
-        pc *= z
-    pc *= z
+        c += coef
+        c *= z
+    c *= z
     np.multiply(z, 0.5, out=t)
-    t -= pc
-    np.subtract(1.0, t, out=pc)  # cos r
-    # Quadrant k mod 4 = b0 + 2 b1, in exact floating-point arithmetic (np.where is slow):
-    # sin x = A sin r + B cos r, cos x = A cos r - B sin r, A = (1 - b0) sgn, B = b0 sgn.
-    h = k * 0.5
+    t -= c
+    np.subtract(1.0, t, out=c)  # 1 - (z/2 - z^2 (C1 + z (C2 + ...)))
+
+
+def _sincos(
+    x: NDArray[np.float64],
+    s: NDArray[np.float64],
+    c: NDArray[np.float64],
+    work: Sequence[NDArray[np.float64]],
+) -> None:
+    """``s = sin x``, ``c = cos x`` elementwise, within 1 ulp of ``np.sin``/``np.cos``.
+
+    ``work`` holds ``_N_WORK`` buffers of the shape of ``x``. Every output element
+    depends on its input element only (the ``|x| > 1e6`` fallback to the C library is
+    applied element by element).
+    """
+    k, r, z, t, ps, pc, h = work[:_N_WORK]
+    np.multiply(x, _TWO_OVER_PI, out=k)
+    np.rint(k, out=k)  # x = k pi/2 + r, |r| <= pi/4 (up to rounding)
+    np.multiply(k, _PIO2_HI, out=r)
+    np.subtract(x, r, out=r)  # exact (Sterbenz)
+    np.multiply(k, _PIO2_LO, out=t)
+    r -= t
+    _sincos_kernels(r, ps, pc, z, t)
+    # Quadrant k mod 4 = b0 + 2 b1 in exact floating-point arithmetic (np.where with an
+    # unpredictable mask is slow): sin x = A sin r + B cos r, cos x = A cos r - B sin r,
+    # with A = (1 - b0) sgn, B = b0 sgn, sgn = 1 - 2 b1.
+    b0, sgn = r, z  # reuse
+    np.multiply(k, 0.5, out=h)
     np.floor(h, out=h)
-    b0 = h * -2.0
-    b0 += k
+    np.multiply(h, -2.0, out=b0)
+    b0 += k  # b0 = k - 2 floor(k/2)
     np.multiply(h, 0.5, out=k)
     np.floor(k, out=k)
     k *= -2.0
-    k += h  # b1
-    sgn = k * -2.0
+    k += h  # b1 = h - 2 floor(h/2)
+    np.multiply(k, -2.0, out=sgn)
     sgn += 1.0
     b0 *= sgn  # B
     sgn -= b0  # A
-    s = ps * sgn
+    np.multiply(ps, sgn, out=s)
     np.multiply(pc, b0, out=t)
     s += t
-    c = pc * sgn
+    np.multiply(pc, sgn, out=c)
     np.multiply(ps, b0, out=t)
     c -= t
-    big = np.abs(x) > _SINCOS_LIMIT
+    np.abs(x, out=t)
+    big = t > _SINCOS_LIMIT
     if big.any():
         s[big] = np.sin(x[big])
         c[big] = np.cos(x[big])
-    return s, c
+
+
+def _sincos_small(
+    x: NDArray[np.float64],
+    s: NDArray[np.float64],
+    c: NDArray[np.float64],
+    work: Sequence[NDArray[np.float64]],
+) -> None:
+    """Like :func:`_sincos`, fastest for ``|x| <= pi/4`` (kernels only, no reduction).
+
+    Larger elements (rare: a heading change above pi/4 within one node offset) go through
+    :func:`_sincos`, element by element.
+    """
+    z, t = work[0], work[1]
+    _sincos_kernels(x, s, c, z, t)
+    np.abs(x, out=t)
+    big = t > _KERNEL_LIMIT
+    if big.any():
+        xb = x[big]
+        sb, cb = np.empty_like(xb), np.empty_like(xb)
+        _sincos(xb, sb, cb, [np.empty_like(xb) for _ in range(_N_WORK)])
+        s[big] = sb
+        c[big] = cb
+
+
+_N_SCRATCH = 14 + _N_WORK  # buffers per batch shape used by DifferentialDrive.step
+
+
+class _Scratch(threading.local):
+    """Per-thread work buffers of :meth:`DifferentialDrive.step`, keyed by batch shape."""
+
+    def __init__(self) -> None:
+        self.buffers: dict[tuple[int, ...], NDArray[np.float64]] = {}
+
+    def get(self, batch: tuple[int, ...], count: int) -> NDArray[np.float64]:
+        buf = self.buffers.get(batch)
+        if buf is None:
+            if len(self.buffers) >= 4:  # keep memory bounded when batch shapes vary
+                self.buffers.clear()
+            buf = self.buffers[batch] = np.empty((count, *batch))
+        return buf
 
 
 class DifferentialDrive:
     """Exact-ZOH discrete plant for one control period ``ts``.
 
-    All maps are precomputed in ``__init__``; :meth:`step` is then a few elementwise
-    numpy operations on ``(B,)`` rows plus ``quadrature_nodes`` cosine/sine evaluations.
+    All maps are precomputed in ``__init__``; :meth:`step` is then elementwise numpy
+    arithmetic on ``(B,)`` rows: a handful of scalar-times-row sums per node, one sine and
+    cosine of the heading and ``quadrature_nodes`` small-angle sine/cosine evaluations.
 
     Parameters
     ----------
@@ -329,11 +399,17 @@ class DifferentialDrive:
     of random voltages, against ~6e-9 m for this rule at the same cost. Because the
     weights sum to ``int v``, straight-line motion is integrated exactly.
 
+    ``cos(theta(s_j))`` is formed as ``cos(theta_k) cos(D_j) - sin(theta_k) sin(D_j)``
+    with ``D_j = theta(s_j) - theta_k``, using a vectorised sine/cosine that is within
+    1 ulp of the C library and several times faster than ``np.sin``/``np.cos``.
+
     The heading is not wrapped: ``theta`` accumulates continuously.
 
     Every operation in :meth:`step` is elementwise over the batch (no BLAS, no
     reductions across runs), so the result for a run is bit-for-bit the same whether it
-    is advanced alone or inside any batch.
+    is advanced alone or inside any batch. Work buffers (21 rows of the batch shape) are
+    kept per thread and per batch shape, for up to 4 shapes; an instance may be shared
+    between threads and pickled.
 
     Examples
     --------
@@ -349,6 +425,16 @@ class DifferentialDrive:
     True
     """
 
+    params: RobotParams
+    ts: float
+    quadrature_nodes: int
+    nodes: NDArray[np.float64]
+    _scratch: _Scratch
+    _wheel: tuple[float, ...]
+    _heading: tuple[float, ...]
+    _node_speed: tuple[tuple[float, ...], ...]
+    _node_heading: tuple[tuple[float, ...], ...]
+
     def __init__(self, params: RobotParams, ts: float, *, quadrature_nodes: int = 4) -> None:
         if not isinstance(params, RobotParams):
             raise ValueError(f"params must be a RobotParams, got {params!r}")
@@ -363,6 +449,7 @@ class DifferentialDrive:
         self.params = params
         self.ts = ts
         self.quadrature_nodes = n
+        self._scratch = _Scratch()
 
         r = params.wheel_radius
         turn = r / (2.0 * params.half_track)  # heading change per (rad of wheel difference)
@@ -370,13 +457,16 @@ class DifferentialDrive:
 
         # One period: wheel state (exact ZOH) and heading increment (exact).
         e = scipy.linalg.expm(gen * ts)
-        self._wheel = (e[0, 0], e[0, 1], e[0, 4], e[1, 0], e[1, 1], e[1, 4])
-        self._heading = (turn * e[3, 0], turn * e[3, 1], turn * e[3, 4])
+        self._wheel = tuple(
+            float(e[a, b]) for a, b in ((0, 0), (0, 1), (0, 4), (1, 0), (1, 1), (1, 4))
+        )
+        self._heading = tuple(float(turn * e[3, b]) for b in (0, 1, 4))
 
         # Quadrature nodes on (0, 1) and per-node linear maps; the maps act on the wheel
         # sums (i_R+i_L, w_R+w_L, V_R+V_L) for v and differences for theta.
         x, _ = np.polynomial.legendre.leggauss(n)
         self.nodes = (x + 1.0) / 2.0
+        self.nodes.setflags(write=False)
         heading_nodes = np.empty((3, n))
         for j, frac in enumerate(self.nodes):
             ej = scipy.linalg.expm(gen * (frac * ts))
@@ -385,6 +475,15 @@ class DifferentialDrive:
         speed_nodes = (r / 2.0) * mom[:, 1, :].T  # row of omega -> v per unit wheel sum
         self._node_speed = tuple(tuple(float(c) for c in col) for col in speed_nodes.T)
         self._node_heading = tuple(tuple(float(c) for c in col) for col in heading_nodes.T)
+
+    def __getstate__(self) -> dict[str, object]:
+        state = self.__dict__.copy()
+        del state["_scratch"]  # per-thread work buffers: neither picklable nor needed
+        return state
+
+    def __setstate__(self, state: dict[str, object]) -> None:
+        self.__dict__.update(state)
+        self._scratch = _Scratch()
 
     def __repr__(self) -> str:
         return (
@@ -442,49 +541,77 @@ class DifferentialDrive:
         x, y, th = p[0], p[1], p[2]
         i_r, w_r, i_l, w_l = w[0], w[1], w[2], w[3]
         v_r, v_l = u[0], u[1]
+        scratch = self._scratch.get(batch, _N_SCRATCH)
+        s_i, s_w, s_v, d_i, d_w, d_v, sin0, cos0, acc_c, acc_s = scratch[:10]
+        weight, delta, sn, cs = scratch[10:14]
+        work = list(scratch[14:])
+        # Every operation below is elementwise over the batch (no BLAS, no reductions):
+        # a run's result is bit-identical whatever batch it is computed in.
 
         # Wheel sums drive the translational speed, differences the heading.
-        s_i, s_w, s_v = i_r + i_l, w_r + w_l, v_r + v_l
-        d_i, d_w, d_v = i_r - i_l, w_r - w_l, v_r - v_l
+        np.add(i_r, i_l, out=s_i)
+        np.add(w_r, w_l, out=s_w)
+        np.add(v_r, v_l, out=s_v)
+        np.subtract(i_r, i_l, out=d_i)
+        np.subtract(w_r, w_l, out=d_w)
+        np.subtract(v_r, v_l, out=d_v)
 
-        # Every product/sum below is elementwise: bit-identical for any batch size.
-        # Node by node, on (B,) rows: every product/sum is elementwise, so the result of a
-        # run does not depend on the batch (and temporaries stay small and cache-resident).
-        dx = dy = None
-        for (w0, w1, w2), (a0, a1, a2) in zip(self._node_speed, self._node_heading, strict=True):
-            weight = w0 * s_i  # W_j: metres per unit of cos/sin at node j
-            weight += w1 * s_w
-            weight += w2 * s_v
-            ang = a0 * d_i  # theta(s_j) - theta_k
-            ang += a1 * d_w
-            ang += a2 * d_v
-            ang += th
-            sn, cs = _sincos(ang)
-            cs *= weight
-            sn *= weight
-            if dx is None:
-                dx, dy = cs, sn
+        # Position increment sum_j W_j (cos, sin)(theta_k + D_j), with the angle-sum formula
+        # (cos, sin)(theta_k + D_j) from (cos, sin) theta_k and (cos, sin) D_j.
+        _sincos(th, sin0, cos0, work)
+        for j, ((w0, w1, w2), (a0, a1, a2)) in enumerate(
+            zip(self._node_speed, self._node_heading, strict=True)
+        ):
+            np.multiply(s_i, w0, out=weight)  # W_j: metres per unit of cos/sin
+            np.multiply(s_w, w1, out=sn)
+            weight += sn
+            np.multiply(s_v, w2, out=sn)
+            weight += sn
+            np.multiply(d_i, a0, out=delta)  # D_j = theta(s_j) - theta_k
+            np.multiply(d_w, a1, out=sn)
+            delta += sn
+            np.multiply(d_v, a2, out=sn)
+            delta += sn
+            _sincos_small(delta, sn, cs, work)
+            if j == 0:
+                np.multiply(cs, weight, out=acc_c)
+                np.multiply(sn, weight, out=acc_s)
             else:
-                dx += cs
-                dy += sn
+                cs *= weight
+                acc_c += cs
+                sn *= weight
+                acc_s += sn
 
-        h0, h1, h2 = self._heading
         pose_next = np.empty(p.shape)
-        np.add(x, dx, out=pose_next[0])
-        np.add(y, dy, out=pose_next[1])
-        dth = h0 * d_i
-        dth += h1 * d_w
-        dth += h2 * d_v
-        np.add(th, dth, out=pose_next[2])
+        # x += cos0 C - sin0 S ; y += sin0 C + cos0 S
+        np.multiply(cos0, acc_c, out=cs)
+        np.multiply(sin0, acc_s, out=sn)
+        cs -= sn
+        np.add(x, cs, out=pose_next[0])
+        np.multiply(sin0, acc_c, out=cs)
+        np.multiply(cos0, acc_s, out=sn)
+        cs += sn
+        np.add(y, cs, out=pose_next[1])
+        h0, h1, h2 = self._heading
+        np.multiply(d_i, h0, out=delta)
+        np.multiply(d_w, h1, out=sn)
+        delta += sn
+        np.multiply(d_v, h2, out=sn)
+        delta += sn
+        np.add(th, delta, out=pose_next[2])
 
         a00, a01, b0, a10, a11, b1 = self._wheel
         wheels_next = np.empty(w.shape)
         for row, (cur, spd, volt) in enumerate(((i_r, w_r, v_r), (i_l, w_l, v_l))):
             out_i, out_w = wheels_next[2 * row], wheels_next[2 * row + 1]
-            np.multiply(a00, cur, out=out_i)
-            out_i += a01 * spd
-            out_i += b0 * volt
-            np.multiply(a10, cur, out=out_w)
-            out_w += a11 * spd
-            out_w += b1 * volt
+            np.multiply(cur, a00, out=out_i)
+            np.multiply(spd, a01, out=sn)
+            out_i += sn
+            np.multiply(volt, b0, out=sn)
+            out_i += sn
+            np.multiply(cur, a10, out=out_w)
+            np.multiply(spd, a11, out=sn)
+            out_w += sn
+            np.multiply(volt, b1, out=sn)
+            out_w += sn
         return pose_next, wheels_next
