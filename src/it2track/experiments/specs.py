@@ -165,9 +165,14 @@ class ControllerSpec:
         return out
 
     @classmethod
-    def from_table(cls, table: Mapping[str, Any], *, where: str) -> ControllerSpec:
-        """Build from a TOML table, e.g. ``{kind = "it2", fou = 0.2}``; errors name ``where``."""
-        t = Table(table, where)
+    def from_table(
+        cls, table: Mapping[str, Any], *, where: str, base_dir: Path | None = None
+    ) -> ControllerSpec:
+        """Build from a TOML table, e.g. ``{kind = "it2", fou = 0.2}``; errors name ``where``.
+
+        A relative ``path`` (kind ``file``) is taken relative to ``base_dir`` when given.
+        """
+        t = Table(table, where, base_dir)
         kind_name = t.get("kind", str)
         try:
             kind = ControllerKind(kind_name)

@@ -1,0 +1,503 @@
+"""The paper's study, reproduced and extended (DESIGN.md sec. 6). Returns data; never plots.
+
+Experiments (all with common random numbers: seed index ``i`` is the same noise realisation for
+every controller, trajectory and noise level):
+
+``paper``
+    Monte Carlo at the study's noise level ``noise_std``: the FLC, the IT2FLCs of the paper's FoU
+    widths, the fair baselines (type-1 FLCs with the IT2FLCs' dead zones, a tuned PD) and any
+    extra controllers, on every trajectory, over ``seeds`` realisations.
+``noise``
+    Noise-level sweep: FLC, the IT2FLCs, the dead-zone-matched type-1 FLC of ``main_fou`` and
+    the PD over ``noise_levels``, ``sweep_seeds`` realisations each.
+``fou``
+    Continuous FoU sweep: IT2FLC(w) and the dead-zone-matched type-1 FLC(w) for every ``w`` in
+    ``fou_sweep`` (``w = 0`` is the FLC), at ``noise_std``, ``sweep_seeds`` realisations.
+
+Plus the time series of one realisation (``figure_seed``) for the paper's figures 7-10, and the
+control surfaces of every fuzzy controller. The PD baseline is tuned on seed indices disjoint
+from the evaluation seeds (see :func:`tune_pd`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..fuzzy import control_surface
+from ..paper import dead_zone_matched_fls, heading_fls
+from ..tracking import (
+    HeadingController,
+    LoopConfig,
+    PDHeadingController,
+    RunTable,
+    Trace,
+    get_trajectory,
+    run_grid,
+    simulate,
+    simulate_metrics,
+)
+from .specs import (
+    ConfigError,
+    ControllerKind,
+    ControllerSpec,
+    Table,
+    loop_config_from_table,
+    read_toml,
+    robot_from_table,
+)
+
+__all__ = [
+    "PDTuning",
+    "StudyConfig",
+    "StudyResult",
+    "experiment_sizes",
+    "load_study_config",
+    "run_study",
+    "tune_pd",
+]
+
+FloatArray = NDArray[np.float64]
+
+#: Offset of the seed indices used to tune the PD baseline (disjoint from evaluation seeds).
+TUNING_SEED_OFFSET = 1_000_000
+
+
+@dataclass(frozen=True, kw_only=True)
+class PDTuning:
+    """How the PD baseline is tuned (documented procedure, reported in the study).
+
+    A grid search over ``kp`` x ``kd`` (log-spaced; all candidates simulated in one batch),
+    minimising the mean ISE of the true heading error over the study's trajectories at the
+    study's noise level on ``seeds`` tuning realisations (seed indices ``1_000_000 + i``, never
+    used for evaluation). The same criterion family as the paper's (ISE), the same noise, and
+    no information from the evaluation seeds. ``kp``/``kd`` set explicitly skip tuning.
+    """
+
+    seeds: int = 16
+    kp_grid: tuple[float, ...] = tuple(round(v, 4) for v in np.geomspace(1.0, 640.0, 15))
+    kd_grid: tuple[float, ...] = (0.0, *(round(v, 4) for v in np.geomspace(0.01, 8.0, 10)))
+    tf: float = 0.02
+    kp: float | None = None
+    kd: float | None = None
+
+
+@dataclass(frozen=True, kw_only=True)
+class StudyConfig:
+    """Everything the study runs; ``configs/paper.toml`` holds the defaults.
+
+    Parameters
+    ----------
+    loop : LoopConfig
+        Duration, period, robot, noise rate, start pose and base seed.
+    trajectories : tuple of str
+        Built-in names or CSV waypoint files.
+    fous : tuple of float
+        The IT2FLC widths compared (the paper's 0.1, 0.2, 0.3).
+    main_fou : float
+        The paper's main IT2FLC (Table 1), shown against the FLC in Figs. 7-9.
+    noise_std : float
+        Heading-noise standard deviation of the Monte Carlo and the figures, rad.
+    noise_levels : tuple of float
+        Noise sweep levels, rad.
+    fou_sweep : tuple of float
+        FoU widths of the continuous sweep.
+    seeds, sweep_seeds : int
+        Realisations per cell in the ``paper`` experiment and in the sweeps.
+    figure_seed : int
+        Seed index of the time series shown in the figures.
+    matched_baseline : bool
+        Include the dead-zone-matched type-1 FLCs.
+    pd : PDTuning or None
+        PD baseline tuning (None: no PD baseline).
+    extra_controllers : tuple of ControllerSpec
+        The user's own controllers (e.g. ``kind = "file"``), added to every experiment.
+    batch_size : int
+        Runs per simulation chunk (memory vs speed; results do not depend on it).
+    """
+
+    loop: LoopConfig = field(default_factory=LoopConfig)
+    trajectories: tuple[str, ...] = ("straight", "curved", "sinusoidal")
+    fous: tuple[float, ...] = (0.1, 0.2, 0.3)
+    main_fou: float = 0.2
+    noise_std: float = 0.05
+    noise_levels: tuple[float, ...] = (0.0, 0.02, 0.05, 0.1, 0.2, 0.3, 0.5)
+    fou_sweep: tuple[float, ...] = tuple(round(0.02 * i, 2) for i in range(21))
+    seeds: int = 200
+    sweep_seeds: int = 100
+    figure_seed: int = 0
+    matched_baseline: bool = True
+    pd: PDTuning | None = field(default_factory=PDTuning)
+    extra_controllers: tuple[ControllerSpec, ...] = ()
+    batch_size: int = 4096
+
+    def __post_init__(self) -> None:
+        def bad(key: str, why: str) -> ValueError:
+            return ValueError(f"study {key}={getattr(self, key)!r}: {why}")
+
+        if not self.trajectories:
+            raise bad("trajectories", "needs at least one trajectory")
+        if not self.fous or any(not 0.0 < w < 1.6 for w in self.fous):
+            raise bad("fous", "needs widths in (0, 1.6)")
+        if self.main_fou not in self.fous:
+            raise bad("main_fou", f"must be one of fous={self.fous}")
+        for key in ("noise_std",):
+            v = getattr(self, key)
+            if not math.isfinite(v) or v < 0:
+                raise bad(key, "must be finite and >= 0")
+        if not self.noise_levels or any(not math.isfinite(v) or v < 0 for v in self.noise_levels):
+            raise bad("noise_levels", "needs finite levels >= 0")
+        if not self.fou_sweep or any(not 0.0 <= w < 1.6 for w in self.fou_sweep):
+            raise bad("fou_sweep", "needs widths in [0, 1.6)")
+        for key in ("seeds", "sweep_seeds", "batch_size"):
+            v = getattr(self, key)
+            if isinstance(v, bool) or not isinstance(v, int) or v < 1:
+                raise bad(key, "must be an integer >= 1")
+        if self.figure_seed < 0:
+            raise bad("figure_seed", "must be >= 0")
+        labels = [s.label for s in self.extra_controllers]
+        if len(set(labels)) != len(labels):
+            raise bad("extra_controllers", "labels must be unique")
+
+    # -- controller line-ups -------------------------------------------------------------------
+    def paper_controllers(self, pd: ControllerSpec | None) -> list[ControllerSpec]:
+        specs = [ControllerSpec(kind=ControllerKind.FLC)]
+        specs += [ControllerSpec(kind=ControllerKind.IT2, fou=w) for w in self.fous]
+        if self.matched_baseline:
+            specs += [ControllerSpec(kind=ControllerKind.T1_MATCHED, fou=w) for w in self.fous]
+        if pd is not None:
+            specs.append(pd)
+        return specs + list(self.extra_controllers)
+
+    def noise_controllers(self, pd: ControllerSpec | None) -> list[ControllerSpec]:
+        specs = [ControllerSpec(kind=ControllerKind.FLC)]
+        specs += [ControllerSpec(kind=ControllerKind.IT2, fou=w) for w in self.fous]
+        if self.matched_baseline:
+            specs.append(ControllerSpec(kind=ControllerKind.T1_MATCHED, fou=self.main_fou))
+        if pd is not None:
+            specs.append(pd)
+        return specs + list(self.extra_controllers)
+
+    def fou_controllers(self) -> list[ControllerSpec]:
+        specs = []
+        for w in self.fou_sweep:
+            if w == 0.0:
+                specs.append(ControllerSpec(kind=ControllerKind.FLC))
+            else:
+                specs.append(ControllerSpec(kind=ControllerKind.IT2, fou=w))
+                if self.matched_baseline:
+                    specs.append(ControllerSpec(kind=ControllerKind.T1_MATCHED, fou=w))
+        return specs
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain values for the manifest."""
+        loop = self.loop
+        return {
+            "simulation": {
+                "duration": loop.duration, "ts": loop.ts, "noise_rate": loop.noise_rate,
+                "start_pose": list(loop.start_pose), "seed": loop.seed,
+                "quadrature_nodes": loop.quadrature_nodes,
+            },
+            "robot": {
+                "half_track": loop.robot.half_track, "wheel_radius": loop.robot.wheel_radius,
+                "motor": {
+                    k: getattr(loop.robot.motor, k)
+                    for k in ("resistance", "inductance", "inertia", "friction",
+                              "torque_constant", "voltage_limit")
+                },
+            },
+            "study": {
+                "trajectories": list(self.trajectories), "fous": list(self.fous),
+                "main_fou": self.main_fou, "noise_std": self.noise_std,
+                "noise_levels": list(self.noise_levels), "fou_sweep": list(self.fou_sweep),
+                "seeds": self.seeds, "sweep_seeds": self.sweep_seeds,
+                "figure_seed": self.figure_seed, "matched_baseline": self.matched_baseline,
+                "batch_size": self.batch_size,
+            },
+            "pd": None if self.pd is None else {
+                "seeds": self.pd.seeds, "kp_grid": list(self.pd.kp_grid),
+                "kd_grid": list(self.pd.kd_grid), "tf": self.pd.tf,
+                "kp": self.pd.kp, "kd": self.pd.kd,
+            },
+            "controllers": [s.to_dict() for s in self.extra_controllers],
+        }  # fmt: skip
+
+
+def load_study_config(path: str | Path, **overrides: Any) -> StudyConfig:
+    """Read a study TOML file (see ``configs/paper.toml``).
+
+    Sections: ``[simulation]``, ``[robot]`` (+ ``[robot.motor]``), ``[study]``, ``[pd]``
+    (or ``pd = false`` in ``[study]``), ``[[controllers]]`` (extra controllers). ``overrides``
+    replace ``[study]`` values (e.g. ``seeds`` from the command line).
+
+    Raises
+    ------
+    ConfigError
+        Naming the file, section, key and value of anything unknown or invalid.
+    """
+    path = Path(path)
+    data = read_toml(path)
+    root = Table(data, str(path), path.parent)
+    study_t = root.sub("study")
+    seed = study_t.get("seed", int, 0)
+    if seed < 0:
+        raise ConfigError(f"{study_t.where}: seed={seed!r} must be >= 0")
+    robot = robot_from_table(root.sub("robot"))
+    loop = loop_config_from_table(root.sub("simulation"), robot, seed=seed)
+    values: dict[str, Any] = {"loop": loop}
+    for key in ("trajectories",):
+        if key in study_t:
+            values[key] = tuple(study_t.get_list(key, str))
+    for key in ("fous", "noise_levels", "fou_sweep"):
+        if key in study_t:
+            values[key] = tuple(study_t.get_list(key, float))
+    for key in ("main_fou", "noise_std"):
+        if key in study_t:
+            values[key] = study_t.get(key, float)
+    for key in ("seeds", "sweep_seeds", "figure_seed", "batch_size"):
+        if key in study_t:
+            values[key] = study_t.get(key, int)
+    if "matched_baseline" in study_t:
+        values["matched_baseline"] = study_t.get("matched_baseline", bool)
+    use_pd = study_t.get("pd_baseline", bool, True)
+    study_t.done()
+    pd_t = root.sub("pd")
+    if use_pd:
+        pd_values: dict[str, Any] = {}
+        for key in ("seeds",):
+            if key in pd_t:
+                pd_values[key] = pd_t.get(key, int)
+        for key in ("kp_grid", "kd_grid"):
+            if key in pd_t:
+                pd_values[key] = tuple(pd_t.get_list(key, float))
+        for key in ("tf", "kp", "kd"):
+            if key in pd_t:
+                pd_values[key] = pd_t.get(key, float)
+        values["pd"] = PDTuning(**pd_values)
+    else:
+        values["pd"] = None
+    pd_t.done()
+    extra = []
+    if "controllers" in root:
+        ctrl_list = root.get("controllers", list)
+        for i, entry in enumerate(ctrl_list):
+            extra.append(
+                ControllerSpec.from_table(
+                    entry, where=f"{path} [[controllers]] #{i + 1}", base_dir=path.parent
+                )
+            )
+    values["extra_controllers"] = tuple(extra)
+    root.done()
+    values.update(overrides)
+    for name in values.get("trajectories", ()):
+        _check_trajectory(name, path)
+    try:
+        return StudyConfig(**values)
+    except ValueError as exc:
+        raise ConfigError(f"{path}: {exc}") from None
+
+
+def _check_trajectory(name: str, path: Path) -> None:
+    try:
+        get_trajectory(name)
+    except ValueError as exc:
+        raise ConfigError(f"{path} [study] trajectories: {exc}") from None
+
+
+# --------------------------------------------------------------------------------------------
+# Results
+# --------------------------------------------------------------------------------------------
+
+
+@dataclass
+class StudyResult:
+    """Everything the study produced, as data.
+
+    Attributes
+    ----------
+    config : StudyConfig
+    rows : dict of str -> ndarray
+        The metrics table, one entry per run: columns ``experiment``, ``trajectory``,
+        ``controller``, ``kind`` (str arrays), ``fou``, ``noise_std`` (float), ``seed`` (int),
+        then every metric of :data:`~it2track.tracking.METRIC_NAMES`.
+    traces : dict of str -> Trace
+        Time series at ``noise_std`` for ``figure_seed``, by trajectory; the trace's runs are
+        the controllers of ``trace_controllers`` in order.
+    trace_controllers : list of str
+        Labels of the traced controllers.
+    surfaces : dict of str -> (e, de, u)
+        Control surfaces of the fuzzy controllers by label (``(101, 101)`` grids).
+    pd : ControllerSpec or None
+        The (tuned) PD baseline.
+    pd_tuning : dict
+        The tuning record: grid objective values and the chosen gains.
+    """
+
+    config: StudyConfig
+    rows: dict[str, np.ndarray]
+    traces: dict[str, Trace]
+    trace_controllers: list[str]
+    surfaces: dict[str, tuple[FloatArray, FloatArray, FloatArray]]
+    pd: ControllerSpec | None
+    pd_tuning: dict[str, Any]
+
+    def select(self, **where: Any) -> dict[str, np.ndarray]:
+        """Rows matching every ``column=value`` (floats compared exactly)."""
+        mask = np.ones(len(self.rows["seed"]), dtype=bool)
+        for key, value in where.items():
+            mask &= self.rows[key] == value
+        return {k: v[mask] for k, v in self.rows.items()}
+
+
+ROW_KEYS = ("experiment", "trajectory", "controller", "kind", "fou", "noise_std", "seed")
+
+
+def _specs_fou(spec: ControllerSpec) -> float:
+    return spec.fou if spec.kind in (ControllerKind.IT2, ControllerKind.T1_MATCHED) else 0.0
+
+
+def _run_experiment(
+    name: str,
+    specs: Sequence[ControllerSpec],
+    trajectories: Sequence[str],
+    noise_levels: Sequence[float],
+    n_seeds: int,
+    config: StudyConfig,
+    progress: Callable[[int], object] | None,
+) -> dict[str, np.ndarray]:
+    controllers = [s.build() for s in specs]
+    trajs = [get_trajectory(t) for t in trajectories]
+    runs = run_grid(len(controllers), len(trajs), noise_levels, n_seeds)
+    metrics = simulate_metrics(
+        controllers, trajs, runs, config.loop, batch_size=config.batch_size, progress=progress
+    )
+    n = len(runs)
+    rows: dict[str, np.ndarray] = {
+        "experiment": np.full(n, name, dtype=object),
+        "trajectory": np.array([trajectories[i] for i in runs.trajectory], dtype=object),
+        "controller": np.array([specs[i].label for i in runs.controller], dtype=object),
+        "kind": np.array([specs[i].kind.value for i in runs.controller], dtype=object),
+        "fou": np.array([_specs_fou(specs[i]) for i in runs.controller]),
+        "noise_std": runs.noise_std.copy(),
+        "seed": runs.seed.copy(),
+    }
+    rows.update(metrics)
+    return rows
+
+
+def experiment_sizes(config: StudyConfig) -> dict[str, int]:
+    """Number of runs of each experiment (for progress bars)."""
+    pd_count = 0 if config.pd is None else 1
+    n_t = len(config.trajectories)
+    return {
+        "pd_tuning": 0 if config.pd is None or config.pd.kp is not None
+        else len(config.pd.kp_grid) * len(config.pd.kd_grid) * n_t * config.pd.seeds,
+        "paper": len(config.paper_controllers(None) if pd_count == 0 else
+                     config.paper_controllers(ControllerSpec(kind=ControllerKind.PD, kp=1.0)))
+        * n_t * config.seeds,
+        "noise": len(config.noise_controllers(None) if pd_count == 0 else
+                     config.noise_controllers(ControllerSpec(kind=ControllerKind.PD, kp=1.0)))
+        * n_t * len(config.noise_levels) * config.sweep_seeds,
+        "fou": len(config.fou_controllers()) * n_t * config.sweep_seeds,
+    }
+
+
+def tune_pd(
+    config: StudyConfig, progress: Callable[[int], object] | None = None
+) -> tuple[ControllerSpec, dict[str, Any]]:
+    """Tune the PD baseline by the procedure of :class:`PDTuning`.
+
+    Returns the PD spec and a record ``{"grid": [[kp, kd, objective], ...], "kp": ..,
+    "kd": .., "objective": .., "on_grid_edge": bool}``.
+    """
+    tuning = config.pd
+    assert tuning is not None
+    if tuning.kp is not None:
+        spec = ControllerSpec(kind=ControllerKind.PD, kp=tuning.kp, kd=tuning.kd or 0.0,
+                              tf=tuning.tf, label="PD (given)")
+        return spec, {"grid": [], "kp": spec.kp, "kd": spec.kd, "objective": None,
+                      "on_grid_edge": False}
+    trajs = [get_trajectory(t) for t in config.trajectories]
+    seeds = TUNING_SEED_OFFSET + np.arange(tuning.seeds)
+
+    def objective(gains: Sequence[tuple[float, float]]) -> FloatArray:
+        ctrls: list[HeadingController] = [
+            PDHeadingController(kp=kp, kd=kd, tf=tuning.tf) for kp, kd in gains
+        ]
+        runs = run_grid(len(ctrls), len(trajs), [config.noise_std], seeds.tolist())
+        m = simulate_metrics(ctrls, trajs, runs, config.loop, batch_size=config.batch_size,
+                             progress=progress)
+        ise = m["ISE"].reshape(len(ctrls), -1)
+        return ise.mean(axis=1)
+
+    grid = [(kp, kd) for kp in tuning.kp_grid for kd in tuning.kd_grid]
+    values = objective(grid)
+    best = int(np.argmin(values))
+    kp, kd = grid[best]
+    best_value = float(values[best])
+    edge = kp in (tuning.kp_grid[0], tuning.kp_grid[-1]) or kd == tuning.kd_grid[-1]
+    spec = ControllerSpec(kind=ControllerKind.PD, kp=kp, kd=kd,
+                          tf=tuning.tf, label="PD (tuned)")
+    record = {
+        "grid": [[g[0], g[1], float(v)] for g, v in zip(grid, values, strict=True)],
+        "kp": spec.kp, "kd": spec.kd, "objective": best_value, "on_grid_edge": edge,
+        "seed_indices": [int(seeds[0]), int(seeds[-1])],
+        "noise_std": config.noise_std, "criterion": "mean ISE over trajectories",
+    }
+    return spec, record
+
+
+def run_study(
+    config: StudyConfig,
+    *,
+    progress: Callable[[int], object] | None = None,
+) -> StudyResult:
+    """Run every experiment of the study (see the module docstring).
+
+    Parameters
+    ----------
+    progress : callable, optional
+        Called with the number of runs finished, as they finish (for a progress bar sized by
+        ``sum(experiment_sizes(config).values())``).
+    """
+    if config.pd is not None:
+        pd, pd_record = tune_pd(config, progress)
+    else:
+        pd, pd_record = None, {}
+    parts = [
+        _run_experiment("paper", config.paper_controllers(pd), config.trajectories,
+                        [config.noise_std], config.seeds, config, progress),
+        _run_experiment("noise", config.noise_controllers(pd), config.trajectories,
+                        config.noise_levels, config.sweep_seeds, config, progress),
+        _run_experiment("fou", config.fou_controllers(), config.trajectories,
+                        [config.noise_std], config.sweep_seeds, config, progress),
+    ]
+    rows = {key: np.concatenate([p[key] for p in parts]) for key in parts[0]}
+
+    # Time series of one realisation for the figures.
+    traced = [ControllerSpec(kind=ControllerKind.FLC)] + [
+        ControllerSpec(kind=ControllerKind.IT2, fou=w) for w in config.fous
+    ]
+    controllers = [s.build() for s in traced]
+    traces: dict[str, Trace] = {}
+    for name in config.trajectories:
+        runs = RunTable(np.arange(len(controllers)), 0, config.noise_std, config.figure_seed)
+        traces[name] = simulate(controllers, [get_trajectory(name)], runs, config.loop)
+
+    surfaces: dict[str, tuple[FloatArray, FloatArray, FloatArray]] = {}
+    surfaces["FLC"] = control_surface(heading_fls(0.0))
+    for w in config.fous:
+        surfaces[f"IT2FLC FoU {w:g}"] = control_surface(heading_fls(w))
+        if config.matched_baseline:
+            surfaces[f"T1 dead-zone-matched {w:g}"] = control_surface(dead_zone_matched_fls(w))
+    return StudyResult(
+        config=config, rows=rows, traces=traces, trace_controllers=[s.label for s in traced],
+        surfaces=surfaces, pd=pd, pd_tuning=pd_record,
+    )
+
