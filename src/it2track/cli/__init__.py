@@ -1,0 +1,1 @@
+"""Command line: ``it2track simulate | reproduce | sweep | optimize | fis | surface``."""
