@@ -277,7 +277,7 @@ def _convert(value: Any, kind: type | Callable[[Any], Any], what: str) -> Any:
             raise ConfigError(f"{what}={value!r} must be true or false")
         return value
     try:
-        return kind(value)  # type: ignore[call-arg]
+        return kind(value)
     except (TypeError, ValueError) as exc:
         raise ConfigError(f"{what}={value!r}: {exc}") from None
 

@@ -109,7 +109,7 @@ def _git_revision() -> str | None:
 def manifest(*, config: Mapping[str, Any], command: str, elapsed_s: float,
              extra: Mapping[str, Any] | None = None) -> dict[str, Any]:
     """Provenance of a run: config, command, versions, git revision, platform, timing."""
-    versions = {}
+    versions: dict[str, str | None] = {}
     for pkg in ("it2track", "numpy", "scipy", "matplotlib", "click", "tqdm", "tomli-w"):
         try:
             versions[pkg] = metadata.version(pkg)
