@@ -110,7 +110,7 @@ def manifest(*, config: Mapping[str, Any], command: str, elapsed_s: float,
              extra: Mapping[str, Any] | None = None) -> dict[str, Any]:
     """Provenance of a run: config, command, versions, git revision, platform, timing."""
     versions: dict[str, str | None] = {}
-    for pkg in ("it2track", "numpy", "scipy", "matplotlib", "click", "tqdm", "tomli-w"):
+    for pkg in ("it2track", "numpy", "scipy", "matplotlib", "click", "tqdm"):
         try:
             versions[pkg] = metadata.version(pkg)
         except metadata.PackageNotFoundError:

@@ -1,0 +1,205 @@
+"""``it2track fis show | convert | eval`` and ``it2track surface``: fuzzy-system files.
+
+The files are ``.toml`` (ours), ``.t2fis`` (IT2FLS toolbox) and ``.fis`` (MATLAB); see
+:mod:`it2track.io`. :func:`describe` is the text summary ``fis show`` prints.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from pathlib import Path
+from typing import Any
+
+import click
+
+from ..fuzzy import (
+    Gaussian,
+    IT2Sugeno,
+    MembershipFunction,
+    ScaledLagged,
+    T1Sugeno,
+    Trapezoid,
+    Triangle,
+    UncertainMeanGaussianLower,
+    UncertainMeanGaussianUpper,
+)
+
+__all__ = ["describe", "fis", "surface"]
+
+
+def _num(x: float) -> str:
+    return f"{float(x):.6g}"
+
+
+def _mf_text(mf: MembershipFunction, *, of: MembershipFunction | None = None) -> str:
+    """Short human text of one MF, e.g. ``triangle [-1 0 1]`` or ``gaussian mean=0 sigma=1``."""
+    h = getattr(mf, "h", 1.0)
+    height = "" if float(h) == 1.0 else f" h={_num(h)}"
+    if type(mf) is Triangle:
+        assert isinstance(mf, Triangle)
+        return f"triangle [{_num(mf.a)} {_num(mf.b)} {_num(mf.c)}]{height}"
+    if type(mf) is Trapezoid:
+        assert isinstance(mf, Trapezoid)
+        return f"trapezoid [{_num(mf.a)} {_num(mf.b)} {_num(mf.c)} {_num(mf.d)}]{height}"
+    if type(mf) is Gaussian:
+        assert isinstance(mf, Gaussian)
+        return f"gaussian mean={_num(mf.mean)} sigma={_num(mf.sigma)}{height}"
+    if type(mf) in (UncertainMeanGaussianUpper, UncertainMeanGaussianLower):
+        assert isinstance(mf, UncertainMeanGaussianUpper | UncertainMeanGaussianLower)
+        side = "upper" if isinstance(mf, UncertainMeanGaussianUpper) else "lower"
+        return (f"uncertain-mean gaussian ({side}) mean=[{_num(mf.m1)} {_num(mf.m2)}] "
+                f"sigma={_num(mf.sigma)}{height}")
+    if type(mf) is ScaledLagged:
+        assert isinstance(mf, ScaledLagged)
+        base = "upper" if of is not None and (mf.upper is of or mf.upper == of) \
+            else _mf_text(mf.upper)
+        return f"scale {_num(mf.scale)}, lag {_num(mf.lag)} of {base}"
+    return repr(mf)
+
+
+def describe(system: IT2Sugeno | T1Sugeno) -> str:
+    """A readable multi-line summary: kind, t-norm, reducer, inputs with their sets, rules."""
+    it2 = isinstance(system, IT2Sugeno)
+    zero = ("error (ZeroFiringError)" if system.on_zero_firing is None
+            else f"output {_num(system.on_zero_firing)}")
+    lines = [
+        system.name or "(unnamed system)",
+        f"  kind         {'interval type-2' if it2 else 'type-1'} zero-order Sugeno "
+        f"({type(system).__name__})",
+        f"  t-norm       {system.tnorm.value}",
+    ]
+    if isinstance(system, IT2Sugeno):
+        reducer = system.reducer
+        exact = "exact" if reducer.exact else "approximation"
+        lines.append(f"  reducer      {reducer.name} ({exact})")
+    lines += [
+        f"  no firing    {zero}",
+        f"  size         {system.n_inputs} input(s), {system.n_rules} rule(s)",
+    ]
+    for inp in system.inputs:
+        lo, hi = inp.universe
+        lines += ["", f"input {inp.name!r}  universe [{_num(lo)}, {_num(hi)}]"]
+        width = max(len(s.name) for s in inp.sets)
+        for s in inp.sets:
+            if s.is_type1:
+                lines.append(f"  {s.name:<{width}}  {_mf_text(s.upper)}")
+            else:
+                lines.append(f"  {s.name:<{width}}  upper {_mf_text(s.upper)}")
+                lines.append(f"  {'':<{width}}  lower {_mf_text(s.lower, of=s.upper)}")
+    lines += ["", "rules"]
+    digits = len(str(system.n_rules))
+    for k, rule in enumerate(system.rules, start=1):
+        terms = [f"{inp.name} is {label}" for inp, label in
+                 zip(system.inputs, rule.antecedent, strict=True) if label is not None]
+        lo, hi = rule.consequent
+        then = _num(lo) if lo == hi else f"[{_num(lo)}, {_num(hi)}]"
+        lines.append(f"  {k:>{digits}}  if {' and '.join(terms)} then {then}")
+    return "\n".join(lines)
+
+
+def _load(path: str) -> IT2Sugeno | T1Sugeno:
+    from ..io import load
+
+    try:
+        return load(path)
+    except (ValueError, OSError) as exc:
+        raise click.ClickException(str(exc)) from None
+
+
+_FILE = click.Path(exists=True, dir_okay=False, path_type=str)
+
+
+@click.group()
+def fis() -> None:
+    """Fuzzy-system files: .toml (it2track), .t2fis (IT2FLS toolbox), .fis (MATLAB)."""
+
+
+@fis.command()
+@click.argument("file", type=_FILE)
+def show(file: str) -> None:
+    """Print a summary of the fuzzy system in FILE."""
+    click.echo(describe(_load(file)))
+
+
+@fis.command()
+@click.argument("source", type=_FILE)
+@click.argument("target", type=click.Path(dir_okay=False, path_type=str))
+def convert(source: str, target: str) -> None:
+    """Convert SOURCE to TARGET; the formats follow the suffixes (.toml, .t2fis, .fis)."""
+    from ..io import save
+
+    system = _load(source)
+    try:
+        save(system, target)
+    except (ValueError, OSError) as exc:
+        raise click.ClickException(str(exc)) from None
+    click.echo(f"wrote {target}")
+
+
+@fis.command(name="eval")
+@click.argument("file", type=_FILE)
+@click.argument("values", nargs=-1, type=float, required=True)
+def evaluate(file: str, values: tuple[float, ...]) -> None:
+    """Evaluate FILE at one point: one VALUE per input, in order."""
+    system = _load(file)
+    if len(values) != system.n_inputs:
+        names = ", ".join(inp.name for inp in system.inputs)
+        raise click.ClickException(f"{file} takes {system.n_inputs} values ({names})")
+    if not all(math.isfinite(v) for v in values):
+        raise click.ClickException("values must be finite")
+    try:
+        yl, yr = (float(v) for v in system.interval(*values))
+    except ValueError as exc:
+        raise click.ClickException(str(exc)) from None
+    click.echo(f"u = {(yl + yr) / 2:.10g}")
+    if isinstance(system, IT2Sugeno):
+        click.echo(f"[yl, yr] = [{yl:.10g}, {yr:.10g}]")
+
+
+def _parse_fixed(items: tuple[str, ...]) -> dict[str, float]:
+    fixed: dict[str, float] = {}
+    for item in items:
+        name, sep, value = item.partition("=")
+        try:
+            number = float(value)
+        except ValueError:
+            number = math.nan
+        if not sep or not name or not math.isfinite(number):
+            raise click.BadParameter(f"{item!r}: expected NAME=VALUE", param_hint="--fix")
+        fixed[name] = number
+    return fixed
+
+
+@click.command()
+@click.argument("file", type=_FILE)
+@click.option("--out", "out", required=True, type=click.Path(dir_okay=False, path_type=str),
+              help="Image to write (.png, .svg, .pdf).")
+@click.option("--points", default=101, show_default=True, type=click.IntRange(min=2),
+              help="Grid points per axis.")
+@click.option("--style", default="3d", show_default=True, type=click.Choice(["3d", "contour"]),
+              help="3-D surface or filled contours.")
+@click.option("--x", "x_input", default=None, help="Input on the x axis (default: the first).")
+@click.option("--y", "y_input", default=None, help="Input on the y axis (default: the second).")
+@click.option("--fix", "fix", multiple=True, metavar="NAME=VALUE",
+              help="Value of an input not on the axes (default: middle of its universe).")
+def surface(file: str, out: str, points: int, style: str, x_input: str | None,
+            y_input: str | None, fix: tuple[str, ...]) -> None:
+    """Plot the control surface of FILE and each input's sets (FoUs for IT2) to --out."""
+    from ..report.surface import plot_system
+
+    system = _load(file)
+    inputs: Any = None
+    if system.n_inputs >= 2:
+        names = [inp.name for inp in system.inputs]
+        x = x_input or names[0]
+        y = y_input or next(n for n in names if n != x)
+        inputs = (x, y)
+    elif x_input or y_input:
+        raise click.BadParameter("a one-input system has no axes to choose", param_hint="--x")
+    try:
+        plot_system(system, out, inputs=inputs, fixed=_parse_fixed(fix), points=points,
+                    style=style)
+    except (ValueError, OSError) as exc:
+        raise click.ClickException(str(exc)) from None
+    click.echo(f"wrote {os.fspath(Path(out))}")

@@ -1,0 +1,148 @@
+"""Reading and writing fuzzy systems: one entry point for every format, chosen by suffix.
+
+==========  ===================================================================================
+suffix      format
+==========  ===================================================================================
+``.toml``   it2track's own TOML (:mod:`.tomlfmt`): readable, exact for every system we build
+``.t2fis``  the IT2FLS MATLAB toolbox of Taskin & Kumbasar (:mod:`.t2fis`)
+``.fis``    MATLAB's Fuzzy Logic Toolbox: type-1 Sugeno; type-2 in our layout (:mod:`.matfis`)
+==========  ===================================================================================
+
+>>> import it2track
+>>> from it2track.io import dumps, loads
+>>> fls = it2track.heading_fls(0.2)
+>>> again = loads(dumps(fls, "t2fis"), "t2fis")
+>>> float(again(0.5, 0.0)) == float(fls(0.5, 0.0))
+True
+
+Every float is written with ``repr`` precision, so a system read back gives bit-for-bit the
+outputs of the one written, in every format that can carry it. What each format can carry is
+listed in its module; a writer raises :class:`UnsupportedFeatureError` (a ``ValueError``) for
+the rest, and readers raise :class:`FisFormatError` (a ``ValueError``) for anything malformed or
+unsupported, naming the file, the line and the problem. Writes are atomic: the text is
+rendered first, written to a temporary file beside the target and moved into place, so an error
+never leaves a half-written file.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable
+from pathlib import Path
+
+from ..fuzzy import IT2Sugeno, T1Sugeno
+from . import matfis, t2fis, tomlfmt
+from ._atomic import atomic_write_text
+from ._matlab import decode
+from .errors import FisFormatError, UnsupportedFeatureError
+
+__all__ = [
+    "FORMATS",
+    "FisFormatError",
+    "UnsupportedFeatureError",
+    "dumps",
+    "format_of",
+    "load",
+    "loads",
+    "save",
+]
+
+_Loader = Callable[[str, str], IT2Sugeno | T1Sugeno]
+_Dumper = Callable[[IT2Sugeno | T1Sugeno], str]
+
+#: format name -> (file suffix, loads, dumps)
+FORMATS: dict[str, tuple[str, _Loader, _Dumper]] = {
+    "toml": (".toml", tomlfmt.loads, tomlfmt.dumps),
+    "t2fis": (".t2fis", t2fis.loads, t2fis.dumps),
+    "fis": (".fis", matfis.loads, matfis.dumps),
+}
+
+
+def format_of(path: str | os.PathLike[str]) -> str:
+    """The format name (``"toml"``, ``"t2fis"``, ``"fis"``) for a path's suffix.
+
+    Raises
+    ------
+    ValueError
+        For any other suffix.
+    """
+    suffix = Path(path).suffix.lower()
+    for name, (fmt_suffix, _, _) in FORMATS.items():
+        if suffix == fmt_suffix:
+            return name
+    known = ", ".join(s for s, _, _ in FORMATS.values())
+    raise ValueError(f"{os.fspath(path)}: unknown fuzzy-system file suffix {suffix!r} ({known})")
+
+
+def _format(fmt: str) -> tuple[str, _Loader, _Dumper]:
+    try:
+        return FORMATS[fmt.lower().lstrip(".")]
+    except KeyError:
+        raise ValueError(f"unknown format {fmt!r}; choose one of {sorted(FORMATS)}") from None
+
+
+def loads(text: str, fmt: str, *, path: str = "<string>") -> IT2Sugeno | T1Sugeno:
+    """Parse ``text`` in format ``fmt`` (``"toml"``, ``"t2fis"`` or ``"fis"``).
+
+    ``path`` only labels error messages.
+    """
+    return _format(fmt)[1](text, path)
+
+
+def dumps(system: IT2Sugeno | T1Sugeno, fmt: str) -> str:
+    """Text of ``system`` in format ``fmt`` (``"toml"``, ``"t2fis"`` or ``"fis"``).
+
+    Raises
+    ------
+    UnsupportedFeatureError
+        If the format cannot carry something the system uses.
+    """
+    return _format(fmt)[2](system)
+
+
+def load(path: str | os.PathLike[str]) -> IT2Sugeno | T1Sugeno:
+    """Read a fuzzy system from ``path``; the format follows the suffix.
+
+    Returns
+    -------
+    IT2Sugeno or T1Sugeno
+        Evaluate as ``system(x1, x2, ...)``.
+
+    Raises
+    ------
+    FisFormatError
+        If the file is malformed or uses something it2track cannot represent; ``str(err)`` is
+        ``"path:line: problem"``.
+    ValueError
+        For an unknown suffix.
+    OSError
+        If the file cannot be read.
+    """
+    name = format_of(path)
+    data = Path(path).read_bytes()
+    label = os.fspath(path)
+    if name == "toml":
+        try:
+            text = data.decode("utf-8-sig")
+        except UnicodeDecodeError as exc:
+            line = data.count(b"\n", 0, exc.start) + 1
+            raise FisFormatError(
+                label, line, f"not valid UTF-8 (byte 0x{data[exc.start]:02x})"
+            ) from None
+    else:
+        text = decode(data)
+    return FORMATS[name][1](text, label)
+
+
+def save(system: IT2Sugeno | T1Sugeno, path: str | os.PathLike[str]) -> None:
+    """Write ``system`` to ``path`` atomically; the format follows the suffix.
+
+    Raises
+    ------
+    UnsupportedFeatureError
+        If the format cannot carry something the system uses (nothing is written).
+    ValueError
+        For an unknown suffix.
+    """
+    text = FORMATS[format_of(path)][2](system)
+    atomic_write_text(path, text)

@@ -1,0 +1,351 @@
+"""Fuzzy-aware helpers shared by the ``.t2fis`` and ``.fis`` readers and writers.
+
+Membership-function conversion between MATLAB's parameter vectors and our classes, rule
+building with line-accurate errors, and a guard that turns numeric trouble and the fuzzy core's
+``ValueError`` into :class:`~it2track.io.errors.FisFormatError`.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+from collections.abc import Iterator, Sequence
+
+import numpy as np
+
+from ..fuzzy import (
+    Gaussian,
+    Input,
+    IT2Set,
+    IT2Sugeno,
+    MembershipFunction,
+    Rule,
+    T1Sugeno,
+    TNorm,
+    Trapezoid,
+    Triangle,
+    TypeReducer,
+    UncertainMeanGaussianUpper,
+)
+from ._matlab import Document, MFValue, ParsedRule, fmt_string, fmt_vector
+from .errors import FisFormatError, UnsupportedFeatureError
+
+__all__ = [
+    "SUPPORTED_MF_TYPES",
+    "build_input",
+    "build_rules",
+    "check_writable",
+    "consequent_table",
+    "fmt_rule",
+    "guard",
+    "mf_from_matlab",
+    "mf_line",
+    "mf_to_matlab",
+    "output_range",
+    "set_name",
+    "system_of",
+]
+
+#: MATLAB MF types we read (and write).
+SUPPORTED_MF_TYPES = ("trimf", "trapmf", "gaussmf", "gauss2mf")
+#: MATLAB MF types that exist but that it2track has no class for.
+_KNOWN_UNSUPPORTED = (
+    "gbellmf", "sigmf", "dsigmf", "psigmf", "pimf", "smf", "zmf", "linsmf", "linzmf",
+)
+_PARAMS = {"trimf": "[a b c]", "trapmf": "[a b c d]", "gaussmf": "[sigma c]",
+           "gauss2mf": "[sigma1 c1 sigma2 c2]"}
+_COUNTS = {"trimf": 3, "trapmf": 4, "gaussmf": 2, "gauss2mf": 4}
+
+
+@contextlib.contextmanager
+def guard(doc: Document, line: int | None, what: str = "") -> Iterator[None]:
+    """Turn the fuzzy core's ``ValueError`` and numeric overflow into ``FisFormatError``."""
+    prefix = f"{what}: " if what else ""
+    try:
+        with np.errstate(over="raise", divide="raise", invalid="raise", under="ignore"):
+            yield
+    except FisFormatError:
+        raise
+    except FloatingPointError as exc:
+        raise doc.error(line, f"{prefix}numeric overflow ({exc}); check the magnitudes") from None
+    except (ValueError, TypeError, OverflowError) as exc:
+        raise doc.error(line, f"{prefix}{exc}") from None
+
+
+# ---------------------------------------------------------------------------------------------
+# Membership functions
+# ---------------------------------------------------------------------------------------------
+
+
+def mf_from_matlab(doc: Document, mfv: MFValue, *, with_height: bool) -> MembershipFunction:
+    """Our MF for ``'type',[params]`` (toolbox convention: ``with_height`` appends ``h``)."""
+    kind = mfv.type
+    if kind not in _COUNTS:
+        if kind.lower() in _KNOWN_UNSUPPORTED:
+            raise doc.error(
+                mfv.line,
+                f"unsupported MF type {kind!r} (it2track reads {', '.join(SUPPORTED_MF_TYPES)})",
+            )
+        raise doc.error(mfv.line, f"unknown MF type {kind!r}")
+    n = _COUNTS[kind] + (1 if with_height else 0)
+    if len(mfv.params) != n:
+        form = _PARAMS[kind][:-1] + (" h]" if with_height else "]")
+        raise doc.error(
+            mfv.line, f"{kind} needs {n} parameters {form}, got {len(mfv.params)}"
+        )
+    p = list(mfv.params)
+    h = p.pop() if with_height else 1.0
+    with guard(doc, mfv.line, f"MF {mfv.name!r}"):
+        if kind == "trimf":
+            return Triangle(p[0], p[1], p[2], h)
+        if kind == "trapmf":
+            return Trapezoid(p[0], p[1], p[2], p[3], h)
+        if kind == "gaussmf":
+            return Gaussian(p[1], p[0], h)
+        sigma1, c1, sigma2, c2 = p
+        if sigma1 != sigma2 or c1 > c2:
+            raise doc.error(
+                mfv.line,
+                "gauss2mf is supported only as an uncertain-mean Gaussian: sigma1 == sigma2 "
+                f"and c1 <= c2 (got {fmt_vector(p)})",
+            )
+        return UncertainMeanGaussianUpper(c1, c2, sigma1, h)
+
+
+def mf_to_matlab(
+    mf: MembershipFunction, *, with_height: bool, what: str
+) -> tuple[str, tuple[float, ...]]:
+    """``(type, params)`` of one of our MFs; ``what`` names it in errors."""
+    kind = type(mf)
+    params: tuple[float, ...]
+    if kind is Triangle:
+        assert isinstance(mf, Triangle)
+        kind_name, params, h = "trimf", (mf.a, mf.b, mf.c), mf.h
+    elif kind is Trapezoid:
+        assert isinstance(mf, Trapezoid)
+        kind_name, params, h = "trapmf", (mf.a, mf.b, mf.c, mf.d), mf.h
+    elif kind is Gaussian:
+        assert isinstance(mf, Gaussian)
+        kind_name, params, h = "gaussmf", (mf.sigma, mf.mean), mf.h
+    elif kind is UncertainMeanGaussianUpper:
+        assert isinstance(mf, UncertainMeanGaussianUpper)
+        kind_name, params, h = "gauss2mf", (mf.sigma, mf.m1, mf.sigma, mf.m2), mf.h
+    else:
+        raise UnsupportedFeatureError(
+            f"{what} is a {kind.__name__}, which has no MATLAB MF type (these formats carry "
+            "Triangle, Trapezoid, Gaussian and UncertainMeanGaussianUpper); save as .toml"
+        )
+    values = tuple(float(v) for v in params)
+    if with_height:
+        return kind_name, (*values, float(h))
+    if float(h) != 1.0:
+        raise UnsupportedFeatureError(
+            f"{what} has height h={h!r}; MATLAB's {kind_name} has no height parameter (only 1)"
+        )
+    return kind_name, values
+
+
+def mf_line(key: str, name: str, kind: str, params: Sequence[float], what: str) -> str:
+    """``key='name':'kind',[params]``."""
+    return f"{key}={fmt_string(name, what)}:'{kind}',{fmt_vector(params)}"
+
+
+def set_name(upper: str, lower: str) -> str:
+    """One name for a toolbox ``U``/``L`` pair: ``'NU'``/``'NL'`` -> ``'N'``, else the upper's."""
+    if (
+        len(upper) > 1
+        and upper[-1] == "U"
+        and lower[-1:] == "L"
+        and upper[:-1] == lower[:-1]
+    ):
+        return upper[:-1]
+    return upper
+
+
+# ---------------------------------------------------------------------------------------------
+# Inputs, rules, systems
+# ---------------------------------------------------------------------------------------------
+
+
+def build_input(
+    doc: Document,
+    name: str,
+    universe: tuple[float, float],
+    sets: Sequence[tuple[IT2Set, int, int]],
+    line: int,
+) -> Input:
+    """An :class:`Input`; ``sets`` are ``(set, upper_line, lower_line)``.
+
+    Each set is checked on the universe first, so that an error names the line of the MF at
+    fault (``lower MF ... exceeds upper MF`` names the lower MF's line).
+    """
+    seen: dict[str, int] = {}
+    for s, up_line, _ in sets:
+        if not s.name:
+            raise doc.error(up_line, "empty MF name")
+        if s.name in seen:
+            raise doc.error(
+                up_line, f"duplicate MF name {s.name!r} in input {name!r} (first at line "
+                f"{seen[s.name]})"
+            )
+        seen[s.name] = up_line
+    for s, up_line, low_line in sets:
+        try:
+            with np.errstate(over="raise", divide="raise", invalid="raise", under="ignore"):
+                s.check_on(universe, owner=f"input {name!r}")
+        except FloatingPointError as exc:
+            raise doc.error(up_line, f"numeric overflow evaluating MF {s.name!r} ({exc})") from None
+        except ValueError as exc:
+            text = str(exc)
+            at_upper = ": upper MF" in text
+            raise doc.error(up_line if at_upper else low_line, text) from None
+    with guard(doc, line, f"input {name!r}"):
+        return Input(name, universe, [s for s, _, _ in sets])
+
+
+def build_rules(
+    doc: Document,
+    parsed: Sequence[ParsedRule],
+    inputs: Sequence[Input],
+    consequents: Sequence[tuple[float, float]],
+) -> list[Rule]:
+    """Our rules from indexed rules; consequent ``k`` (1-based) is ``consequents[k - 1]``."""
+    rules = []
+    for pr in parsed:
+        antecedent: list[str | None] = []
+        for inp, index in zip(inputs, pr.antecedent, strict=True):
+            if index < 0:
+                raise doc.error(
+                    pr.line,
+                    f"negated antecedent ({index}: NOT) on input {inp.name!r} is not supported",
+                )
+            if index > len(inp.sets):
+                raise doc.error(
+                    pr.line,
+                    f"rule names MF {index} of input {inp.name!r}, which has only "
+                    f"{len(inp.sets)}",
+                )
+            antecedent.append(None if index == 0 else inp.sets[index - 1].name)
+        if all(a is None for a in antecedent):
+            raise doc.error(pr.line, "rule mentions no input (all antecedent indices are 0)")
+        (out,) = pr.consequent
+        if out < 0:
+            raise doc.error(pr.line, f"negated consequent ({out}) is not supported")
+        if out == 0:
+            raise doc.error(pr.line, "rule has no consequent (output index 0)")
+        if out > len(consequents):
+            raise doc.error(
+                pr.line, f"rule names output MF {out}, but the output has only {len(consequents)}"
+            )
+        if pr.weight != 1.0:
+            raise doc.error(
+                pr.line, f"rule weight {pr.weight:g} is not supported (only weight 1)"
+            )
+        used = sum(a is not None for a in antecedent)
+        if pr.connection == 2 and used > 1:
+            raise doc.error(pr.line, "OR rules (connection 2) are not supported, only AND (1)")
+        if pr.connection not in (1, 2):
+            raise doc.error(
+                pr.line, f"rule connection {pr.connection} must be 1 (AND) or 2 (OR)"
+            )
+        with guard(doc, pr.line, "rule"):
+            rules.append(Rule(antecedent, consequents[out - 1]))
+    return rules
+
+
+def system_of(
+    doc: Document,
+    line: int | None,
+    *,
+    type1: bool,
+    inputs: Sequence[Input],
+    rules: Sequence[Rule],
+    tnorm: TNorm,
+    reducer: TypeReducer,
+    name: str,
+    on_zero_firing: float | None = None,
+) -> IT2Sugeno | T1Sugeno:
+    """Construct the system, turning the core's ``ValueError`` into ``FisFormatError``."""
+    with guard(doc, line):
+        if type1:
+            return T1Sugeno(inputs=tuple(inputs), rules=tuple(rules), tnorm=tnorm,
+                            on_zero_firing=on_zero_firing, name=name)
+        return IT2Sugeno(inputs=tuple(inputs), rules=tuple(rules), tnorm=tnorm,
+                         reducer=reducer, on_zero_firing=on_zero_firing, name=name)
+
+
+# ---------------------------------------------------------------------------------------------
+# Writers
+# ---------------------------------------------------------------------------------------------
+
+
+def _key(value: float) -> tuple[float, bool]:
+    return (value, math.copysign(1.0, value) < 0)
+
+
+def consequent_table(
+    rules: Sequence[Rule],
+) -> tuple[list[tuple[float, float]], list[int]]:
+    """Distinct consequents in order of first use, and each rule's 1-based index into them."""
+    table: list[tuple[float, float]] = []
+    index: dict[tuple[tuple[float, bool], tuple[float, bool]], int] = {}
+    which = []
+    for rule in rules:
+        lo, hi = (float(v) for v in rule.consequent)
+        key = (_key(lo), _key(hi))
+        if key not in index:
+            table.append((lo, hi))
+            index[key] = len(table)
+        which.append(index[key])
+    return table, which
+
+
+def fmt_rule(system: IT2Sugeno | T1Sugeno, rule: Rule, out_index: int) -> str:
+    """``a1 a2 ..., c (1) : 1`` for one of our rules."""
+    indices = []
+    for inp, label in zip(system.inputs, rule.antecedent, strict=True):
+        indices.append(0 if label is None else inp.set_index(label) + 1)
+    return f"{' '.join(str(i) for i in indices)}, {out_index} (1) : 1"
+
+
+def check_writable(system: object, fmt: str) -> None:
+    if not isinstance(system, IT2Sugeno | T1Sugeno):
+        raise TypeError(f"can only write IT2Sugeno or T1Sugeno systems to {fmt}, got "
+                        f"{type(system).__name__}")
+
+
+def output_range(
+    table: Sequence[tuple[float, float]], on_zero_firing: float | None
+) -> tuple[float, float]:
+    """An output ``Range`` covering the consequents (``lo < hi``).
+
+    With ``on_zero_firing`` set, the range's midpoint (MATLAB's output where no rule fires) is
+    exactly ``on_zero_firing``: a range symmetric about it that covers the consequents if one
+    exists in floating point, else ``[0, 2 c]`` (or ``[2 c, 0]``; ``[-1, 1]`` for ``c == 0``).
+    """
+    lo = min(v[0] for v in table)
+    hi = max(v[1] for v in table)
+    if on_zero_firing is None:
+        if lo == hi:
+            pad = max(1.0, abs(lo))
+            return lo - pad, hi + pad
+        return lo, hi
+    c = float(on_zero_firing)
+    span = max(c - lo, hi - c, 0.0) or max(1.0, abs(c))
+    candidates = [span]
+    step = 2.0 ** math.ceil(math.log2(span))
+    candidates += [step * 2.0**k for k in range(8)]
+    for r in candidates:
+        a, b = c - r, c + r
+        if math.isfinite(a) and math.isfinite(b) and a <= lo and b >= hi and a < b:
+            if (a + b) / 2 == c:
+                return a, b
+    if c == 0.0:
+        return -1.0, 1.0
+    a, b = sorted((0.0, 2.0 * c))
+    if not math.isfinite(b - a) or (a + b) / 2 != c:
+        raise UnsupportedFeatureError(
+            f"on_zero_firing={c!r} cannot be written as the midpoint of an output range"
+        )
+    return a, b
+

@@ -1,0 +1,98 @@
+"""Fuzzing: random byte mutations of valid files raise nothing but FisFormatError.
+
+A seeded loop (reproducible; a failure message carries the seed and the mutated bytes). Loaded
+systems must also evaluate, where the only allowed error is ValueError (e.g. ZeroFiringError
+where a mutated rule base leaves a hole).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from io_systems import random_system
+
+from it2track import heading_fls
+from it2track.fuzzy import IT2Sugeno, T1Sugeno
+from it2track.io import FORMATS, FisFormatError, dumps, load
+
+DATA = Path(__file__).parent / "data"
+MUTATIONS_PER_FILE = 250
+TOKENS = [b"Inf", b"NaN", b"-", b"1e999", b"1e-999", b"'", b'"', b"[", b"]", b"\n", b"=",
+          b",", b":", b"0", b"-1", b"9" * 12, b"%", b"[Rules]", b"[Input9]", b"\x00", b"\xff",
+          b"\xc3\xa9", b" ", b"{", b"}", b"inf", b"nan", b"0.5", b"trimf", b"gauss2mf",
+          b"\r", b"(", b")", b"#", b"1_0", b"+"]
+
+
+def valid_files() -> list[tuple[str, bytes]]:
+    files = [(p.name, p.read_bytes()) for p in sorted(DATA.glob("*.*"))]
+    for fmt, (suffix, _, _) in FORMATS.items():
+        files.append((f"paper{suffix}", dumps(heading_fls(0.2), fmt).encode()))
+        files.append((f"random{suffix}", dumps(random_system(5), fmt).encode()))
+    return files
+
+
+def mutate(data: bytes, rng: np.random.Generator) -> bytes:
+    out = bytearray(data)
+    for _ in range(int(rng.integers(1, 4))):
+        if not out:
+            out += bytes(rng.integers(0, 256, 3, dtype=np.uint8))
+        pos = int(rng.integers(len(out)))
+        op = int(rng.integers(8))
+        if op == 0:  # flip one byte
+            out[pos] = int(rng.integers(256))
+        elif op == 1:  # insert a random byte
+            out.insert(pos, int(rng.integers(256)))
+        elif op == 2:  # delete a run of bytes
+            del out[pos:pos + int(rng.integers(1, 8))]
+        elif op == 3:  # insert a troublesome token
+            token = TOKENS[int(rng.integers(len(TOKENS)))]
+            out[pos:pos] = token
+        elif op == 4:  # replace a digit by another
+            digits = [i for i, b in enumerate(out) if 48 <= b <= 57]
+            if digits:
+                out[digits[int(rng.integers(len(digits)))]] = int(rng.integers(48, 58))
+        elif op == 5:  # duplicate or drop a line
+            lines = bytes(out).split(b"\n")
+            k = int(rng.integers(len(lines)))
+            if rng.random() < 0.5:
+                lines.insert(k, lines[k])
+            else:
+                del lines[k]
+            out = bytearray(b"\n".join(lines))
+        elif op == 6:  # truncate
+            del out[pos:]
+        else:  # swap two lines
+            lines = bytes(out).split(b"\n")
+            i, j = (int(v) for v in rng.integers(len(lines), size=2))
+            lines[i], lines[j] = lines[j], lines[i]
+            out = bytearray(b"\n".join(lines))
+    return bytes(out)
+
+
+@pytest.mark.parametrize(("name", "data"), valid_files(), ids=[n for n, _ in valid_files()])
+def test_mutations_raise_only_fis_format_error(name: str, data: bytes, tmp_path) -> None:
+    rng = np.random.default_rng(sum(data) + len(name))
+    suffix = Path(name).suffix
+    target = tmp_path / f"mutant{suffix}"
+    loaded = 0
+    for k in range(MUTATIONS_PER_FILE):
+        mutant = mutate(data, rng)
+        target.write_bytes(mutant)
+        try:
+            system = load(target)
+        except FisFormatError as err:
+            assert err.path == str(target)
+            assert err.line is None or 1 <= err.line <= mutant.count(b"\n") + 1, err
+            continue
+        except Exception as exc:  # pragma: no cover - the failure we look for
+            pytest.fail(f"{name} mutation {k}: {type(exc).__name__}: {exc}\n{mutant!r}")
+        loaded += 1
+        assert isinstance(system, IT2Sugeno | T1Sugeno)
+        points = [np.linspace(*inp.universe, 7) for inp in system.inputs]
+        try:
+            system(*points)
+        except ValueError:
+            pass
+    assert loaded < MUTATIONS_PER_FILE  # the mutations do bite
