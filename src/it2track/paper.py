@@ -18,6 +18,7 @@ from .fuzzy import (
     Input,
     IT2Set,
     IT2Sugeno,
+    Rule,
     T1Sugeno,
     TNorm,
     Triangle,
@@ -45,7 +46,7 @@ LABELS = ("N", "Z", "P")
 MAX_FOU = 1.6
 
 
-def _rules():  # type: ignore[no-untyped-def]
+def _rules() -> tuple[Rule, ...]:
     return rules_from_table(LABELS, LABELS, RULE_TABLE)
 
 
@@ -86,7 +87,7 @@ def heading_fls(
     if not 0.0 <= fou < MAX_FOU:
         raise ValueError(f"fou={fou!r} must satisfy 0 <= fou < {MAX_FOU}")
     sets = [IT2Set.from_fou(CENTRE_SETS[k], fou, k) for k in LABELS]
-    inputs = [Input("e", (-1.0, 1.0), sets), Input("de", (-1.0, 1.0), sets)]
+    inputs = (Input("e", (-1.0, 1.0), sets), Input("de", (-1.0, 1.0), sets))
     name = f"paper FLC (FoU {fou:g})"
     if fou == 0.0:
         return T1Sugeno(inputs=inputs, rules=_rules(), tnorm=tnorm, name=name)
@@ -105,7 +106,7 @@ def dead_zone_matched_fls(fou: float, *, tnorm: TNorm = TNorm.PRODUCT) -> T1Suge
         raise ValueError(f"fou={fou!r} must satisfy 0 <= fou < {MAX_FOU}")
     sets = [IT2Set.from_fou(CENTRE_SETS[k], fou, k).upper for k in LABELS]
     named = [IT2Set.type1(mf, k) for mf, k in zip(sets, LABELS, strict=True)]
-    inputs = [Input("e", (-1.0, 1.0), named), Input("de", (-1.0, 1.0), named)]
+    inputs = (Input("e", (-1.0, 1.0), named), Input("de", (-1.0, 1.0), named))
     return T1Sugeno(
         inputs=inputs, rules=_rules(), tnorm=tnorm, name=f"type-1 FLC, dead zone of FoU {fou:g}"
     )

@@ -32,8 +32,8 @@ Closed-form approximations (not exact, named as such):
 Zero firing: where every rule's upper firing is zero the centroid is undefined. The public call
 raises :class:`ZeroFiringError`; a fuzzy system may instead substitute a value its user chose
 (``on_zero_firing``). Iterative reducers stop after ``max_iter`` iterations and raise
-:class:`ConvergenceError` if they have not converged (the exact algorithms converge in at most
-``R`` iterations, so this only guards against a defect).
+:class:`ConvergenceError` if they have not converged. The exact algorithms converge in at most
+``R`` iterations, so the default cap, ``max(100, 2 R)``, only guards against a defect.
 """
 
 from __future__ import annotations
@@ -143,30 +143,69 @@ def _switch_iterations(
     name: str,
 ) -> FloatArray:
     """KM-style iterations on a whole batch: ``k`` = number of rules (from the bottom) at upper
-    firing for ``yl`` (at lower firing for ``yr``); iterate until ``k`` stops changing."""
+    firing for ``yl`` (at lower firing for ``yr``); iterate until ``k`` stops changing.
+
+    Consequents within rounding of the centroid ("ties") cannot be placed from the rounded
+    centroid alone: when the other firing strengths are tiny, the wrong side can stall KM at a
+    far-off false fixed point or make it oscillate. For such columns both placements are
+    evaluated and the better one is kept. A switch point whose firing sums to zero (possible
+    when lower firings are zero) moves to all-upper firing; a column with no upper firing at all
+    gives NaN.
+    """
     r = fl.shape[0]
     rows = np.arange(r)[:, None]
-    # A centroid equal to a consequent (up to rounding) may flip that rule back and forth
-    # without changing the centroid: such a column has converged as well.
-    tol = 8.0 * np.finfo(np.float64).eps * max(1.0, float(np.abs(y).max()))
+    tol = (8.0 + 2.0 * r) * np.finfo(np.float64).eps * max(1.0, float(np.abs(y).max()))
+    all_upper = r if left else 0
+    # With k = searchsorted(y, c, side="right"), below[k] <= c < above[k] are the consequents
+    # around a centroid c.
+    below = np.concatenate(([-np.inf], y))
+    above = np.concatenate((y, [np.inf]))
+
+    def theta(k: NDArray[np.intp], lo: FloatArray, up: FloatArray) -> FloatArray:
+        bottom = rows < k  # (R, N): rules below the switch point
+        return np.where(bottom, up, lo) if left else np.where(bottom, lo, up)
+
     if initial_k is None:  # KM: start from the centroid of the interval midpoints
         c = _centroid(0.5 * (fl + fu), y)
         k = np.searchsorted(y, c, side="right")
+        if not left:
+            k[np.isnan(c)] = all_upper
     else:
         k = np.broadcast_to(initial_k, fl.shape[1:]).astype(np.intp)
-        c = np.full(fl.shape[1:], np.inf)
+    # The consequent value and the switch point of the last tie resolved in each column: the
+    # same tie met again at that switch point needs no second resolution.
+    tie_y = np.full(fl.shape[1:], np.nan)
+    tie_k = np.full(fl.shape[1:], -1, dtype=np.intp)
     for _ in range(max_iter):
-        bottom = rows < k  # (R, N): rules below the switch point
-        theta = np.where(bottom, fu, fl) if left else np.where(bottom, fl, fu)
-        c_new = _centroid(theta, y)
+        c_new = _centroid(theta(k, fl, fu), y)
         k_new = np.searchsorted(y, c_new, side="right")
-        # Columns where the centroid is undefined (no firing) cannot move: they stay NaN.
-        undefined = np.isnan(c_new)
-        done = (k_new == k) | (np.abs(c_new - c) <= tol) | undefined
+        nan = np.isnan(c_new)
+        undefined = None
+        if nan.any():
+            undefined = nan & (k == all_upper)  # not even the upper firing has a positive sum
+            k_new[nan] = all_upper
+        gap = np.minimum(c_new - below[k_new], above[k_new] - c_new)
+        j = np.flatnonzero(gap <= tol)
+        if j.size:
+            settled = (k[j] == tie_k[j]) & (np.abs(c_new[j] - tie_y[j]) <= tol)
+            k_new[j[settled]] = k[j[settled]]
+            j = j[~settled]
+        if j.size:
+            ka = np.searchsorted(y, c_new[j] - tol, side="left")
+            kb = np.searchsorted(y, c_new[j] + tol, side="right")
+            sub_l, sub_u = fl[:, j], fu[:, j]
+            ca = _centroid(theta(ka, sub_l, sub_u), y)
+            cb = _centroid(theta(kb, sub_l, sub_u), y)
+            a_better = ((ca < cb) if left else (ca > cb)) | np.isnan(cb)
+            take_a = a_better | ((ca == cb) & (k[j] == ka))
+            k_new[j] = tie_k[j] = np.where(take_a, ka, kb)
+            tie_y[j] = y[kb - 1]
+        done = k_new == k
+        if undefined is not None:
+            done |= undefined
         if done.all():
             return c_new
-        k = np.where(done, k, k_new)
-        c = c_new
+        k = k_new
     raise ConvergenceError(f"{name} did not converge in max_iter={max_iter} iterations")
 
 
@@ -288,8 +327,9 @@ class TypeReducer:
         ``"wu-mendel"``).
     exact : bool
         True for reducers that compute the exact centroid interval.
-    max_iter : int
-        Iteration cap for the iterative reducers (ignored by the others).
+    max_iter : int or None
+        Iteration cap for the iterative reducers (ignored by the others); ``None`` (default)
+        means ``max(100, 2 R)`` for ``R`` rules.
     """
 
     name: str
@@ -303,13 +343,19 @@ class TypeReducer:
         ]
         | None
     ) = None
-    max_iter: int = 100
+    max_iter: int | None = None
 
     def __post_init__(self) -> None:
-        if not isinstance(self.max_iter, int) or self.max_iter < 1:
+        if self.max_iter is not None and (
+            not isinstance(self.max_iter, int) or isinstance(self.max_iter, bool)
+            or self.max_iter < 1
+        ):
             raise ValueError(f"{self.name}: max_iter={self.max_iter!r} must be a positive int")
 
-    def with_max_iter(self, max_iter: int) -> TypeReducer:
+    def _cap(self, r: int) -> int:
+        return max(100, 2 * r) if self.max_iter is None else self.max_iter
+
+    def with_max_iter(self, max_iter: int | None) -> TypeReducer:
         """A copy of this reducer with another iteration cap."""
         return TypeReducer(
             name=self.name,
@@ -353,9 +399,10 @@ class TypeReducer:
         assert self._left is not None and self._right is not None
         if self._left is _exhaustive_left and np.array_equal(order_lo, order_hi):
             if np.array_equal(y_lo, y_hi):
-                return _exhaustive_both(*_sorted_rows(fl, fu, y_lo, order_lo), self.max_iter)
-        yl = self._left(*_sorted_rows(fl, fu, y_lo, order_lo), self.max_iter)
-        yr = self._right(*_sorted_rows(fl, fu, y_hi, order_hi), self.max_iter)
+                return _exhaustive_both(*_sorted_rows(fl, fu, y_lo, order_lo), 0)
+        cap = self._cap(fl.shape[0])
+        yl = self._left(*_sorted_rows(fl, fu, y_lo, order_lo), cap)
+        yr = self._right(*_sorted_rows(fl, fu, y_hi, order_hi), cap)
         return yl, yr
 
     def __call__(
@@ -394,6 +441,8 @@ class TypeReducer:
                 f"f_lower shape {fl.shape} and f_upper shape {fu.shape} must be equal, (..., R)"
             )
         r = fl.shape[-1]
+        if r == 0:
+            raise ValueError("f_lower and f_upper need at least one rule on their last axis")
         if y_lo.shape != (r,) or y_hi.shape != (r,):
             raise ValueError(
                 f"y_lower shape {y_lo.shape} and y_upper shape {y_hi.shape} must be ({r},)"

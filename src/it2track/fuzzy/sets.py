@@ -20,6 +20,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from decimal import Decimal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -140,11 +141,14 @@ class IT2Set:
 
         Each sloped side's foot moves outwards by ``width/2`` in the upper MF and inwards by
         ``width/2`` in the lower MF; peaks and shoulders stay. ``width == 0`` gives the type-1 set.
+        The shifts are done in decimal on the shortest representation of the parameters, so that
+        printed tables come out exactly (``-0.2 + 0.3/2`` gives ``-0.05``, not
+        ``-0.05000000000000002``).
 
         Raises
         ------
         ValueError
-            If ``width`` is negative or so large that a lower MF would lose its support.
+            If ``width`` is negative or so large that a lower MF foot would reach its peak.
 
         Examples
         --------
@@ -158,12 +162,15 @@ class IT2Set:
         half = 0.5 * width
         shift_left = 0.0 if a == b else half
         shift_right = 0.0 if c == d else half
-        up = (a - shift_left, b, c, d + shift_right, h)
-        lo = (a + shift_left, b, c, d - shift_right, h)
-        if lo[0] > lo[1] or lo[2] > lo[3]:
+        up = (_add(a, -shift_left), b, c, _add(d, shift_right), h)
+        lo = (_add(a, shift_left), b, c, _add(d, -shift_right), h)
+        # A sloped side's lower foot must stay short of its peak: reaching it would turn the
+        # side into a shoulder (value h beyond the peak), far above the upper MF.
+        if (shift_left and lo[0] >= lo[1]) or (shift_right and lo[2] >= lo[3]):
             raise ValueError(
                 f"set {name!r}: FoU width={width!r} too large for {centre}: the lower MF's feet "
-                f"would cross its peak (at most {2 * min(b - a or math.inf, d - c or math.inf)})"
+                f"would reach its peak (it must be less than "
+                f"{2 * min(b - a or math.inf, d - c or math.inf)})"
             )
         if isinstance(centre, Triangle):
             upper: PiecewiseLinear = Triangle(up[0], up[1], up[3], h)
@@ -280,6 +287,13 @@ class IT2Set:
                 f"{where}: lower MF {self.lower!r} exceeds upper MF {self.upper!r} at x={x[i]:.6g} "
                 f"(lower {low[i]:.6g} > upper {up[i]:.6g}); check the lower MF parameters"
             )
+
+
+def _add(x: float, delta: float) -> float:
+    """``x + delta`` rounded once from the exact sum of their shortest decimal representations."""
+    if delta == 0.0:
+        return x
+    return float(Decimal(repr(float(x))) + Decimal(repr(float(delta))))
 
 
 def _from_params(

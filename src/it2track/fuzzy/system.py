@@ -82,7 +82,9 @@ class Input:
     ) -> None:
         lo, hi = (float(v) for v in universe)
         if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
-            raise ValueError(f"input {name!r}: universe={tuple(universe)!r} must be finite, lo < hi")
+            raise ValueError(
+                f"input {name!r}: universe={tuple(universe)!r} must be finite, lo < hi"
+            )
         converted = []
         for s in sets:
             if isinstance(s, IT2Set):
@@ -147,7 +149,7 @@ class Rule:
 def rules_from_table(
     row_sets: Sequence[str], col_sets: Sequence[str], table: Sequence[Sequence[float]]
 ) -> tuple[Rule, ...]:
-    """Rules of a two-input grid: ``table[i][j]`` is the consequent for ``(row_sets[i], col_sets[j])``.
+    """Two-input rule grid: ``table[i][j]`` is the consequent of ``(row_sets[i], col_sets[j])``.
 
     Examples
     --------
@@ -350,10 +352,10 @@ class _SugenoBase:
         arrays = [np.asarray(x, dtype=np.float64) for x in xs]
         for inp, arr in zip(self.inputs, arrays, strict=True):
             # One cheap reduction first; the exact elementwise check only if it is not finite
-            # (it can overflow to inf on finite but huge values).
-            if not math.isfinite(float(np.add.reduce(arr, axis=None))) and not bool(
-                np.isfinite(arr).all()
-            ):
+            # (it can overflow to inf on finite but huge values, which must not warn).
+            with np.errstate(over="ignore", invalid="ignore"):
+                total = float(np.add.reduce(arr, axis=None))
+            if not math.isfinite(total) and not bool(np.isfinite(arr).all()):
                 raise ValueError(f"input {inp.name!r} contains NaN or inf")
         try:
             shape = np.broadcast_shapes(*(a.shape for a in arrays))
@@ -459,7 +461,7 @@ class _SugenoBase:
             fl, fu = self._firing_block(x[:, start:stop])
             lower[start:stop] = fl[inv].T
             upper[start:stop] = fu[inv].T
-        return lower.reshape(shape + (self.n_rules,)), upper.reshape(shape + (self.n_rules,))
+        return lower.reshape((*shape, self.n_rules)), upper.reshape((*shape, self.n_rules))
 
     def _zero_firing(self, x: FloatArray, bad: NDArray[np.bool_]) -> None:
         j = int(np.argmax(bad))
@@ -518,7 +520,8 @@ class IT2Sugeno(_SugenoBase):
         Type reducer; default :data:`~it2track.fuzzy.reducers.EXHAUSTIVE` (exact).
     on_zero_firing : float or None
         Output where no rule fires. ``None`` (default) raises
-        :class:`~it2track.fuzzy.reducers.ZeroFiringError` instead.
+        :class:`~it2track.fuzzy.reducers.ZeroFiringError` instead. (Wu-Mendel where rules fire
+        but their total lower firing is zero always raises ``ZeroFiringError``.)
     name : str
 
     Examples
@@ -552,6 +555,21 @@ class IT2Sugeno(_SugenoBase):
             )
         if math.isnan(float(np.add.reduce(yl)) + float(np.add.reduce(yr))):
             bad = np.isnan(yl) | np.isnan(yr)
+            where = np.flatnonzero(bad)
+            for start in range(0, where.size, BLOCK):
+                j = where[start : start + BLOCK]
+                _, fu = self._firing_block(np.ascontiguousarray(x[:, j]))
+                fires = fu.sum(axis=0) > 0
+                if fires.any():  # undefined although rules fire: Wu-Mendel, zero lower firing
+                    i = int(j[np.argmax(fires)])
+                    point = ", ".join(
+                        f"{inp.name}={x[n, i]:.6g}" for n, inp in enumerate(self.inputs)
+                    )
+                    raise ZeroFiringError(
+                        f"type reducer {self.reducer.name!r} of {type(self).__name__} "
+                        f"{self.name!r} has no output at ({point}): rules fire there, but their "
+                        "total lower firing strength is zero; use an exact reducer"
+                    )
             if self.on_zero_firing is None:
                 self._zero_firing(x, bad)
             yl[bad] = yr[bad] = self.on_zero_firing
