@@ -226,3 +226,26 @@ def test_type1_set():
     lo, up = s(np.linspace(-1, 1, 5))
     assert_array_equal(lo, up)
     assert not IT2Set.from_fou(mf, 0.1).is_type1
+
+
+@pytest.mark.parametrize("foot", [2 / 3, -0.1234567890123456, 1e-17])
+def test_scale_lag_keeps_shoulders_with_awkward_floats(foot):
+    # A left shoulder at a foot with no short decimal form stays a shoulder (value = scale
+    # everywhere left of the peak), and the right foot moves to where upper == lag.
+    s = IT2Set.from_scale_lag(Triangle(foot, foot, 0.9), scale=0.9, lag=0.2)
+    assert s.lower.a == s.lower.b == foot
+    assert s.lower(foot - 1.0) == pytest.approx(0.9)
+    assert s.lower.d == pytest.approx(0.9 - 0.2 * (0.9 - foot))
+
+
+def test_scale_lag_gaussian_matches_the_triangle_rule_for_lower_heights():
+    # For an upper MF of height h the lower MF peaks at scale*h and starts where upper = lag*h,
+    # whether it is built as a trapezoid (triangle upper) or as ScaledLagged (Gaussian upper).
+    tri = IT2Set.from_scale_lag(Triangle(-1, 0, 1, 0.5), scale=0.8, lag=0.25)
+    gau = IT2Set.from_scale_lag(Gaussian(0.0, 0.4, 0.5), scale=0.8, lag=0.25)
+    assert float(tri.lower(0.0)) == pytest.approx(0.4)
+    assert float(gau.lower(0.0)) == pytest.approx(0.4)
+    x = np.linspace(-2, 2, 401)
+    up = gau.upper(x)
+    assert np.all(gau.lower(x)[up <= 0.25 * 0.5] == 0.0)
+    assert np.all(gau.lower(x) <= up + 1e-15)

@@ -45,7 +45,9 @@ CHECK_POINTS = 4001
 
 @dataclass(frozen=True)
 class ScaledLagged:
-    """``scale * clip((upper(x) - lag) / (1 - lag), 0, 1)``: MATLAB's lower MF of a type-2 MF.
+    """``scale h clip((upper(x)/h - lag) / (1 - lag), 0, 1)``: MATLAB's lower MF of a type-2 MF.
+
+    ``h`` is the upper MF's height (its ``h`` attribute, 1 if it has none).
 
     Our reading of MATLAB's ``fismftype2`` documentation: the lower MF is zero until the upper MF
     reaches ``LowerLag`` and peaks at ``LowerScale`` where the upper MF peaks. For piecewise-
@@ -63,8 +65,10 @@ class ScaledLagged:
             raise ValueError(f"LowerLag={self.lag!r} must satisfy 0 <= lag < 1")
 
     def __call__(self, x: ArrayLike) -> FloatArray:
+        # The lag is relative to the upper MF's height, as for triangles and trapezoids.
+        peak = float(getattr(self.upper, "h", 1.0))
         u = self.upper(x)
-        return self.scale * np.clip((u - self.lag) / (1.0 - self.lag), 0.0, 1.0)
+        return (self.scale * peak) * np.clip((u / peak - self.lag) / (1.0 - self.lag), 0.0, 1.0)
 
 
 @dataclass(frozen=True)
@@ -233,11 +237,10 @@ class IT2Set:
         if isinstance(upper, PiecewiseLinear):
             a, b, c, d, h = upper.as_trapezoid()
             # The upper side reaches `lag * h` at a + lag (b - a); shoulders stay shoulders.
-            la = a + lags[0] * (b - a)
-            ld = d - lags[1] * (d - c)
-            lower: MembershipFunction = Trapezoid(
-                round(la, 15), b, c, round(ld, 15), scale * h
-            )
+            # (min/max keep the feet on their side of the peak whatever the rounding.)
+            la = a if a == b else min(a + lags[0] * (b - a), b)
+            ld = d if c == d else max(d - lags[1] * (d - c), c)
+            lower: MembershipFunction = Trapezoid(la, b, c, ld, scale * h)
         else:
             if lags[0] != lags[1]:
                 raise ValueError(f"set {name!r}: a two-sided LowerLag needs a triangle/trapezoid")
