@@ -8,11 +8,11 @@ import stat
 
 import pytest
 
+from it2track import atomicfile as _atomic
 from it2track import heading_fls
 from it2track.io import (
     FisFormatError,
     UnsupportedFeatureError,
-    _atomic,
     format_of,
     load,
     save,

@@ -72,9 +72,9 @@ def _fail(message: str) -> None:
               help="Save the time series to this CSV file.")
 def simulate(**opts: Any) -> None:
     """Simulate one scenario and print its metrics."""
+    from ..atomicfile import atomic_write_text
     from ..experiments.specs import ControllerKind, ControllerSpec
     from ..plant import HeadingNoise
-    from ..report.outputs import atomic_write_text
     from ..tracking import LoopConfig, RunTable, get_trajectory
     from ..tracking import simulate as run
 
@@ -122,7 +122,10 @@ def simulate(**opts: Any) -> None:
         for k in range(trace.t.size):
             writer.writerow([repr(float(run0["t"][k]))] + [repr(float(run0[n][k]))
                                                            for n in names])
-        atomic_write_text(Path(opts["trace"]), buf.getvalue())
+        try:
+            atomic_write_text(Path(opts["trace"]), buf.getvalue())
+        except OSError as exc:
+            _fail(f"cannot write --trace {opts['trace']}: {exc.strerror}")
     if opts["as_json"]:
         click.echo(json.dumps(metrics))
         return

@@ -30,9 +30,9 @@ import os
 from collections.abc import Callable
 from pathlib import Path
 
+from ..atomicfile import atomic_write_text
 from ..fuzzy import IT2Sugeno, T1Sugeno
 from . import matfis, t2fis, tomlfmt
-from ._atomic import atomic_write_text
 from ._matlab import decode
 from .errors import FisFormatError, UnsupportedFeatureError
 

@@ -41,9 +41,9 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch, Rectangle
 
+from ..atomicfile import atomic_open
 from ..experiments.analysis import INTEGRALS
 from ..experiments.study import StudyResult
-from ..io._atomic import atomic_open
 from ..paper import dead_zone_matched_fls, heading_fls
 
 __all__ = ["FIGURE_DPI", "INTEGRAL_UNITS", "figure_keys", "slug", "write_figures"]

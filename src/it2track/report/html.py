@@ -18,9 +18,9 @@ from typing import Any
 
 import numpy as np
 
+from ..atomicfile import atomic_write_text
 from ..experiments.analysis import INTEGRALS
 from ..experiments.study import StudyResult
-from ..io._atomic import atomic_write_text
 from .figures import INTEGRAL_UNITS, PAPER_FIGURE_NUMBER, slug
 
 __all__ = ["figure_captions", "render_html", "write_html"]

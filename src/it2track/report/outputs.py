@@ -1,6 +1,6 @@
 """Plain-text outputs of the study: metrics.csv, summary.csv, claims.md, manifest.json.
 
-Every writer is atomic (temp file in the same folder, fsync, rename), and the CSV writers use
+Every writer is atomic (:mod:`it2track.atomicfile`), and the CSV writers use
 ``repr`` for floats, so a rerun with the same config and seeds reproduces them byte for byte.
 """
 
@@ -9,11 +9,9 @@ from __future__ import annotations
 import csv
 import io
 import json
-import os
 import platform
 import subprocess
 import sys
-import tempfile
 from collections.abc import Iterable, Mapping, Sequence
 from importlib import metadata
 from pathlib import Path
@@ -21,30 +19,14 @@ from typing import Any
 
 import numpy as np
 
+from ..atomicfile import atomic_write_text
+
 __all__ = [
-    "atomic_write_text",
     "manifest",
     "write_claims_md",
     "write_metrics_csv",
     "write_summary_csv",
 ]
-
-
-def atomic_write_text(path: Path, text: str) -> Path:
-    """Write ``text`` to ``path`` atomically: a reader sees the old file or the whole new one."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as fh:
-            fh.write(text)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
 
 
 def _cell(v: Any) -> str:

@@ -25,8 +25,8 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 from numpy.typing import NDArray
 
+from ..atomicfile import atomic_open
 from ..fuzzy import IT2Sugeno, T1Sugeno, ZeroFiringError
-from ..io._atomic import atomic_open
 
 __all__ = ["plot_control_surface", "plot_footprints", "plot_system", "surface_grid"]
 

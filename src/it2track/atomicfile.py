@@ -1,4 +1,8 @@
-"""Atomic file writes: a temporary file in the target's directory, then ``os.replace``."""
+"""Atomic file writes: a temporary file in the target's directory, fsync, then ``os.replace``.
+
+The one place the package writes files from: a reader (or a resumed run) sees either the old
+file or the complete new one, never a torn write, and a failure leaves no temporary behind.
+"""
 
 from __future__ import annotations
 
@@ -9,7 +13,7 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import IO, Any
 
-__all__ = ["atomic_open", "atomic_write_text"]
+__all__ = ["atomic_open", "atomic_write_bytes", "atomic_write_text"]
 
 
 @contextlib.contextmanager
@@ -48,7 +52,15 @@ def atomic_open(
         raise
 
 
-def atomic_write_text(path: str | os.PathLike[str], text: str) -> None:
-    """Write ``text`` (UTF-8, ``\\n`` line ends) to ``path`` atomically."""
+def atomic_write_text(path: str | os.PathLike[str], text: str) -> Path:
+    """Write ``text`` (UTF-8, ``\\n`` line ends) to ``path`` atomically; returns the path."""
     with atomic_open(path, "w", encoding="utf-8", newline="\n") as fh:
         fh.write(text)
+    return Path(path)
+
+
+def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> Path:
+    """Write ``data`` to ``path`` atomically; returns the path."""
+    with atomic_open(path, "wb") as fh:
+        fh.write(data)
+    return Path(path)
