@@ -5,6 +5,9 @@ A heading controller is evaluated on a batch of runs at each control instant::
     state = controller.initial_state(n, ts)      # ndarray (n_state, n), possibly (0, n)
     u = controller.output(e, de, state)           # e, de, u: (n,); updates state in place
 
+``e`` and ``de`` are views of the loop's work buffers, valid during the call only: a
+controller must not modify them, and copies what it keeps (e.g. into ``state``).
+
 The closed loop turns ``u`` into wheel voltages ``V_R = V0 + u``, ``V_L = V0 - u`` (DESIGN.md
 sec. 5). Controllers are immutable descriptions (frozen dataclasses), so one controller object
 can serve any number of runs; their per-run memory lives in ``state``.
@@ -41,7 +44,8 @@ class HeadingController:
 
 def _check(owner: str, **values: float) -> None:
     for key, value in values.items():
-        if not isinstance(value, int | float) or not math.isfinite(value):
+        ok = isinstance(value, int | float) and not isinstance(value, bool)
+        if not ok or not math.isfinite(value):
             raise ValueError(f"{owner}: {key}={value!r} must be a finite number")
 
 

@@ -60,17 +60,22 @@ class _IntegralErrors:
 
     def update(self, k: int, e: FloatArray) -> None:
         t = k * self.ts
+        end = k == 0 or k == self.n_steps
+        sums, ends = self.sums, self.ends
         a = np.abs(e, out=self._abs)
         s = np.multiply(e, e, out=self._sq)
-        self.sums[0] += a
-        self.sums[1] += t * a
-        self.sums[2] += s
-        self.sums[3] += t * s
-        if k == 0 or k == self.n_steps:
-            self.ends[0] += a
-            self.ends[1] += t * a
-            self.ends[2] += s
-            self.ends[3] += t * s
+        sums[0] += a
+        sums[2] += s
+        if end:
+            ends[0] += a
+            ends[2] += s
+        a *= t  # t |e| and t e^2, in place (no temporaries)
+        s *= t
+        sums[1] += a
+        sums[3] += s
+        if end:
+            ends[1] += a
+            ends[3] += s
 
     def result(self) -> FloatArray:
         return self.ts * (self.sums - 0.5 * self.ends)
@@ -92,10 +97,14 @@ class MetricAccumulator:
         self.dist_sq = np.zeros(n)
         self.dist_max = np.zeros(n)
         self.dist_final = np.zeros(n)
-        self.effort = _IntegralErrors(n, ts, n_steps)  # only its ISE row is used
+        self.effort_sum = np.zeros(n)  # trapezoid sums of u^2, as in _IntegralErrors
+        self.effort_ends = np.zeros(n)
         self.u_prev = np.zeros(n)
         self.u_tv = np.zeros(n)
         self.sat_steps = np.zeros(n)
+        self._tmp = np.empty(n)
+        self._over = np.empty(n, dtype=bool)
+        self._over2 = np.empty(n, dtype=bool)
         self._k = 0
 
     def update(
@@ -113,18 +122,24 @@ class MetricAccumulator:
         self._k += 1
         self.true.update(k, e_true)
         self.meas.update(k, e_meas)
-        self.dist_sq += distance * distance
+        tmp = self._tmp
+        self.dist_sq += np.multiply(distance, distance, out=tmp)
         np.maximum(self.dist_max, distance, out=self.dist_max)
         if k == self.n_steps:
             self.dist_final[:] = distance
-        self.effort.update(k, u)
+        np.multiply(u, u, out=tmp)
+        self.effort_sum += tmp
+        if k == 0 or k == self.n_steps:
+            self.effort_ends += tmp
         if k > 0:
-            self.u_tv += np.abs(u - self.u_prev)
+            self.u_tv += np.abs(np.subtract(u, self.u_prev, out=tmp), out=tmp)
         self.u_prev[:] = u
         if k < self.n_steps:
             lim = self.voltage_limit
             vr, vl = v_requested
-            self.sat_steps += (np.abs(vr) > lim) | (np.abs(vl) > lim)
+            over = np.greater(np.abs(vr, out=tmp), lim, out=self._over)
+            over |= np.greater(np.abs(vl, out=tmp), lim, out=self._over2)
+            self.sat_steps += over
 
     def result(self) -> dict[str, FloatArray]:
         if self._k != self.n_steps + 1:
@@ -138,7 +153,7 @@ class MetricAccumulator:
         out["pos_rms"] = np.sqrt(self.dist_sq / (self.n_steps + 1))
         out["pos_max"] = self.dist_max.copy()
         out["pos_final"] = self.dist_final.copy()
-        out["effort"] = self.effort.result()[2]
+        out["effort"] = self.ts * (self.effort_sum - 0.5 * self.effort_ends)
         out["u_tv"] = self.u_tv.copy()
         out["sat_time"] = self.sat_steps * self.ts
         return out

@@ -212,7 +212,8 @@ def load_waypoints_csv(path: str | Path, *, kind: str = "cubic") -> WaypointTraj
     if missing:
         raise ValueError(f"{path}:1: header {rows[0]!r} lacks column(s) {missing}")
     cols = [header.index(c) for c in ("t", "x", "y")]
-    values = []
+    values: list[list[float]] = []
+    lines: list[int] = []
     for lineno, row in enumerate(rows[1:], start=2):
         if not row or all(not cell.strip() for cell in row):
             continue
@@ -222,6 +223,12 @@ def load_waypoints_csv(path: str | Path, *, kind: str = "cubic") -> WaypointTraj
             raise ValueError(f"{path}:{lineno}: expected numbers for t,x,y, got {row!r}") from None
         if not all(math.isfinite(v) for v in values[-1]):
             raise ValueError(f"{path}:{lineno}: non-finite value in {row!r}")
+        if lines and values[-1][0] <= values[-2][0]:
+            raise ValueError(
+                f"{path}:{lineno}: time t={values[-1][0]!r} does not increase (line "
+                f"{lines[-1]} has t={values[-2][0]!r})"
+            )
+        lines.append(lineno)
     arr = np.asarray(values, dtype=np.float64).reshape(-1, 3)
     try:
         return WaypointTrajectory(path.stem, arr[:, 0], arr[:, 1:], kind)
