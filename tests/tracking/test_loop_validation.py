@@ -160,3 +160,12 @@ def test_simulate_shapes_and_progress():
     simulate_metrics(ctrls, TRAJ, run_grid(2, 1, [0.0], 3), TINY, batch_size=4,
                      progress=seen.append)  # fmt: skip
     assert seen == [4, 2]
+
+
+def test_runtable_equality_compares_contents():
+    from it2track.tracking import RunTable
+
+    a = RunTable([0, 1], 0, 0.1, [3, 4])
+    assert a == RunTable([0, 1], [0, 0], [0.1, 0.1], [3, 4])
+    assert a != RunTable([0, 1], 0, 0.1, [3, 5])
+    assert a != "not a table"

@@ -80,6 +80,10 @@ class FuzzyHeadingController(HeadingController):
     def output(self, e: FloatArray, de: FloatArray, state: FloatArray) -> FloatArray:
         x1 = e * self.ke if self.ke != 1.0 else e
         x2 = de * self.kde if self.kde != 1.0 else de
+        if x1.size == 1:
+            # One run: the system's scalar fast path (bit-for-bit equal to the array path)
+            # costs ~10 us instead of ~90 us of numpy call overhead.
+            return np.array([self.fls(float(x1[0]), float(x2[0]))], dtype=np.float64)
         return np.asarray(self.fls(x1, x2), dtype=np.float64)
 
 

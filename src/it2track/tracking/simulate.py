@@ -163,7 +163,7 @@ class LoopConfig:
         return times
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class RunTable:
     """The runs of a batch, one entry per run (all arrays shape ``(B,)``).
 
@@ -209,6 +209,16 @@ class RunTable:
 
     def __len__(self) -> int:
         return int(self.controller.size)
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, RunTable):
+            return NotImplemented
+        return all(
+            np.array_equal(getattr(self, k), getattr(other, k))
+            for k in ("controller", "trajectory", "noise_std", "seed")
+        )
+
+    __hash__ = None  # type: ignore[assignment]  # mutable arrays inside
 
     def take(self, index: ArrayLike | slice) -> RunTable:
         """The runs at ``index`` (an int array or a slice object)."""
