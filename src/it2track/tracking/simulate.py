@@ -29,6 +29,7 @@ keeps only the metrics (``dict`` of ``(B,)`` arrays), so memory stays flat as ``
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -320,14 +321,20 @@ def _check_inputs(
             )
 
 
+@functools.lru_cache(maxsize=32)
+def _drive(robot: RobotParams, ts: float, nodes: int) -> DifferentialDrive:
+    """Plant maps for one robot and period, built once (about 30 small matrix exponentials,
+    slow when a busy BLAS spins up threads) and shared: ``DifferentialDrive`` is immutable
+    and keeps its scratch buffers per thread."""
+    return DifferentialDrive(robot, ts, quadrature_nodes=nodes)
+
+
 class _Engine:
     """Precomputed, batch-independent pieces of a simulation (plant maps, references)."""
 
     def __init__(self, trajectories: Sequence[Trajectory], config: LoopConfig) -> None:
         self.config = config
-        self.drive = DifferentialDrive(
-            config.robot, config.ts, quadrature_nodes=config.quadrature_nodes
-        )
+        self.drive = _drive(config.robot, config.ts, config.quadrature_nodes)
         t = config.times
         ref = np.stack([tr.sample(t) for tr in trajectories])  # (n_traj, N+1, 4)
         motor = config.robot.motor
