@@ -259,23 +259,16 @@ def _claims_preamble(config: Any) -> str:
     )
 
 
-def _register_optional() -> None:
+def _register_subcommands() -> None:
     """Attach the commands that live in their own modules."""
-    from importlib import import_module
+    from .fis import fis, surface
+    from .sweep import optimize, sweep
 
-    for module, names in ((".sweep", ("sweep", "optimize")), (".fis", ("fis", "surface"))):
-        try:
-            mod = import_module(module, __package__)
-        except ModuleNotFoundError as exc:
-            if exc.name and exc.name.startswith("it2track"):
-                continue
-            raise
-        for name in names:
-            if hasattr(mod, name):
-                main.add_command(getattr(mod, name), name)
+    for command in (sweep, optimize, fis, surface):
+        main.add_command(command)
 
 
-_register_optional()
+_register_subcommands()
 
 if __name__ == "__main__":  # pragma: no cover
     main()
