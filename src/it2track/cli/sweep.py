@@ -2,8 +2,7 @@
 
 Both run in this process by default, on ``--workers N`` local processes, or on a Dask cluster
 named by ``--scheduler tcp://HOST:PORT``; the numbers do not depend on the choice.
-Until the commands are registered in ``it2track``, run them as
-``python -m it2track.cli.sweep sweep|optimize ...``.
+``python -m it2track.cli.sweep sweep|optimize ...`` runs them without the entry point.
 """
 
 from __future__ import annotations
