@@ -99,7 +99,8 @@ def dead_zone_matched_fls(fou: float, *, tnorm: TNorm = TNorm.PRODUCT) -> T1Suge
 
     Its sets are the centre lines moved by ``fou/2`` (N and P inwards, Z widened), so its dead
     zone ``|e| < 0.2 - fou/2`` equals the IT2FLC's: comparing the two isolates the effect of the
-    footprint itself from the effect of a narrower dead zone.
+    footprint itself from the effect of a narrower dead zone. ``tnorm`` as in
+    :func:`heading_fls`.
     """
     fou = float(fou)
     if not 0.0 <= fou < MAX_FOU:

@@ -197,7 +197,10 @@ class Gaussian:
 
 @dataclass(frozen=True)
 class UncertainMeanGaussianUpper:
-    """Upper MF of a Gaussian with uncertain mean in ``[m1, m2]``: flat top ``h`` between means."""
+    """Upper MF of a Gaussian with uncertain mean in ``[m1, m2]``: flat top ``h`` between means.
+
+    ``sigma > 0`` is the common standard deviation, ``h`` the height.
+    """
 
     m1: float
     m2: float
@@ -221,7 +224,10 @@ class UncertainMeanGaussianUpper:
 
 @dataclass(frozen=True)
 class UncertainMeanGaussianLower:
-    """Lower MF of a Gaussian with uncertain mean in ``[m1, m2]``: the smaller of the two."""
+    """Lower MF of a Gaussian with uncertain mean in ``[m1, m2]``: the smaller of the two.
+
+    ``sigma > 0`` is the common standard deviation, ``h`` the height.
+    """
 
     m1: float
     m2: float

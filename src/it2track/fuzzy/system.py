@@ -617,6 +617,18 @@ class T1Sugeno(_SugenoBase):
 
     Every set must be type-1 (an :class:`IT2Set` whose lower MF is its upper MF, or a
     ``(name, mf)`` pair given to :class:`Input`).
+
+    Parameters
+    ----------
+    inputs : sequence of Input
+    rules : sequence of Rule
+        Crisp consequents only.
+    tnorm : TNorm
+        ``TNorm.PRODUCT`` (default) or ``TNorm.MINIMUM``.
+    on_zero_firing : float or None
+        Output where no rule fires; ``None`` (default) raises
+        :class:`~it2track.fuzzy.reducers.ZeroFiringError` instead.
+    name : str
     """
 
     def __post_init__(self) -> None:

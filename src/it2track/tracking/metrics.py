@@ -84,7 +84,9 @@ class _IntegralErrors:
 class MetricAccumulator:
     """Accumulate every metric of :data:`METRIC_NAMES` for ``n`` runs, one sample at a time.
 
-    Call :meth:`update` for ``k = 0 ... n_steps`` in order, then :meth:`result`.
+    Call :meth:`update` for ``k = 0 ... n_steps`` in order, then :meth:`result`. ``ts`` is the
+    sampling period (s) and ``voltage_limit`` the wheel-voltage limit (V) that ``sat_time``
+    compares the requested voltages with.
     """
 
     def __init__(self, n: int, ts: float, n_steps: int, voltage_limit: float) -> None:

@@ -237,8 +237,10 @@ def run_grid(
 ) -> RunTable:
     """Cartesian product of controllers x trajectories x noise levels x seeds.
 
-    Runs are ordered with the seed varying fastest, then noise, trajectory, controller.
-    ``seeds`` may be a count ``n`` (seed indices ``0 ... n-1``).
+    ``n_controllers`` and ``n_trajectories`` are the lengths of the sequences the runs index;
+    ``noise_stds`` the noise levels (rad); ``seeds`` the seed indices, or a count ``n``
+    (seed indices ``0 ... n-1``). Runs are ordered with the seed varying fastest, then noise,
+    trajectory, controller.
 
     Examples
     --------
@@ -502,6 +504,10 @@ def simulate_metrics(
 
     Parameters
     ----------
+    controllers, trajectories, runs, config
+        As for :func:`simulate`.
+    batch_size : int
+        Runs advanced together (memory vs speed).
     progress : callable, optional
         Called with the number of runs finished after each chunk (e.g. ``tqdm.update``).
 

@@ -75,6 +75,8 @@ def _sinusoidal(t: FloatArray) -> FloatArray:
 class FunctionTrajectory(Trajectory):
     """A trajectory from a callable ``fn(t) -> (n, 4)`` array ``[x, y, vx, vy]``.
 
+    ``name`` labels it in results; ``fn`` receives times of shape ``(n,)`` in s.
+
     Use a module-level function (not a lambda) if the trajectory must travel to worker
     processes or a Dask cluster (it is pickled).
 
@@ -193,6 +195,13 @@ class WaypointTrajectory(Trajectory):
 def load_waypoints_csv(path: str | Path, *, kind: str = "cubic") -> WaypointTrajectory:
     """Read a waypoint trajectory from a CSV file with header ``t,x,y``.
 
+    Parameters
+    ----------
+    path : str or Path
+        The CSV file; the trajectory is named after its stem.
+    kind : {"cubic", "linear"}
+        Interpolation, as in :class:`WaypointTrajectory`.
+
     Raises
     ------
     ValueError
@@ -237,7 +246,8 @@ def load_waypoints_csv(path: str | Path, *, kind: str = "cubic") -> WaypointTraj
 
 
 def get_trajectory(spec: str | Trajectory) -> Trajectory:
-    """A built-in trajectory by name, a CSV waypoint file by path, or a Trajectory as is."""
+    """The trajectory ``spec`` names: a built-in name (``"straight"``, ``"curved"``,
+    ``"sinusoidal"``), a CSV waypoint file (path ending in ``.csv``), or a Trajectory as is."""
     if isinstance(spec, Trajectory):
         return spec
     if spec in PAPER_TRAJECTORIES:
