@@ -13,6 +13,8 @@ baseline with the same dead zone as the IT2FLC of width ``w``.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 from .fuzzy import (
     EXHAUSTIVE,
     Input,
@@ -26,7 +28,13 @@ from .fuzzy import (
     rules_from_table,
 )
 
-__all__ = ["CENTRE_SETS", "RULE_TABLE", "dead_zone_matched_fls", "heading_fls"]
+__all__ = [
+    "CENTRE_SETS",
+    "RULE_TABLE",
+    "dead_zone_matched_fls",
+    "heading_fls",
+    "heading_fls_widths",
+]
 
 #: Type-1 centre lines of the three sets (``[a b c]``), shared by both inputs.
 CENTRE_SETS: dict[str, Triangle] = {
@@ -86,12 +94,63 @@ def heading_fls(
     fou = float(fou)
     if not 0.0 <= fou < MAX_FOU:
         raise ValueError(f"fou={fou!r} must satisfy 0 <= fou < {MAX_FOU}")
-    sets = [IT2Set.from_fou(CENTRE_SETS[k], fou, k) for k in LABELS]
-    inputs = (Input("e", (-1.0, 1.0), sets), Input("de", (-1.0, 1.0), sets))
-    name = f"paper FLC (FoU {fou:g})"
-    if fou == 0.0:
-        return T1Sugeno(inputs=inputs, rules=_rules(), tnorm=tnorm, name=name)
-    return IT2Sugeno(inputs=inputs, rules=_rules(), tnorm=tnorm, reducer=reducer, name=name)
+    return heading_fls_widths(
+        (fou, fou, fou), (fou, fou, fou), reducer=reducer, tnorm=tnorm,
+        name=f"paper FLC (FoU {fou:g})",
+    )
+
+
+def heading_fls_widths(
+    e_widths: Sequence[float],
+    de_widths: Sequence[float],
+    *,
+    reducer: TypeReducer = EXHAUSTIVE,
+    tnorm: TNorm = TNorm.PRODUCT,
+    name: str = "",
+) -> IT2Sugeno | T1Sugeno:
+    """The paper's controller with its own FoU width for every set of every input.
+
+    Parameters
+    ----------
+    e_widths, de_widths : sequence of 3 floats
+        FoU widths of the sets N, Z, P of the error ``e`` and of its change ``de``.
+    reducer, tnorm
+        As in :func:`heading_fls`.
+    name : str
+        The system's name (default: the widths).
+
+    Returns
+    -------
+    IT2Sugeno or T1Sugeno
+        A :class:`T1Sugeno` when every width is 0. ``heading_fls(w)`` is
+        ``heading_fls_widths((w, w, w), (w, w, w))``.
+
+    Raises
+    ------
+    ValueError
+        If a width is negative or too large for its set.
+    """
+    inputs = []
+    for label, widths in (("e", e_widths), ("de", de_widths)):
+        ws = [float(w) for w in widths]
+        if len(ws) != len(LABELS):
+            raise ValueError(f"{label}_widths={list(widths)!r} must be 3 widths (N, Z, P)")
+        for k, w in zip(LABELS, ws, strict=True):
+            if not 0.0 <= w < MAX_FOU:
+                raise ValueError(
+                    f"{label} set {k}: FoU width {w!r} must satisfy 0 <= w < {MAX_FOU}"
+                )
+        sets = [IT2Set.from_fou(CENTRE_SETS[k], w, k) for k, w in zip(LABELS, ws, strict=True)]
+        inputs.append(Input(label, (-1.0, 1.0), sets))
+    if not name:
+        name = "paper FLC (FoU e {} de {})".format(
+            ",".join(f"{w:g}" for w in e_widths), ",".join(f"{w:g}" for w in de_widths)
+        )
+    if all(s.is_type1 for inp in inputs for s in inp.sets):
+        return T1Sugeno(inputs=tuple(inputs), rules=_rules(), tnorm=tnorm, name=name)
+    return IT2Sugeno(
+        inputs=tuple(inputs), rules=_rules(), tnorm=tnorm, reducer=reducer, name=name
+    )
 
 
 def dead_zone_matched_fls(fou: float, *, tnorm: TNorm = TNorm.PRODUCT) -> T1Sugeno:

@@ -169,3 +169,12 @@ def test_runtable_equality_compares_contents():
     assert a == RunTable([0, 1], [0, 0], [0.1, 0.1], [3, 4])
     assert a != RunTable([0, 1], 0, 0.1, [3, 5])
     assert a != "not a table"
+
+
+def test_run_grid_takes_numpy_integer_seed_counts():
+    import numpy as np
+
+    from it2track.tracking import run_grid
+
+    assert len(run_grid(1, 2, [0.0], np.int64(3))) == 6
+    assert len(run_grid(1, 2, [0.0], [np.int64(3)])) == 2

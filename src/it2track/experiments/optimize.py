@@ -45,8 +45,8 @@ import scipy.stats
 from numpy.typing import NDArray
 from tqdm import tqdm
 
-from ..fuzzy import Input, IT2Set, IT2Sugeno, Reducer, TNorm, rules_from_table
-from ..paper import CENTRE_SETS, LABELS, MAX_FOU, RULE_TABLE
+from ..fuzzy import Reducer, TNorm
+from ..paper import LABELS, MAX_FOU, heading_fls_widths
 from ..plant import RobotParams
 from ..tracking import METRIC_NAMES, FuzzyHeadingController, LoopConfig, Trajectory
 from .executors import Executor, InProcessExecutor
@@ -178,16 +178,9 @@ class AsymmetricFouSpec:
 
     def build(self) -> FuzzyHeadingController:
         """The controller (raises ``ValueError`` if a width is too large for its set)."""
-        inputs = []
-        for name, ws in (("e", self.e), ("de", self.de)):
-            sets = [IT2Set.from_fou(CENTRE_SETS[k], w, k) for k, w in zip(LABELS, ws, strict=True)]
-            inputs.append(Input(name, (-1.0, 1.0), sets))
-        fls = IT2Sugeno(
-            inputs=tuple(inputs),
-            rules=rules_from_table(LABELS, LABELS, RULE_TABLE),
-            tnorm=TNorm.from_name(self.tnorm),
-            reducer=Reducer.from_name(self.reducer).value,
-            name=self.label,
+        fls = heading_fls_widths(
+            self.e, self.de, reducer=Reducer.from_name(self.reducer).value,
+            tnorm=TNorm.from_name(self.tnorm), name=self.label,
         )
         return FuzzyHeadingController(fls=fls, ke=self.ke, kde=self.kde, name=self.label)
 

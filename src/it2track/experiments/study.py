@@ -197,21 +197,11 @@ class StudyConfig:
 
     def to_dict(self) -> dict[str, Any]:
         """Plain values for the manifest."""
-        loop = self.loop
+        simulation = self.loop.to_dict()
+        robot = simulation.pop("robot")
         return {
-            "simulation": {
-                "duration": loop.duration, "ts": loop.ts, "noise_rate": loop.noise_rate,
-                "start_pose": list(loop.start_pose), "seed": loop.seed,
-                "quadrature_nodes": loop.quadrature_nodes,
-            },
-            "robot": {
-                "half_track": loop.robot.half_track, "wheel_radius": loop.robot.wheel_radius,
-                "motor": {
-                    k: getattr(loop.robot.motor, k)
-                    for k in ("resistance", "inductance", "inertia", "friction",
-                              "torque_constant", "voltage_limit")
-                },
-            },
+            "simulation": simulation,
+            "robot": robot,
             "study": {
                 "trajectories": list(self.trajectories), "fous": list(self.fous),
                 "main_fou": self.main_fou, "noise_std": self.noise_std,

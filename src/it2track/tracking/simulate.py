@@ -29,11 +29,13 @@ keeps only the metrics (``dict`` of ``(B,)`` arrays), so memory stays flat as ``
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from numbers import Integral, Real
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -151,6 +153,14 @@ class LoopConfig:
         if not isinstance(self.robot, RobotParams):
             raise ValueError(f"LoopConfig.robot={self.robot!r} must be a RobotParams")
 
+    def to_dict(self) -> dict[str, Any]:
+        """Plain values (JSON/TOML-ready), the robot as a nested dict."""
+        return {
+            "duration": self.duration, "ts": self.ts, "noise_rate": self.noise_rate,
+            "start_pose": list(self.start_pose), "seed": self.seed,
+            "quadrature_nodes": self.quadrature_nodes, "robot": dataclasses.asdict(self.robot),
+        }  # fmt: skip
+
     @property
     def n_steps(self) -> int:
         """Number of control periods N (instants ``k = 0 ... N``)."""
@@ -247,7 +257,7 @@ def run_grid(
     >>> len(run_grid(2, 3, [0.0, 0.1], 5))
     60
     """
-    seed_list = np.arange(seeds) if isinstance(seeds, int) else np.asarray(seeds)
+    seed_list = np.arange(int(seeds)) if isinstance(seeds, Integral) else np.asarray(seeds)
     c, t, s, z = np.meshgrid(
         np.arange(n_controllers), np.arange(n_trajectories), np.asarray(noise_stds, float),
         seed_list, indexing="ij",
