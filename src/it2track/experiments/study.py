@@ -31,8 +31,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..fuzzy import control_surface
-from ..paper import dead_zone_matched_fls, heading_fls
 from ..tracking import (
+    FuzzyHeadingController,
     HeadingController,
     LoopConfig,
     PDHeadingController,
@@ -321,8 +321,12 @@ class StudyResult:
         the controllers of ``trace_controllers`` in order.
     trace_controllers : list of str
         Labels of the traced controllers.
+    trace_specs : list of ControllerSpec
+        The traced controllers themselves, in trace run order.
     surfaces : dict of str -> (e, de, u)
         Control surfaces of the fuzzy controllers by label (``(101, 101)`` grids).
+    surface_specs : dict of str -> ControllerSpec
+        The controller behind each surface (its ``kind`` and ``fou``), by label.
     pd : ControllerSpec or None
         The (tuned) PD baseline.
     pd_tuning : dict
@@ -333,7 +337,9 @@ class StudyResult:
     rows: dict[str, np.ndarray]
     traces: dict[str, Trace]
     trace_controllers: list[str]
+    trace_specs: list[ControllerSpec]
     surfaces: dict[str, tuple[FloatArray, FloatArray, FloatArray]]
+    surface_specs: dict[str, ControllerSpec]
     pd: ControllerSpec | None
     pd_tuning: dict[str, Any]
 
@@ -480,14 +486,20 @@ def run_study(
         runs = RunTable(np.arange(len(controllers)), 0, config.noise_std, config.figure_seed)
         traces[name] = simulate(controllers, [get_trajectory(name)], runs, config.loop)
 
+    surface_specs = {s.label: s for s in [
+        ControllerSpec(kind=ControllerKind.FLC),
+        *(ControllerSpec(kind=ControllerKind.IT2, fou=w) for w in config.fous),
+        *(ControllerSpec(kind=ControllerKind.T1_MATCHED, fou=w)
+          for w in (config.fous if config.matched_baseline else ())),
+    ]}
     surfaces: dict[str, tuple[FloatArray, FloatArray, FloatArray]] = {}
-    surfaces["FLC"] = control_surface(heading_fls(0.0))
-    for w in config.fous:
-        surfaces[f"IT2FLC FoU {w:g}"] = control_surface(heading_fls(w))
-        if config.matched_baseline:
-            surfaces[f"T1 dead-zone-matched {w:g}"] = control_surface(dead_zone_matched_fls(w))
+    for label, spec in surface_specs.items():
+        controller = spec.build()
+        assert isinstance(controller, FuzzyHeadingController)
+        surfaces[label] = control_surface(controller.fls)
     return StudyResult(
         config=config, rows=rows, traces=traces, trace_controllers=[s.label for s in traced],
-        surfaces=surfaces, pd=pd, pd_tuning=pd_record,
+        trace_specs=traced, surfaces=surfaces, surface_specs=surface_specs, pd=pd,
+        pd_tuning=pd_record,
     )
 
