@@ -85,3 +85,48 @@ def test_bad_config_is_reported_without_output(tmp_path):
     assert result.exit_code != 0
     assert "seeds" in result.output and str(bad) in result.output
     assert not out.exists() or not any(out.iterdir())
+
+
+def test_publish_replaces_a_previous_run_without_leftovers(tmp_path):
+    from it2track.cli.main import _publish
+
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "old_figure.png").write_text("old")
+    (out / "users_notes.txt").write_text("keep me")  # not ours: never touched
+    (out / "metrics.csv").write_text("old")
+    (out / "manifest.json").write_text(json.dumps({"files": ["old_figure.png", "metrics.csv",
+                                                             "manifest.json"]}))
+    staging = tmp_path / "staging"
+    staging.mkdir()
+    (staging / "metrics.csv").write_text("new")
+    (staging / "manifest.json").write_text(json.dumps({"files": ["metrics.csv",
+                                                                 "manifest.json"]}))
+    _publish(staging, out)
+    assert sorted(p.name for p in out.iterdir()) == ["manifest.json", "metrics.csv",
+                                                     "users_notes.txt"]
+    assert (out / "metrics.csv").read_text() == "new"
+
+
+def test_manifest_command_comes_from_the_parsed_options(quick_run):
+    out, _ = quick_run
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert manifest["command"].startswith("main reproduce") or manifest["command"].startswith(
+        "it2track reproduce")
+    assert "--quick" in manifest["command"] and f"--out {out}" in manifest["command"]
+
+
+def test_simulate_rejects_a_zero_noise_rate():
+    result = CliRunner().invoke(main, ["simulate", "--noise-rate", "0"])
+    assert result.exit_code != 0 and "--noise-rate" in result.output
+
+
+def test_fis_eval_takes_negative_values(tmp_path):
+    import it2track
+
+    path = tmp_path / "h.toml"
+    it2track.save(it2track.heading_fls(0.2), path)
+    result = CliRunner().invoke(main, ["fis", "eval", str(path), "0.3", "-0.1"])
+    assert result.exit_code == 0, result.output
+    u = float(result.output.split("=")[1].split()[0])
+    assert u == pytest.approx(it2track.heading_fls(0.2)(0.3, -0.1), rel=1e-9)

@@ -67,6 +67,9 @@ def test_config_values_are_applied(tmp_path):
 
 
 def test_file_controller_path_is_relative_to_the_config(tmp_path):
+    import it2track
+
+    it2track.save(it2track.heading_fls(0.25), tmp_path / "mine.t2fis")
     path = write(tmp_path, "[[controllers]]\nkind = 'file'\npath = 'mine.t2fis'\n")
     cfg = load_study_config(path)
     assert cfg.extra_controllers[0].path == str(tmp_path / "mine.t2fis")
@@ -82,3 +85,39 @@ def test_experiment_sizes_count_runs():
     # fou: w = 0 (FLC) + 20 widths x (IT2 + matched) = 41 x 3 x 3
     assert sizes["fou"] == 41 * 3 * 3
     assert sizes["pd_tuning"] == 0
+
+
+@pytest.mark.parametrize(
+    ("text", "needle"),
+    [
+        ("[study]\nnoise_levels = [0.05, 0.05]\n", "noise_levels"),
+        ("[study]\ntrajectories = ['straight', 'straight']\n", "twice"),
+        ("[[controllers]]\nkind = 'it2'\nfou = 0.2\n", "used by the study's own controllers"),
+        ("[[controllers]]\nkind = 'pd'\nkp = 10.0\ntf = -0.1\n", "tf=-0.1"),
+        ("[[controllers]]\nkind = 'file'\npath = 'missing.t2fis'\n", "missing.t2fis"),
+        ("[[controllers]]\nkind = 'file'\npath = 'bad.t2fis'\n", "bad.t2fis"),
+    ],
+)
+def test_bad_lineups_fail_at_load_time(tmp_path, text, needle):
+    (tmp_path / "bad.t2fis").write_text("[System]\nName='x'\nType='sugeno'\n")
+    path = write(tmp_path, text)
+    with pytest.raises(ConfigError) as info:
+        load_study_config(path)
+    assert needle in str(info.value), str(info.value)
+
+
+def test_waypoint_files_resolve_against_the_config_folder(tmp_path, monkeypatch):
+    (tmp_path / "path.csv").write_text("t,x,y\n0,0,0\n1,1,0\n2,2,1\n3,3,1\n")
+    path = write(tmp_path, "[study]\ntrajectories = ['path.csv', 'straight']\n")
+    monkeypatch.chdir("/")
+    cfg = load_study_config(path)
+    assert cfg.trajectories == (str(tmp_path / "path.csv"), "straight")
+
+
+def test_non_default_reducers_get_their_own_label():
+    from it2track.experiments.specs import ControllerKind, ControllerSpec
+
+    a = ControllerSpec(kind=ControllerKind.IT2, fou=0.2, reducer="KM")
+    b = ControllerSpec(kind=ControllerKind.IT2, fou=0.2, reducer="km")
+    assert a == b and a.label == "IT2FLC FoU 0.2 km"
+    assert ControllerSpec(kind=ControllerKind.IT2, fou=0.2).label == "IT2FLC FoU 0.2"

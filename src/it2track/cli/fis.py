@@ -137,11 +137,12 @@ def convert(source: str, target: str) -> None:
     click.echo(f"wrote {target}")
 
 
-@fis.command(name="eval")
+@fis.command(name="eval", context_settings={"ignore_unknown_options": True})
 @click.argument("file", type=_FILE)
 @click.argument("values", nargs=-1, type=float, required=True)
 def evaluate(file: str, values: tuple[float, ...]) -> None:
-    """Evaluate FILE at one point: one VALUE per input, in order."""
+    """Evaluate FILE at one point: one VALUE per input, in order (negative values are fine:
+    ``it2track fis eval heading.toml 0.3 -0.1``)."""
     system = _load(file)
     if len(values) != system.n_inputs:
         names = ", ".join(inp.name for inp in system.inputs)

@@ -62,11 +62,14 @@ def _fail(message: str) -> None:
 @click.option("--noise-power", type=float, default=None,
               help="Simulink band-limited white noise power instead of --noise-std "
               "(sigma = sqrt(P / Ts_noise)).")
-@click.option("--noise-rate", default=100.0, show_default=True, type=float, help="Hz.")
+@click.option("--noise-rate", default=100.0, show_default=True,
+              type=click.FloatRange(min=0.0, min_open=True), help="Hz.")
 @click.option("--seed", default=0, show_default=True, type=int, help="Noise realisation index.")
 @click.option("--base-seed", default=0, show_default=True, type=int, help="Base seed.")
-@click.option("--duration", default=10.0, show_default=True, type=float, help="s.")
-@click.option("--ts", default=0.01, show_default=True, type=float, help="Control period, s.")
+@click.option("--duration", default=10.0, show_default=True,
+              type=click.FloatRange(min=0.0, min_open=True, max=3600.0), help="s.")
+@click.option("--ts", default=0.01, show_default=True,
+              type=click.FloatRange(min=0.0, min_open=True), help="Control period, s.")
 @click.option("--json", "as_json", is_flag=True, help="Print the metrics as one JSON object.")
 @click.option("--trace", type=click.Path(dir_okay=False, writable=True),
               help="Save the time series to this CSV file.")
@@ -205,7 +208,11 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
     try:
         with tqdm(total=total, unit="run", disable=no_progress, file=sys.stderr,
                   desc="simulating") as bar:
-            result = run_study(config, progress=bar.update)
+            try:
+                result = run_study(config, progress=bar.update)
+            except (ValueError, OSError) as exc:
+                _fail(f"the study stopped: {exc}")
+                return
         summary = summarise(result.rows)
         claims = evaluate_claims(result.rows, fous=config.fous, main_fou=config.main_fou,
                                  trajectories=config.trajectories)
@@ -220,7 +227,7 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
         from ..report.html import write_html
 
         figures = write_figures(result, summary, staging)
-        command = " ".join(["it2track reproduce", *(shlex.quote(a) for a in sys.argv[2:])])
+        command = _command_line(click.get_current_context())
         cfg = config.to_dict()
         cfg["pd_tuning"] = {k: v for k, v in result.pd_tuning.items() if k != "grid"}
         manifest = outputs.manifest(
@@ -233,17 +240,50 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
         manifest["elapsed_s"] = round(time.perf_counter() - started, 3)
         manifest["files"] = sorted([*(p.name for p in staging.iterdir()), "manifest.json"])
         outputs.write_json(staging / "manifest.json", manifest)
-        for item in sorted(staging.iterdir()):
-            target = out / item.name
-            if target.is_dir():
-                shutil.rmtree(target)
-            item.replace(target)
+        _publish(staging, out)
     finally:
         shutil.rmtree(staging, ignore_errors=True)
     elapsed = time.perf_counter() - started
     click.echo(f"{len(result.rows['seed'])} runs in {elapsed:.1f} s -> {out}/")
     for c in claims:
         click.echo(f"  {c.id}: {c.verdict}")
+
+
+def _publish(staging: Path, out: Path) -> None:
+    """Move a finished run from ``staging`` into ``out``.
+
+    Files a previous run listed in its manifest but this run did not write (e.g. figures of a
+    trajectory no longer studied) are removed first, the old manifest before anything else and
+    the new manifest last: an interrupted publish leaves no manifest rather than one that
+    describes a mix of two runs.
+    """
+    new = {p.name for p in staging.iterdir()}
+    old_manifest = out / "manifest.json"
+    stale: set[str] = set()
+    if old_manifest.is_file():
+        try:
+            stale = set(json.loads(old_manifest.read_text()).get("files", [])) - new
+        except (ValueError, OSError):
+            stale = set()
+        old_manifest.unlink()
+    for name in sorted(stale):
+        if "/" not in name and name not in (".", ".."):
+            (out / name).unlink(missing_ok=True)
+    for name in sorted(new - {"manifest.json"}):
+        (staging / name).replace(out / name)
+    (staging / "manifest.json").replace(old_manifest)
+
+
+def _command_line(ctx: click.Context) -> str:
+    """The command that reproduces this run, from the parsed options (not ``sys.argv``)."""
+    parts = [ctx.command_path]
+    for param in ctx.command.params:
+        value = ctx.params.get(param.name or "")
+        if value is None or value == param.default or not isinstance(param, click.Option):
+            continue
+        flag = param.opts[0]
+        parts.append(flag if param.is_flag else f"{flag} {shlex.quote(str(value))}")
+    return " ".join(parts)
 
 
 def _claims_preamble(config: Any) -> str:

@@ -69,7 +69,8 @@ def summarise(rows: Rows, *, reference: str = "FLC") -> list[dict[str, Any]]:
 
     Columns: ``experiment, trajectory, controller, kind, fou, noise_std, metric, n, mean,
     ci_low, ci_high`` and, against ``reference`` on the same seeds, ``diff_mean, diff_low,
-    diff_high, win_rate`` (empty for the reference itself or where it is absent).
+    diff_high, win_rate, ties`` (empty for the reference itself or where it is absent; the win
+    rate counts ties as half, see :func:`~it2track.experiments.stats.paired_comparison`).
     """
     keys = ("experiment", "trajectory", "controller", "noise_std")
     groups = _group_index(rows, keys)
@@ -89,35 +90,48 @@ def summarise(rows: Rows, *, reference: str = "FLC") -> list[dict[str, Any]]:
                 "kind": rows["kind"][idx[0]], "fou": float(rows["fou"][idx[0]]),
                 "noise_std": float(sigma), "metric": metric, "n": iv.n, "mean": iv.mean,
                 "ci_low": iv.low, "ci_high": iv.high,
-                "diff_mean": "", "diff_low": "", "diff_high": "", "win_rate": "",
+                "diff_mean": "", "diff_low": "", "diff_high": "", "win_rate": "", "ties": "",
             }  # fmt: skip
             if paired:
                 assert ref_idx is not None
                 cmp = paired_comparison(values, rows[metric][ref_idx])
                 row.update(
                     diff_mean=cmp.diff.mean, diff_low=cmp.diff.low, diff_high=cmp.diff.high,
-                    win_rate=cmp.win_rate,
+                    win_rate=cmp.win_rate, ties=cmp.ties,
                 )
             out.append(row)
     return out
+
+
+SUPPORTS, CONTRADICTS, INCONCLUSIVE = "supports", "contradicts", "inconclusive"
 
 
 @dataclass(frozen=True)
 class ClaimResult:
     """The verdict on one claim, with the evidence behind it.
 
+    Every cell of evidence (a trajectory x metric x comparison at one noise level) has an
+    ``outcome``: ``"supports"`` (the 95 % interval lies on the claimed side of zero),
+    ``"contradicts"`` (it lies on the other side) or ``"inconclusive"`` (it contains zero, e.g.
+    exact ties). A level *holds* when every cell supports the claim and is *contradicted* when
+    any cell contradicts it; otherwise the claim is *not shown* there.
+
     Attributes
     ----------
     id, statement, criterion : str
     verdict : str
-        ``"holds"``, ``"does not hold"``, ``"holds only for sigma in ..."`` or
+        ``"holds"``, ``"does not hold"`` (contradicted somewhere, holding nowhere),
+        ``"not shown"`` (inconclusive everywhere), ``"holds only for sigma in ..."`` or
         ``"not evaluated: <why>"``.
+    detail : str
+        Where the claim is contradicted and where it is not shown, e.g.
+        ``"contradicted at sigma = 0.5 rad; not shown at sigma = 0, 0.02 rad"`` (may be empty).
     levels : tuple of float
         Noise levels examined.
-    holds_at : tuple of float
-        Levels at which the claim holds.
+    holds_at, contradicted_at : tuple of float
+        Levels at which the claim holds / is contradicted.
     evidence : list of dict
-        One row per level and cell (trajectory, metric, comparison) with the numbers.
+        One row per level and cell with the numbers and the ``outcome``.
     """
 
     id: str
@@ -126,13 +140,16 @@ class ClaimResult:
     verdict: str
     levels: tuple[float, ...]
     holds_at: tuple[float, ...]
+    contradicted_at: tuple[float, ...] = ()
+    detail: str = ""
     evidence: list[dict[str, Any]] = field(default_factory=list)
 
     def to_markdown(self) -> str:
+        detail = f" ({self.detail})" if self.detail else ""
         lines = [
             f"## {self.id}: {self.statement}",
             "",
-            f"**Verdict: {self.verdict}.**",
+            f"**Verdict: {self.verdict}**{detail}.",
             "",
             f"Criterion: {self.criterion}",
             "",
@@ -155,30 +172,53 @@ def _fmt(v: Any) -> str:
     return str(v)
 
 
-def verdict_text(levels: Sequence[float], holds_at: Sequence[float]) -> str:
-    """Verdict wording from the noise levels examined and those where the claim holds.
+def _levels_text(values: Sequence[float]) -> str:
+    if len(values) == 1:
+        return f"sigma = {values[0]:g} rad"
+    return "sigma = " + ", ".join(f"{v:g}" for v in values) + " rad"
+
+
+def verdict_text(levels: Sequence[float], holds_at: Sequence[float],
+                 contradicted_at: Sequence[float] | None = None) -> str:
+    """Verdict wording from the noise levels examined, those where the claim holds and those
+    where it is contradicted (``None``: every level that does not hold is contradicted).
 
     Examples
     --------
     >>> verdict_text([0.0, 0.1, 0.2, 0.3], [0.1, 0.2])
     'holds only for sigma in [0.1, 0.2] rad'
-    >>> verdict_text([0.0, 0.1], [])
-    'does not hold'
+    >>> verdict_text([0.0, 0.1], [], contradicted_at=[])
+    'not shown'
     """
     lv = sorted(levels)
     hv = sorted(holds_at)
+    cv = [v for v in lv if v not in hv] if contradicted_at is None else sorted(contradicted_at)
     if not lv:
         return "not evaluated: no noise levels"
     if hv == lv:
         return "holds"
     if not hv:
-        return "does not hold"
+        return "does not hold" if cv else "not shown"
     if len(hv) == 1:
         return f"holds only for sigma = {hv[0]:g} rad"
     positions = [lv.index(h) for h in hv]
     if positions == list(range(positions[0], positions[-1] + 1)):
         return f"holds only for sigma in [{hv[0]:g}, {hv[-1]:g}] rad"
     return "holds only for sigma in {" + ", ".join(f"{h:g}" for h in hv) + "} rad"
+
+
+def _detail(levels: Sequence[float], holds_at: Sequence[float],
+            contradicted_at: Sequence[float]) -> str:
+    """Where a claim that does not hold everywhere is contradicted, and where it is not shown
+    (omitted when it would just repeat the verdict)."""
+    everything = sorted(levels)
+    unshown = [v for v in everything if v not in holds_at and v not in contradicted_at]
+    parts = []
+    if contradicted_at and sorted(contradicted_at) != everything:
+        parts.append("contradicted at " + _levels_text(sorted(contradicted_at)))
+    if unshown and unshown != everything:
+        parts.append("not shown at " + _levels_text(unshown))
+    return "; ".join(parts)
 
 
 def _paired(rows: Rows, groups: dict[tuple[Any, ...], np.ndarray], a: tuple[Any, ...],
@@ -190,6 +230,14 @@ def _paired(rows: Rows, groups: dict[tuple[Any, ...], np.ndarray], a: tuple[Any,
     return cmp.diff.mean, cmp.diff.low, cmp.diff.high, cmp.win_rate
 
 
+def _level_outcome(outcomes: Sequence[str]) -> str:
+    if outcomes and all(o == SUPPORTS for o in outcomes):
+        return SUPPORTS
+    if any(o == CONTRADICTS for o in outcomes):
+        return CONTRADICTS
+    return INCONCLUSIVE
+
+
 def _better_everywhere(
     rows: Rows,
     groups: dict[tuple[Any, ...], np.ndarray],
@@ -197,10 +245,10 @@ def _better_everywhere(
     trajectories: Sequence[str],
     pairs: Sequence[tuple[str, str]],
     sigma: float,
-) -> tuple[bool, list[dict[str, Any]]]:
-    """True if, for every trajectory, integral metric and (better, worse) pair, the paired
-    difference better - worse has its 95 % interval below zero."""
-    ok = True
+) -> tuple[str, list[dict[str, Any]]]:
+    """Outcome at one level of "``better`` has smaller errors than ``worse``" over every
+    trajectory, integral metric and pair, from the paired differences ``better - worse``."""
+    outcomes = []
     evidence = []
     for traj in trajectories:
         for metric in INTEGRALS:
@@ -213,14 +261,25 @@ def _better_everywhere(
                         f"{sigma:g}"
                     )
                 mean, low, high, win = res
-                passed = high < 0.0
-                ok &= passed
+                outcome = SUPPORTS if high < 0.0 else CONTRADICTS if low > 0.0 else INCONCLUSIVE
+                outcomes.append(outcome)
                 evidence.append({
                     "sigma": sigma, "trajectory": traj, "metric": metric,
                     "comparison": f"{better} - {worse}", "diff_mean": mean,
-                    "ci95": f"[{low:.3g}, {high:.3g}]", "win_rate": win, "passes": passed,
+                    "ci95": f"[{low:.3g}, {high:.3g}]", "win_rate": win, "outcome": outcome,
                 })  # fmt: skip
-    return ok, evidence
+    return _level_outcome(outcomes), evidence
+
+
+def _claim(id_: str, statement: str, criterion: str, levels: tuple[float, ...],
+           per_level: dict[float, str], evidence: list[dict[str, Any]]) -> ClaimResult:
+    holds = tuple(v for v in levels if per_level[v] == SUPPORTS)
+    contra = tuple(v for v in levels if per_level[v] == CONTRADICTS)
+    return ClaimResult(
+        id=id_, statement=statement, criterion=criterion,
+        verdict=verdict_text(levels, holds, contra), detail=_detail(levels, holds, contra),
+        levels=levels, holds_at=holds, contradicted_at=contra, evidence=evidence,
+    )
 
 
 def evaluate_claims(
@@ -247,96 +306,88 @@ def evaluate_claims(
     matched = f"T1 dead-zone-matched {main_fou:g}"
     results = []
 
-    # C1
-    holds, evidence = [], []
-    for sigma in levels:
-        ok, ev = _better_everywhere(sub, groups, experiment, trajectories, [(main, "FLC")], sigma)
-        evidence += ev
-        if ok:
-            holds.append(sigma)
-    results.append(ClaimResult(
-        id="C1",
-        statement=f"The IT2FLC (FoU {main_fou:g}) beats the FLC on IAE, ITAE, ISE and ITSE on "
-        f"all {len(trajectories)} trajectories",
-        criterion="for every trajectory and metric, the 95 % interval of the paired mean "
-        "difference IT2FLC - FLC (same noise realisations) lies below 0",
-        verdict=verdict_text(levels, holds), levels=levels, holds_at=tuple(holds),
-        evidence=evidence,
+    def comparison_claim(id_: str, statement: str, criterion: str,
+                         pairs: Sequence[tuple[str, str]]) -> ClaimResult:
+        per_level, evidence = {}, []
+        for sigma in levels:
+            per_level[sigma], ev = _better_everywhere(sub, groups, experiment, trajectories,
+                                                      pairs, sigma)
+            evidence += ev
+        return _claim(id_, statement, criterion, levels, per_level, evidence)
+
+    results.append(comparison_claim(
+        "C1",
+        f"The IT2FLC (FoU {main_fou:g}) beats the FLC on IAE, ITAE, ISE and ITSE on all "
+        f"{len(trajectories)} trajectories",
+        "for every trajectory and metric, the 95 % interval of the paired mean difference "
+        "IT2FLC - FLC (same noise realisations) lies below 0; an interval above 0 contradicts "
+        "the claim, one containing 0 leaves it not shown",
+        [(main, "FLC")],
     ))
 
-    # C2
     ordered = sorted(fous)
     pairs = [(it2[b], it2[a]) for a, b in itertools.pairwise(ordered)]
-    holds, evidence = [], []
+    statement = "The integral errors fall as the FoU grows " + " -> ".join(
+        f"{w:g}" for w in ordered)
+    criterion = ("for every trajectory, metric and consecutive pair of widths, the 95 % "
+                 "interval of the paired difference (wider - narrower) lies below 0")
     if pairs:
-        for sigma in levels:
-            ok, ev = _better_everywhere(sub, groups, experiment, trajectories, pairs, sigma)
-            evidence += ev
-            if ok:
-                holds.append(sigma)
-        verdict = verdict_text(levels, holds)
+        results.append(comparison_claim("C2", statement, criterion, pairs))
     else:
-        verdict = "not evaluated: needs at least two FoU widths"
-    results.append(ClaimResult(
-        id="C2",
-        statement="The integral errors fall as the FoU grows "
-        + " -> ".join(f"{w:g}" for w in ordered),
-        criterion="for every trajectory, metric and consecutive pair of widths, the 95 % "
-        "interval of the paired difference (wider - narrower) lies below 0",
-        verdict=verdict, levels=levels, holds_at=tuple(holds), evidence=evidence,
-    ))
+        results.append(ClaimResult(
+            id="C2", statement=statement, criterion=criterion, levels=levels, holds_at=(),
+            verdict="not evaluated: needs at least two FoU widths",
+        ))
 
-    # C3
-    holds, evidence = [], []
     lo, hi = C3_TARGET / C3_FACTOR, C3_TARGET * C3_FACTOR
+    statement = "The smallest straight-line ISE is of order 0.003"
+    criterion = (
+        f"the smallest mean straight-line ISE over the FLC and the IT2FLCs lies in "
+        f"[{lo:.2g}, {hi:.2g}] (within a factor sqrt(10) of 0.003); its 95 % interval lying "
+        "wholly outside that band contradicts the claim"
+    )
     if "straight" in trajectories:
+        per_level, evidence = {}, []
         for sigma in levels:
-            best_label, best = "", math.inf
-            best_iv = None
+            best_label, best_iv = "", None
             for label in ["FLC", *it2.values()]:
                 idx = groups.get((experiment, "straight", label, sigma))
                 if idx is None:
                     continue
                 iv = mean_interval(sub["ISE"][idx])
-                if iv.mean < best:
-                    best_label, best, best_iv = label, iv.mean, iv
-            passed = lo <= best <= hi
-            if passed:
-                holds.append(sigma)
+                if best_iv is None or iv.mean < best_iv.mean:
+                    best_label, best_iv = label, iv
+            if best_iv is None:
+                raise ValueError(f"no straight-line ISE at sigma {sigma:g}")
+            if lo <= best_iv.mean <= hi:
+                outcome = SUPPORTS
+            elif best_iv.high < lo or best_iv.low > hi:
+                outcome = CONTRADICTS
+            else:
+                outcome = INCONCLUSIVE
+            position = ("below the band" if best_iv.mean < lo else
+                        "above the band" if best_iv.mean > hi else "in the band")
+            per_level[sigma] = outcome
             evidence.append({
-                "sigma": sigma, "best controller": best_label, "mean ISE": best,
-                "ci95": f"[{best_iv.low:.3g}, {best_iv.high:.3g}]" if best_iv else "",
-                "passes": passed,
+                "sigma": sigma, "best controller": best_label, "mean ISE": best_iv.mean,
+                "ci95": f"[{best_iv.low:.3g}, {best_iv.high:.3g}]", "position": position,
+                "outcome": outcome,
             })  # fmt: skip
-        verdict = verdict_text(levels, holds)
+        results.append(_claim("C3", statement, criterion, levels, per_level, evidence))
     else:
-        verdict = "not evaluated: the study has no straight trajectory"
-    results.append(ClaimResult(
-        id="C3",
-        statement="The smallest straight-line ISE is of order 0.003",
-        criterion=f"the smallest mean straight-line ISE over the FLC and the IT2FLCs lies in "
-        f"[{lo:.2g}, {hi:.2g}] (within a factor sqrt(10) of 0.003)",
-        verdict=verdict, levels=levels, holds_at=tuple(holds), evidence=evidence,
-    ))
+        results.append(ClaimResult(
+            id="C3", statement=statement, criterion=criterion, levels=levels, holds_at=(),
+            verdict="not evaluated: the study has no straight trajectory",
+        ))
 
-    # D1
-    holds, evidence = [], []
-    have_matched = any(k[2] == matched for k in groups)
-    if have_matched:
-        for sigma in levels:
-            ok, ev = _better_everywhere(sub, groups, experiment, trajectories,
-                                        [(main, matched)], sigma)
-            evidence += ev
-            if ok:
-                holds.append(sigma)
-        verdict = verdict_text(levels, holds)
+    statement = (f"(beyond the paper) The IT2FLC (FoU {main_fou:g}) beats the type-1 FLC with "
+                 "the same dead zone, i.e. the FoU helps beyond narrowing the dead zone")
+    criterion = "as C1, against the dead-zone-matched type-1 FLC instead of the FLC"
+    if any(k[2] == matched for k in groups):
+        results.append(comparison_claim("D1", statement, criterion, [(main, matched)]))
     else:
-        verdict = "not evaluated: the study has no dead-zone-matched baseline"
-    results.append(ClaimResult(
-        id="D1",
-        statement=f"(beyond the paper) The IT2FLC (FoU {main_fou:g}) beats the type-1 FLC with "
-        "the same dead zone, i.e. the FoU helps beyond narrowing the dead zone",
-        criterion="as C1, against the dead-zone-matched type-1 FLC instead of the FLC",
-        verdict=verdict, levels=levels, holds_at=tuple(holds), evidence=evidence,
-    ))
+        results.append(ClaimResult(
+            id="D1", statement=statement, criterion=criterion, levels=levels, holds_at=(),
+            verdict="not evaluated: the study has no dead-zone-matched baseline",
+        ))
     return results

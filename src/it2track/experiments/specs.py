@@ -108,8 +108,9 @@ class ControllerSpec:
             raise ValueError("controller kind 'flc' is the FoU-0 FLC; use kind 'it2' with fou")
         if self.kind is ControllerKind.IT2 and self.fou == 0.0:
             raise ValueError("controller kind 'it2' needs fou > 0 (fou 0 is kind 'flc')")
-        Reducer.from_name(self.reducer)
-        TNorm.from_name(self.tnorm)
+        # Canonical spellings, so that "KM" and "km" are one controller (labels, hashes).
+        object.__setattr__(self, "reducer", Reducer.from_name(self.reducer).value.name)
+        object.__setattr__(self, "tnorm", TNorm.from_name(self.tnorm).value)
         if self.kind is ControllerKind.FILE and not self.path:
             raise ValueError("controller kind 'file' needs a path")
         if not self.label:
@@ -118,6 +119,10 @@ class ControllerSpec:
     def _default_label(self) -> str:
         k = self.kind
         gains = "" if (self.ke, self.kde) == (1.0, 1.0) else f" Ke {self.ke:g} Kde {self.kde:g}"
+        if self.tnorm != "product" and k is not ControllerKind.PD:
+            gains += f" {self.tnorm} t-norm"
+        if self.reducer != "exhaustive" and k is ControllerKind.IT2:
+            gains += f" {self.reducer}"
         if k is ControllerKind.FLC:
             return "FLC" + gains
         if k is ControllerKind.IT2:

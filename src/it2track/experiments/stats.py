@@ -58,11 +58,23 @@ def mean_interval(values: ArrayLike, level: float = 0.95) -> Interval:
 
 @dataclass(frozen=True)
 class PairedComparison:
-    """``a - b`` over paired samples: the mean difference with its interval and the win rate
-    (fraction of pairs where ``a < b``, i.e. ``a`` has the smaller error)."""
+    """``a - b`` over paired samples.
+
+    Attributes
+    ----------
+    diff : Interval
+        Mean per-pair difference with its confidence interval.
+    win_rate : float
+        ``P(a < b) + P(a == b) / 2`` over the pairs: the chance that ``a`` has the smaller error,
+        ties counting half (0.5 = no difference).
+    ties : float
+        Fraction of pairs with ``a == b`` exactly (e.g. two controllers that never leave their
+        dead zones).
+    """
 
     diff: Interval
     win_rate: float
+    ties: float
 
 
 def paired_comparison(a: ArrayLike, b: ArrayLike, level: float = 0.95) -> PairedComparison:
@@ -72,4 +84,5 @@ def paired_comparison(a: ArrayLike, b: ArrayLike, level: float = 0.95) -> Paired
     if xa.shape != xb.shape:
         raise ValueError(f"paired samples differ in length: {xa.size} vs {xb.size}")
     d = xa - xb
-    return PairedComparison(mean_interval(d, level), float(np.mean(xa < xb)))
+    ties = float(np.mean(xa == xb))
+    return PairedComparison(mean_interval(d, level), float(np.mean(xa < xb)) + 0.5 * ties, ties)

@@ -73,17 +73,23 @@ TUNING_SEED_OFFSET = 1_000_000
 class PDTuning:
     """How the PD baseline is tuned (documented procedure, reported in the study).
 
-    A grid search over ``kp`` x ``kd`` (log-spaced; all candidates simulated in one batch),
-    minimising the mean ISE of the true heading error over the study's trajectories at the
-    study's noise level on ``seeds`` tuning realisations (seed indices ``1_000_000 + i``, never
-    used for evaluation). The same criterion family as the paper's (ISE), the same noise, and
-    no information from the evaluation seeds. ``kp``/``kd`` set explicitly skip tuning.
+    A grid search over ``kp`` x ``kd`` (log-spaced; all candidates simulated in one batch) on
+    ``seeds`` tuning realisations (seed indices ``1_000_000 + i``, never used for evaluation)
+    at the study's noise level, over the study's trajectories: the gains with the smallest
+    mean ISE of the true heading error among those whose mean control effort (integral of
+    ``u^2``) stays within ``effort_limit`` V^2 s. Without the limit the ISE-optimal PD chatters
+    between the voltage limits (effort ~400 V^2 s against at most ~45 for the fuzzy
+    controllers), which is no fair comparison. ``kp``/``kd`` set explicitly skip tuning;
+    ``effort_limit = None`` removes the constraint.
     """
 
     seeds: int = 16
-    kp_grid: tuple[float, ...] = tuple(round(v, 4) for v in np.geomspace(1.0, 640.0, 15))
-    kd_grid: tuple[float, ...] = (0.0, *(round(v, 4) for v in np.geomspace(0.01, 8.0, 10)))
+    kp_grid: tuple[float, ...] = tuple(float(round(v, 4)) for v in np.geomspace(1.0, 640.0, 15))
+    kd_grid: tuple[float, ...] = (
+        0.0, *(float(round(v, 4)) for v in np.geomspace(0.01, 8.0, 10))
+    )
     tf: float = 0.02
+    effort_limit: float | None = 50.0
     kp: float | None = None
     kd: float | None = None
 
@@ -161,9 +167,21 @@ class StudyConfig:
                 raise bad(key, "must be an integer >= 1")
         if self.figure_seed < 0:
             raise bad("figure_seed", "must be >= 0")
+        for key in ("trajectories", "fous", "noise_levels", "fou_sweep"):
+            values = list(getattr(self, key))
+            if len(set(values)) != len(values):
+                dup = next(v for v in values if values.count(v) > 1)
+                raise bad(key, f"lists {dup!r} twice (repeats would pool as extra samples)")
         labels = [s.label for s in self.extra_controllers]
         if len(set(labels)) != len(labels):
             raise bad("extra_controllers", "labels must be unique")
+        n_extra = len(self.extra_controllers)
+        own = self.paper_controllers(None)[: -n_extra or None] + self.fou_controllers()
+        builtin = {s.label for s in own} | {"PD (tuned)"}
+        clash = sorted(set(labels) & builtin)
+        if clash:
+            raise bad("extra_controllers", f"label(s) {clash} are used by the study's own "
+                      "controllers; set a distinct label")
 
     # -- controller line-ups -------------------------------------------------------------------
     def paper_controllers(self, pd: ControllerSpec | None) -> list[ControllerSpec]:
@@ -213,6 +231,7 @@ class StudyConfig:
             "pd": None if self.pd is None else {
                 "seeds": self.pd.seeds, "kp_grid": list(self.pd.kp_grid),
                 "kd_grid": list(self.pd.kd_grid), "tf": self.pd.tf,
+                "effort_limit": self.pd.effort_limit,
                 "kp": self.pd.kp, "kd": self.pd.kd,
             },
             "controllers": [s.to_dict() for s in self.extra_controllers],
@@ -266,7 +285,7 @@ def load_study_config(path: str | Path, **overrides: Any) -> StudyConfig:
         for key in ("kp_grid", "kd_grid"):
             if key in pd_t:
                 pd_values[key] = tuple(pd_t.get_list(key, float))
-        for key in ("tf", "kp", "kd"):
+        for key in ("tf", "kp", "kd", "effort_limit"):
             if key in pd_t:
                 pd_values[key] = pd_t.get(key, float)
         values["pd"] = PDTuning(**pd_values)
@@ -277,27 +296,35 @@ def load_study_config(path: str | Path, **overrides: Any) -> StudyConfig:
     if "controllers" in root:
         ctrl_list = root.get("controllers", list)
         for i, entry in enumerate(ctrl_list):
-            extra.append(
-                ControllerSpec.from_table(
-                    entry, where=f"{path} [[controllers]] #{i + 1}", base_dir=path.parent
-                )
-            )
+            where = f"{path} [[controllers]] #{i + 1}"
+            spec = ControllerSpec.from_table(entry, where=where, base_dir=path.parent)
+            try:  # build once now: a bad file or value fails here, not after minutes of runs
+                spec.build()
+            except (ValueError, OSError) as exc:
+                raise ConfigError(f"{where}: {exc}") from None
+            extra.append(spec)
     values["extra_controllers"] = tuple(extra)
     root.done()
+    if "trajectories" in values:
+        values["trajectories"] = tuple(
+            _resolve_trajectory(name, path) for name in values["trajectories"]
+        )
     values.update(overrides)
-    for name in values.get("trajectories", ()):
-        _check_trajectory(name, path)
     try:
         return StudyConfig(**values)
     except ValueError as exc:
         raise ConfigError(f"{path}: {exc}") from None
 
 
-def _check_trajectory(name: str, path: Path) -> None:
+def _resolve_trajectory(name: str, path: Path) -> str:
+    """A built-in name as is; a CSV file relative to the config file's folder, checked."""
+    if name.lower().endswith(".csv") and not Path(name).is_absolute():
+        name = str(path.parent / name)
     try:
         get_trajectory(name)
     except ValueError as exc:
         raise ConfigError(f"{path} [study] trajectories: {exc}") from None
+    return name
 
 
 # --------------------------------------------------------------------------------------------
@@ -422,27 +449,38 @@ def tune_pd(
     trajs = [get_trajectory(t) for t in config.trajectories]
     seeds = TUNING_SEED_OFFSET + np.arange(tuning.seeds)
 
-    def objective(gains: Sequence[tuple[float, float]]) -> FloatArray:
+    def evaluate(gains: Sequence[tuple[float, float]]) -> tuple[FloatArray, FloatArray]:
         ctrls: list[HeadingController] = [
             PDHeadingController(kp=kp, kd=kd, tf=tuning.tf) for kp, kd in gains
         ]
         runs = run_grid(len(ctrls), len(trajs), [config.noise_std], seeds.tolist())
         m = simulate_metrics(ctrls, trajs, runs, config.loop, batch_size=config.batch_size,
                              progress=progress)
-        ise = m["ISE"].reshape(len(ctrls), -1)
-        return ise.mean(axis=1)
+        shape = (len(ctrls), -1)
+        return m["ISE"].reshape(shape).mean(axis=1), m["effort"].reshape(shape).mean(axis=1)
 
     grid = [(kp, kd) for kp in tuning.kp_grid for kd in tuning.kd_grid]
-    values = objective(grid)
-    best = int(np.argmin(values))
+    ise, effort = evaluate(grid)
+    limit = math.inf if tuning.effort_limit is None else tuning.effort_limit
+    feasible = effort <= limit
+    if not feasible.any():
+        raise ValueError(
+            f"PD tuning: no gains on the grid keep the mean effort within "
+            f"effort_limit={tuning.effort_limit} V^2 s (smallest {effort.min():.3g}); "
+            "raise the limit or extend the grid towards smaller gains"
+        )
+    best = int(np.argmin(np.where(feasible, ise, np.inf)))
     kp, kd = grid[best]
-    best_value = float(values[best])
-    edge = kp in (tuning.kp_grid[0], tuning.kp_grid[-1]) or kd == tuning.kd_grid[-1]
+    best_value = float(ise[best])
+    edge = bool(kp in (tuning.kp_grid[0], tuning.kp_grid[-1]) or kd == tuning.kd_grid[-1])
     spec = ControllerSpec(kind=ControllerKind.PD, kp=kp, kd=kd,
                           tf=tuning.tf, label="PD (tuned)")
     record = {
-        "grid": [[g[0], g[1], float(v)] for g, v in zip(grid, values, strict=True)],
+        "grid": [[g[0], g[1], float(v), float(f)]
+                 for g, v, f in zip(grid, ise, effort, strict=True)],
+        "grid_columns": ["kp", "kd", "mean ISE", "mean effort"],
         "kp": spec.kp, "kd": spec.kd, "objective": best_value, "on_grid_edge": edge,
+        "effort": float(effort[best]), "effort_limit": tuning.effort_limit,
         "seed_indices": [int(seeds[0]), int(seeds[-1])],
         "noise_std": config.noise_std, "criterion": "mean ISE over trajectories",
     }

@@ -109,4 +109,5 @@ def manifest(*, config: Mapping[str, Any], command: str, elapsed_s: float,
 
 
 def write_json(path: Path, data: Mapping[str, Any]) -> Path:
-    return atomic_write_text(path, json.dumps(data, indent=2, sort_keys=False, default=str) + "\n")
+    text = json.dumps(data, indent=2, sort_keys=False, allow_nan=False)
+    return atomic_write_text(path, text + "\n")
