@@ -6,12 +6,15 @@ import json
 import math
 import textwrap
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
+import scipy.optimize
 from click.testing import CliRunner
 
 from it2track.cli.sweep import optimize as optimize_command
+from it2track.experiments import optimize as optimize_module
 from it2track.experiments.executors import InProcessExecutor, ProcessExecutor
 from it2track.experiments.optimize import (
     WIDTH_NAMES,
@@ -174,6 +177,87 @@ def test_cli_optimize_writes_outputs(tmp_path: Path) -> None:
     assert (out / "optimize.md").read_text().startswith("# FoU optimisation")
     assert (out / "convergence.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert "| symmetric optimum" in result.output
+
+
+def test_ties_count_half_and_optima_on_a_bound_are_flagged(tmp_path: Path) -> None:
+    # No run of this tiny scenario saturates: every candidate's objective is exactly 0, so
+    # every paired comparison is a tie on every seed and the optima sit on the lower bound
+    # (the grid's first width wins ties; differential evolution keeps its first candidate,
+    # the symmetric optimum).
+    text = TINY.replace("{ ISE = 1.0, IAE = 0.1 }", '"sat_time"').replace("maxiter = 2\n",
+                                                                          "maxiter = 1\n")
+    config = write(tmp_path, text.replace("popsize = 2", "popsize = 1"))
+    out = tmp_path / "out"
+    result = CliRunner().invoke(
+        optimize_command, ["--config", str(config), "--out", str(out), "--no-progress"]
+    )
+    assert result.exit_code == 0, result.output
+    data = json.loads((out / "optimize.json").read_text())
+    for d in data["holdout"]["paired"]:
+        assert (d["mean"], d["ties"], d["win_rate"]) == (0.0, 1.0, 0.5), d
+        assert d["verdict"] == "no significant difference"
+    assert data["config"]["simulation"] == load_optimize_config(config).config.to_dict()
+
+    sym, asym = data["symmetric"], data["asymmetric"]
+    assert (sym["width"], sym["on_bound"], sym["bound"]) == (0.0, True, "lower")
+    assert asym["on_bound"] == dict.fromkeys(WIDTH_NAMES, True)
+    assert len(data["warnings"]) == 1 + 6
+    assert data["warnings"][0].startswith(
+        "The symmetric optimum FoU 0 lies on the lower bound 0 of the search range [0, 1.2]"
+    )
+    assert "width de.P = 0 lies on the lower bound 0" in data["warnings"][-1]
+    md = (out / "optimize.md").read_text()
+    assert "**Optimum on a bound of the search range:**" in md
+    assert all(f"- {w}" in md for w in data["warnings"])
+
+
+def test_bound_side_and_advice() -> None:
+    assert optimize_module._bound_side(0.205, (0.2, 1.2)) == "lower"  # within 1 % of the range
+    assert optimize_module._bound_side(0.215, (0.2, 1.2)) is None
+    assert optimize_module._bound_side(1.195, (0.2, 1.2)) == "upper"
+    sym = {"width": 1.2, "bound": "upper"}
+    asym = {"widths": {"e.N": 0.7, "e.Z": 0.2}, "bound": {"e.N": None, "e.Z": "lower"}}
+    warnings = optimize_module._bound_warnings((0.2, 1.2), sym, asym)
+    assert len(warnings) == 2
+    assert "upper bound 1.2" in warnings[0] and "widen bounds" in warnings[0]
+    assert "width e.Z = 0.2 lies on the lower bound 0.2" in warnings[1]
+    assert optimize_module._bound_warnings((0.2, 1.2), {"width": 0.5, "bound": None}, None) == []
+
+
+def test_differential_evolution_on_scipy_without_rng_keyword(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """SciPy < 1.15 calls the generator ``seed``; the optimiser must run there, identically."""
+    text = TINY.replace("popsize = 2", "popsize = 1").replace("maxiter = 2\n", "maxiter = 1\n")
+    cfg = load_optimize_config(write(tmp_path, text))
+    expected = run_optimization(cfg, progress=False).asymmetric
+    real = scipy.optimize.differential_evolution
+    seen: list[object] = []
+
+    def legacy(func: Any, bounds: Any, *, seed: Any = None, **kwargs: Any) -> Any:
+        seen.append(seed)
+        return real(func, bounds, rng=seed, **kwargs)
+
+    monkeypatch.setattr(scipy.optimize, "differential_evolution", legacy)
+    got = run_optimization(cfg, progress=False).asymmetric
+    assert len(seen) == 1 and isinstance(seen[0], np.random.Generator)
+    assert got == expected
+
+
+def test_cli_optimize_reports_a_failing_run_without_traceback(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    def broken(*args: object, **kwargs: object) -> None:
+        raise ValueError("objective is NaN")
+
+    monkeypatch.setattr(optimize_module, "run_optimization", broken)
+    out = tmp_path / "out"
+    result = CliRunner().invoke(
+        optimize_command, ["--config", str(write(tmp_path, TINY)), "--out", str(out)]
+    )
+    assert result.exit_code == 1 and isinstance(result.exception, SystemExit), result.output
+    assert "the optimisation stopped: ValueError: objective is NaN" in result.output
+    assert not out.exists()
 
 
 def test_convergence_plot(tmp_path: Path) -> None:

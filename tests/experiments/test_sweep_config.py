@@ -7,7 +7,10 @@ import textwrap
 from pathlib import Path
 
 import pytest
+from click.testing import CliRunner
 
+from it2track import __version__
+from it2track.cli.sweep import sweep as sweep_command
 from it2track.experiments.specs import ConfigError
 from it2track.experiments.sweep import expand_axes, load_sweep_config
 
@@ -166,3 +169,46 @@ def test_missing_sections(tmp_path: Path) -> None:
         load_sweep_config(write(tmp_path, BASE.replace("noise_std = [0.0, 0.1]", "")))
     with pytest.raises(ConfigError, match="invalid TOML"):
         load_sweep_config(write(tmp_path, "[sweep\n"))
+
+
+def test_loop_config_is_serialised_by_its_own_to_dict(tmp_path: Path) -> None:
+    plan = load_sweep_config(write(tmp_path, BASE))
+    data = plan.normalised()
+    expected = plan.config.to_dict()
+    del expected["robot"]  # the plant varies by group
+    assert data["simulation"] == expected
+    assert data["it2track_version"] == __version__
+
+
+@pytest.mark.parametrize(
+    ("entry", "file_text", "expected"),
+    [
+        ('kind = "file"\npath = "ctrl.t2fis"', "not a fuzzy system\n",
+         "ctrl.t2fis:1: text before the first section"),
+        ('kind = "file"\npath = "missing.t2fis"', None,
+         "cannot read '{dir}/missing.t2fis': No such file or directory"),
+        ('kind = "file"\npath = "ctrl.xyz"', "", "unknown fuzzy-system file suffix '.xyz'"),
+        ('kind = "pd"\nkp = 20.0\ntf = -0.1', None, "tf=-0.1 must be >= 0"),
+    ],
+    ids=["malformed-t2fis", "missing-file", "bad-suffix", "pd-negative-tf"],
+)
+def test_controllers_are_built_while_parsing(
+    tmp_path: Path, entry: str, file_text: str | None, expected: str
+) -> None:
+    """A controller that cannot be built is a ConfigError naming the file and the entry,
+    raised before anything is written (not a traceback in the middle of the sweep)."""
+    if file_text is not None:
+        name = "ctrl.t2fis" if "ctrl.t2fis" in entry else "ctrl.xyz"
+        (tmp_path / name).write_text(file_text, encoding="utf-8")
+    path = write(tmp_path, BASE + f"\n[[controllers]]\n{entry}\n")
+    with pytest.raises(ConfigError) as info:
+        load_sweep_config(path)
+    message = str(info.value)
+    assert f"{path} [controllers][2]: controller " in message, message
+    assert expected.format(dir=tmp_path) in message, message
+
+    out = tmp_path / "out"
+    result = CliRunner().invoke(sweep_command, ["--config", str(path), "--out", str(out)])
+    assert result.exit_code == 1 and isinstance(result.exception, SystemExit), result.output
+    assert expected.format(dir=tmp_path) in result.output
+    assert not out.exists()  # nothing written: the corrected config can start the sweep

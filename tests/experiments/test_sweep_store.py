@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import io
+import json
 import os
 import signal
 import subprocess
@@ -16,7 +17,9 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
+from it2track import heading_fls, save
 from it2track.cli.sweep import sweep as sweep_command
+from it2track.experiments import sweep as sweep_module
 from it2track.experiments.sweep import (
     StoreError,
     load_sweep_config,
@@ -210,6 +213,105 @@ def test_cli_sweep_run_refuse_resume(tmp_path: Path) -> None:
     assert "seeds=[] is an empty axis" in fourth.output and str(bad) in fourth.output
 
 
+# -- identity: file contents and the it2track version, not paths ----------------------------
+
+FILE_SWEEP = """
+[sweep]
+seeds = 2
+noise_std = 0.1
+trajectories = "sinusoidal"
+chunk_size = 2
+
+[simulation]
+duration = 0.5
+
+[[controllers]]
+kind = "flc"
+
+[[controllers]]
+kind = "file"
+path = "{path}"
+"""
+
+
+def test_file_controller_is_identified_by_its_content(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    save(heading_fls(0.3), tmp_path / "ctrl.t2fis")
+    config = write(tmp_path, FILE_SWEEP.format(path="ctrl.t2fis"))
+    out = tmp_path / "out"
+    first = run_sweep(load_sweep_config(config), out, progress=False)
+    reference = (out / "results.csv").read_bytes()
+    header, _ = read_results(out / "results.csv")
+    assert "path" not in header and "file_sha256" in header  # rows follow the content
+    assert json.loads((out / "sweep.json").read_text())["controller_files"] == {
+        "ctrl.t2fis": str(tmp_path / "ctrl.t2fis")
+    }
+
+    # The same file reached by other paths: an absolute one, a relative config path.
+    other = tmp_path / "elsewhere"
+    other.mkdir()
+    absolute = write(other, FILE_SWEEP.format(path=tmp_path / "ctrl.t2fis"))
+    monkeypatch.chdir(tmp_path)
+    for cfg in (absolute, Path("sweep.toml")):
+        (out / "results.csv").unlink()
+        chunks = sorted((out / "chunks").glob("chunk-*.csv"))
+        chunks[-1].unlink()
+        summary = run_sweep(load_sweep_config(cfg), out, resume=True, progress=False)
+        assert (summary.chunks_computed, summary.chunks_skipped) == (1, first.n_chunks - 1)
+        assert (out / "results.csv").read_bytes() == reference
+
+    # An edited controller file is another controller: refused, naming the file.
+    save(heading_fls(0.5), tmp_path / "ctrl.t2fis")
+    with pytest.raises(StoreError) as info:
+        run_sweep(load_sweep_config(config), out, resume=True, progress=False)
+    message = str(info.value)
+    assert f"controller file {str(tmp_path / 'ctrl.t2fis')!r}" in message, message
+    assert "has changed" in message and "differs in: controllers" in message, message
+
+
+def test_file_edited_while_the_sweep_runs_is_refused(tmp_path: Path) -> None:
+    save(heading_fls(0.3), tmp_path / "ctrl.t2fis")
+    plan = load_sweep_config(write(tmp_path, FILE_SWEEP.format(path="ctrl.t2fis")))
+    save(heading_fls(0.5), tmp_path / "ctrl.t2fis")  # after planning, before the runs
+    with pytest.raises(ValueError, match=r"ctrl\.t2fis' changed since the sweep was planned"):
+        run_sweep(plan, tmp_path / "out", progress=False)
+    # Only chunk 0 (the FLC's runs) was written; the file controller's chunk was refused.
+    assert [p.name for p in (tmp_path / "out" / "chunks").glob("chunk-*.csv")] == [
+        "chunk-000000.csv"
+    ]
+
+
+def test_store_of_another_it2track_version_is_refused(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    plan = load_sweep_config(write(tmp_path, FILE_SWEEP.replace(
+        'kind = "file"\npath = "{path}"', 'kind = "it2"\nfou = 0.2'
+    )))  # fmt: skip
+    out = tmp_path / "out"
+    run_sweep(plan, out, progress=False)
+    monkeypatch.setattr(sweep_module, "__version__", "99.0")
+    assert plan.normalised()["it2track_version"] == "99.0"  # part of the hash, too
+    with pytest.raises(StoreError, match=r"started by it2track 0\.1\.0, this is it2track 99"):
+        run_sweep(plan, out, resume=True, progress=False)
+
+
+def test_cli_sweep_reports_a_failing_run_without_traceback(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    def broken(*args: object, **kwargs: object) -> None:
+        raise ValueError("trajectory too short for the loop")
+
+    monkeypatch.setattr(sweep_module, "simulate_metrics", broken)
+    config = write(tmp_path, SMALL)
+    out = tmp_path / "out"
+    result = CliRunner().invoke(sweep_command, ["--config", str(config), "--out", str(out),
+                                                "--no-progress"])  # fmt: skip
+    assert result.exit_code == 1 and isinstance(result.exception, SystemExit), result.output
+    assert "the sweep stopped: ValueError: trajectory too short for the loop" in result.output
+    assert "rerun with --resume" in result.output
+
+
 # -- killing a real process -------------------------------------------------------------------
 
 
@@ -225,7 +327,7 @@ def _start_and_wait_for_chunks(
     config: Path, out: Path, n: int, workers: int
 ) -> subprocess.Popen[bytes]:
     proc = subprocess.Popen(
-        [sys.executable, "-m", "it2track.cli.sweep", "sweep", "--config", str(config),
+        [sys.executable, "-m", "it2track.cli.main", "sweep", "--config", str(config),
          "--out", str(out), "--no-progress", "--workers", str(workers)],
         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
     )  # fmt: skip

@@ -1,8 +1,10 @@
 """``it2track sweep`` and ``it2track optimize``: resumable sweeps and FoU optimisation.
 
 Both run in this process by default, on ``--workers N`` local processes, or on a Dask cluster
-named by ``--scheduler tcp://HOST:PORT``; the numbers do not depend on the choice.
-``python -m it2track.cli.sweep sweep|optimize ...`` runs them without the entry point.
+named by ``--scheduler tcp://HOST:PORT``; the numbers do not depend on the choice. They are
+registered on the ``it2track`` group (:mod:`it2track.cli.main`). Errors -- a bad
+configuration, a refused store, a run that fails -- end the command with a message naming
+the cause, not a traceback.
 """
 
 from __future__ import annotations
@@ -96,6 +98,12 @@ def sweep(
             f"a worker process died ({exc}); {saved} finished chunks are saved in {out}: "
             "rerun with --resume"
         ) from None
+    except (ValueError, OSError) as exc:
+        saved = len(list((out / "chunks").glob("chunk-*.csv")))
+        raise click.ClickException(
+            f"the sweep stopped: {type(exc).__name__}: {exc}; {saved} finished chunks are "
+            f"saved in {out}: remove the cause and rerun with --resume"
+        ) from None
     except KeyboardInterrupt:
         saved = len(list((out / "chunks").glob("chunk-*.csv")))
         click.echo(
@@ -139,30 +147,29 @@ def optimize(
         raise click.ClickException(str(exc)) from None
     out = Path(out_dir)
     t0 = time.perf_counter()
-    with _executor(workers, scheduler) as executor:
-        result = run_optimization(
-            cfg, executor=executor, progress=progress, log=lambda s: click.echo(s, err=True)
-        )
+    try:
+        with _executor(workers, scheduler) as executor:
+            result = run_optimization(
+                cfg, executor=executor, progress=progress, log=lambda s: click.echo(s, err=True)
+            )
+    except BrokenExecutor as exc:
+        raise click.ClickException(f"a worker process died ({exc}); nothing was written") from None
+    except (ValueError, OSError) as exc:
+        raise click.ClickException(
+            f"the optimisation stopped: {type(exc).__name__}: {exc}; nothing was written"
+        ) from None
     data = result.to_dict()
     data["command"] = {"config": config_path, "workers": workers, "scheduler": scheduler}
-    out.mkdir(parents=True, exist_ok=True)
-    atomic_write_bytes(out / "optimize.json", (json.dumps(data, indent=1) + "\n").encode())
-    atomic_write_bytes(out / "optimize.md", result.to_markdown().encode())
-    refs = {c["name"]: c["train"] for c in result.verdict["controllers"] if not c["optimum"]}
-    plot_convergence(result.history, out / "convergence.png", objective=result.objective,
-                     references=refs)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        atomic_write_bytes(out / "optimize.json", (json.dumps(data, indent=1) + "\n").encode())
+        atomic_write_bytes(out / "optimize.md", result.to_markdown().encode())
+        refs = {c["name"]: c["train"] for c in result.verdict["controllers"] if not c["optimum"]}
+        plot_convergence(result.history, out / "convergence.png", objective=result.objective,
+                         references=refs)
+    except OSError as exc:
+        raise click.ClickException(f"cannot write the results to {out}: {exc}") from None
     click.echo(result.to_markdown())
     click.echo(f"wrote {out / 'optimize.json'}, {out / 'optimize.md'}, "
                f"{out / 'convergence.png'} in {time.perf_counter() - t0:.1f} s")
 
-
-@click.group()
-def _cli() -> None:
-    """Sweeps and FoU optimisation (``python -m it2track.cli.sweep``)."""
-
-
-_cli.add_command(sweep)
-_cli.add_command(optimize)
-
-if __name__ == "__main__":  # pragma: no cover
-    _cli()

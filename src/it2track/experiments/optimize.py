@@ -25,29 +25,34 @@ draws, and the objective is a deterministic function of the widths.
 Verdict: the optima, FoU 0.1/0.2/0.3 (configurable) and the type-1 FLC are re-simulated on a
 disjoint set of **held-out** seed indices. Per seed, the objective is averaged over noise levels
 and trajectories (the seed is the independent unit); reported are the mean with a 95 % Student-t
-interval and, for each optimum against each baseline, the paired difference with its interval and
-the fraction of seeds on which the optimum wins.
+interval (:func:`~.stats.mean_interval`) and, for each optimum against each baseline, the paired
+difference with its interval and the fraction of seeds on which the optimum wins, ties counting
+half (:func:`~.stats.paired_comparison`).
+
+Bounds: a width within :data:`BOUND_TOLERANCE` of the search range of one of its bounds is
+flagged (``on_bound`` in the result, a sentence in ``warnings`` and in the Markdown): the
+objective may keep falling beyond the range, so the optimum is only the best *inside* it.
 """
 
 from __future__ import annotations
 
+import inspect
 import itertools
 import math
 import time
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 import scipy.optimize
-import scipy.stats
 from numpy.typing import NDArray
 from tqdm import tqdm
 
+from .. import __version__
 from ..fuzzy import Reducer, TNorm
 from ..paper import LABELS, MAX_FOU, heading_fls_widths
-from ..plant import RobotParams
 from ..tracking import METRIC_NAMES, FuzzyHeadingController, LoopConfig, Trajectory
 from .executors import Executor, InProcessExecutor
 from .specs import (
@@ -59,6 +64,7 @@ from .specs import (
     read_toml,
     robot_from_table,
 )
+from .stats import Interval, mean_interval, paired_comparison
 from .sweep import (
     DEFAULT_BATCH_SIZE,
     BuildableSpec,
@@ -71,6 +77,7 @@ from .sweep import (
 )
 
 __all__ = [
+    "BOUND_TOLERANCE",
     "WIDTH_NAMES",
     "AsymmetricFouSpec",
     "AsymmetricSettings",
@@ -87,6 +94,8 @@ FloatArray = NDArray[np.float64]
 
 #: Order of the six widths of :class:`AsymmetricFouSpec` (input, set).
 WIDTH_NAMES: tuple[str, ...] = tuple(f"{inp}.{lab}" for inp in ("e", "de") for lab in LABELS)
+#: An optimal width closer than this fraction of the search range to a bound is "on the bound".
+BOUND_TOLERANCE = 0.01
 
 
 def _widths3(value: Sequence[float], name: str) -> tuple[float, float, float]:
@@ -320,8 +329,13 @@ class OptimizeConfig:
         for w in self.compare:
             if not 0.0 < w < MAX_FOU:
                 raise ValueError(f"compare width {w!r} must satisfy 0 < w < {MAX_FOU}")
-        # Fails early (ValueError naming the field) on bad gains, reducer or t-norm.
-        self.symmetric_spec(0.2)
+        # Build every kind of controller the run will build, now: bad gains, reducer or t-norm
+        # fail here (ValueError naming the field), not after minutes of optimisation.
+        widths = {lo, hi, 0.0, *self.compare}
+        for w in sorted(widths):
+            self.symmetric_spec(w).build()
+        for w in (lo, hi):
+            self.asymmetric_spec([w] * len(WIDTH_NAMES)).build()
 
     def symmetric_spec(self, w: float) -> ControllerSpec:
         """The paper's controller with FoU ``w`` (``w == 0``: the type-1 FLC)."""
@@ -336,14 +350,11 @@ class OptimizeConfig:
         )
 
     def normalised(self) -> dict[str, Any]:
-        cfg = self.config
+        """The problem as plain JSON data (``simulation``: :meth:`LoopConfig.to_dict`, with the
+        base seed and the robot)."""
         return {
-            "seed": cfg.seed,
-            "simulation": {
-                "duration": cfg.duration, "ts": cfg.ts, "noise_rate": cfg.noise_rate,
-                "start_pose": list(cfg.start_pose), "quadrature_nodes": cfg.quadrature_nodes,
-            },
-            "robot": _robot_dict(cfg.robot),
+            "it2track_version": __version__,
+            "simulation": self.config.to_dict(),
             "trajectories": [r.to_dict() for r in self.trajectory_refs],
             "noise_std": list(self.noise_std),
             "train_seeds": list(self.train_seeds),
@@ -366,10 +377,6 @@ class OptimizeConfig:
                 "recombination": self.asymmetric.recombination, "init": self.asymmetric.init,
             },
         }  # fmt: skip
-
-
-def _robot_dict(robot: RobotParams) -> dict[str, Any]:
-    return asdict(robot)
 
 
 # -- configuration file --------------------------------------------------------------------------
@@ -589,9 +596,12 @@ def _optimise_symmetric(cfg: OptimizeConfig, ev: _Evaluator, progress: bool) -> 
             options={"xatol": s.xatol, "maxiter": s.maxiter},
         )  # fmt: skip
     best_w = min(cache, key=lambda w: (cache[w], w))
+    side = _bound_side(best_w, cfg.bounds)
     return {
         "width": best_w,
         "train_objective": cache[best_w],
+        "on_bound": side is not None,
+        "bound": side,
         "grid": grid,
         "grid_objective": values.tolist(),
         "bracket": list(bracket),
@@ -625,7 +635,7 @@ def _optimise_asymmetric(
             tol=a.tol,
             mutation=a.mutation,
             recombination=a.recombination,
-            rng=np.random.default_rng(a.seed),
+            **_de_rng(np.random.default_rng(a.seed)),
             init=a.init,
             polish=False,
             updating="deferred",
@@ -634,9 +644,13 @@ def _optimise_asymmetric(
         )
     asym = [h for h in ev.history if h["phase"] == "asymmetric"]
     best = min(asym, key=lambda h: h["objective"])
+    widths = dict(zip(WIDTH_NAMES, best["widths"], strict=True))
+    sides = {name: _bound_side(w, cfg.bounds) for name, w in widths.items()}
     return {
-        "widths": dict(zip(WIDTH_NAMES, best["widths"], strict=True)),
+        "widths": widths,
         "train_objective": best["objective"],
+        "on_bound": {n: side is not None for n, side in sides.items()},
+        "bound": sides,
         "de": {"x": [float(v) for v in res.x], "fun": float(res.fun),
                "batches": int(res.nfev), "generations": int(res.nit),
                "success": bool(res.success), "message": str(res.message),
@@ -645,12 +659,62 @@ def _optimise_asymmetric(
     }  # fmt: skip
 
 
-def _interval(values: FloatArray) -> dict[str, float]:
-    n = values.size
-    mean = float(values.mean())
-    sd = float(values.std(ddof=1)) if n > 1 else math.nan
-    half = float(scipy.stats.t.ppf(0.975, n - 1)) * sd / math.sqrt(n) if n > 1 else math.nan
-    return {"mean": mean, "sd": sd, "lo": mean - half, "hi": mean + half, "n": n}
+def _de_rng(rng: np.random.Generator) -> dict[str, np.random.Generator]:
+    """The generator as ``differential_evolution``'s keyword: ``rng`` (SciPy >= 1.15) or
+    ``seed`` (older SciPy). Both use the generator as given: the same population either way."""
+    params = inspect.signature(scipy.optimize.differential_evolution).parameters
+    return {"rng": rng} if "rng" in params else {"seed": rng}
+
+
+def _bound_side(width: float, bounds: tuple[float, float]) -> str | None:
+    """``"lower"`` / ``"upper"`` if ``width`` is within :data:`BOUND_TOLERANCE` of the search
+    range of that bound, else ``None``."""
+    lo, hi = bounds
+    tol = BOUND_TOLERANCE * (hi - lo)
+    if width - lo <= tol:
+        return "lower"
+    if hi - width <= tol:
+        return "upper"
+    return None
+
+
+def _bound_warnings(
+    bounds: tuple[float, float], sym: Mapping[str, Any], asym: Mapping[str, Any] | None
+) -> list[str]:
+    """One sentence per optimal width that sits on a bound of the search range."""
+    lo, hi = bounds
+
+    def advice(side: str) -> str:
+        if side == "lower" and lo == 0.0:
+            return "0 is the smallest width (a type-1 set), so the optimum is at the edge"
+        if side == "upper" and hi >= MAX_FOU - BOUND_TOLERANCE * (hi - lo):
+            return f"widths must stay below {MAX_FOU}, so the optimum is at the edge"
+        limit = f"0 <= lo < hi < {MAX_FOU}"
+        return f"the objective may keep falling beyond it: widen bounds ({limit}) and rerun"
+
+    out = []
+    if sym.get("bound"):
+        side = sym["bound"]
+        value = lo if side == "lower" else hi
+        out.append(
+            f"The symmetric optimum FoU {sym['width']:.4g} lies on the {side} bound {value:g} "
+            f"of the search range [{lo:g}, {hi:g}]; {advice(side)}."
+        )
+    if asym is not None:
+        for name, side in asym["bound"].items():
+            if side:
+                value = lo if side == "lower" else hi
+                out.append(
+                    f"The asymmetric optimum width {name} = {asym['widths'][name]:.4g} lies on "
+                    f"the {side} bound {value:g} of the search range [{lo:g}, {hi:g}]; "
+                    f"{advice(side)}."
+                )
+    return out
+
+
+def _interval(iv: Interval) -> dict[str, float]:
+    """An :class:`~.stats.Interval` as JSON-ready values."""
+    return {"n": iv.n, "mean": iv.mean, "lo": iv.low, "hi": iv.high}
 
 
 @dataclass(frozen=True)
@@ -664,12 +728,13 @@ class OptimizeResult:
     verdict: dict[str, Any]
     history: list[dict[str, Any]]
     timing: dict[str, float]
+    warnings: tuple[str, ...] = ()
 
     def to_dict(self) -> dict[str, Any]:
         return {
             "objective": self.objective, "config": self.config, "symmetric": self.symmetric,
-            "asymmetric": self.asymmetric, "holdout": self.verdict, "timing": self.timing,
-            "history": self.history,
+            "asymmetric": self.asymmetric, "warnings": list(self.warnings),
+            "holdout": self.verdict, "timing": self.timing, "history": self.history,
         }  # fmt: skip
 
     def to_markdown(self) -> str:
@@ -683,6 +748,12 @@ class OptimizeResult:
             f"{v['n_holdout_seeds']} held-out seed(s) (disjoint, seed indices "
             f"{v['holdout_seed_range']}). Intervals: 95 % Student-t over seeds.",
             "",
+        ]
+        if self.warnings:
+            lines += ["**Optimum on a bound of the search range:**", ""]
+            lines += [f"- {w}" for w in self.warnings]
+            lines.append("")
+        lines += [
             "| controller | FoU widths | train objective | held-out mean | 95 % interval |",
             "|---|---|---:|---:|---|",
         ]
@@ -695,7 +766,8 @@ class OptimizeResult:
         lines += [
             "",
             "Paired differences on the held-out seeds (optimum minus baseline; negative = the "
-            "optimum is better):",
+            "optimum is better; wins: share of seeds on which the optimum is better, ties "
+            "counting half):",
             "",
             "| optimum | baseline | mean difference | 95 % interval | optimum wins | verdict |",
             "|---|---|---:|---|---:|---|",
@@ -762,7 +834,7 @@ def _verdict(cfg: OptimizeConfig, ev: _Evaluator, sym: dict[str, Any],
         controllers.append({
             "name": name, "optimum": is_opt, "widths": widths, "spec": spec.to_dict(),
             "train": float(train[k]),
-            "holdout": _interval(per_seed[k]),
+            "holdout": _interval(mean_interval(per_seed[k])),
             "holdout_metrics": {m: float(hold_m[m][k].mean()) for m in METRIC_NAMES},
         })  # fmt: skip
     optima = [k for k, e in enumerate(entries) if e[3]]
@@ -772,17 +844,16 @@ def _verdict(cfg: OptimizeConfig, ev: _Evaluator, sym: dict[str, Any],
         pairs.insert(len(baselines), (optima[1], optima[0]))  # asymmetric vs symmetric
     paired = []
     for i, j in pairs:
-        diff = per_seed[i] - per_seed[j]
-        stats = _interval(diff)
-        if stats["hi"] < 0:
+        cmp = paired_comparison(per_seed[i], per_seed[j])  # optimum minus baseline
+        if cmp.diff.high < 0:
             verdict = "optimum better"
-        elif stats["lo"] > 0:
+        elif cmp.diff.low > 0:
             verdict = "optimum worse"
         else:
             verdict = "no significant difference"
         paired.append({
-            "optimum": entries[i][0], "baseline": entries[j][0], **stats,
-            "win_rate": float(np.mean(diff < 0)), "verdict": verdict,
+            "optimum": entries[i][0], "baseline": entries[j][0], **_interval(cmp.diff),
+            "win_rate": cmp.win_rate, "ties": cmp.ties, "verdict": verdict,
         })  # fmt: skip
     hs = cfg.holdout_seeds
     return {
@@ -833,6 +904,10 @@ def run_optimization(
     t_opt = time.perf_counter() - t0
     verdict = _verdict(cfg, ev, sym, asym)
     total = time.perf_counter() - t0
+    warnings = _bound_warnings(cfg.bounds, sym, asym)
+    if log:
+        for w in warnings:
+            log(f"warning: {w}")
     return OptimizeResult(
         config=cfg.normalised(),
         objective=str(cfg.objective),
@@ -840,6 +915,7 @@ def run_optimization(
         asymmetric=asym,
         verdict=verdict,
         history=ev.history,
+        warnings=tuple(warnings),
         timing={"symmetric_s": t_sym, "optimisation_s": t_opt, "holdout_s": total - t_opt,
                 "total_s": total, "simulation_s": ev.seconds, "train_runs": ev.runs},
     )  # fmt: skip

@@ -6,7 +6,9 @@ A sweep is the cartesian product of
   list is an axis (``half_track = [5.6, 0.3]``);
 - **controllers**: every ``[[controllers]]`` entry is a :class:`~.specs.ControllerSpec` table
   in which any key given as a list is an axis (``kind = "it2"``, ``fou = [0.1, 0.2]``,
-  ``ke = [0.5, 1, 2]``); the controller axis is the union of the entries' expansions;
+  ``ke = [0.5, 1, 2]``); the controller axis is the union of the entries' expansions. Every
+  controller is built once while the configuration is parsed, so a bad value or an unreadable
+  or malformed controller file is a :class:`~.specs.ConfigError` before anything is written;
 - **trajectories**, **noise standard deviations** and **seed indices** (``[sweep]``).
 
 Run order (the row order of ``results.csv``) is group, controller, trajectory, noise, seed,
@@ -30,8 +32,12 @@ Results store (directory ``DIR``)::
 Every file is written to a temporary name, flushed, ``fsync``-ed and renamed (then the directory
 is ``fsync``-ed), so a chunk file exists only if it is complete: killing the process at any
 moment loses at most the chunks being computed. ``resume`` checks the configuration hash and
-skips the chunks on disk. Floats are written with ``repr``, which round-trips exactly, so
-``results.csv`` is byte-identical however the sweep was interrupted, chunked or distributed.
+skips the chunks on disk. The hash covers everything that determines the numbers and the chunk
+layout -- including the it2track version and the bytes (not the paths) of controller and
+trajectory files -- so a store is never extended with results of another configuration, an
+edited file or another version of it2track. Floats are written with ``repr``, which
+round-trips exactly, so ``results.csv`` is byte-identical however the sweep was interrupted,
+chunked or distributed.
 
 Why one CSV per chunk: appending to one file cannot be made atomic (a kill mid-append leaves a
 torn row that a resume must detect and cut), while a rename is atomic on POSIX filesystems; a
@@ -78,6 +84,7 @@ from ..tracking.trajectories import PAPER_TRAJECTORIES
 from .executors import Executor, InProcessExecutor, peak_rss_bytes
 from .specs import (
     ConfigError,
+    ControllerKind,
     ControllerSpec,
     Table,
     loop_config_from_table,
@@ -92,6 +99,7 @@ __all__ = [
     "BuildableSpec",
     "ChunkResult",
     "ChunkSpec",
+    "ControllerRef",
     "GridChunk",
     "StoreError",
     "SweepPlan",
@@ -228,6 +236,83 @@ class TrajectoryRef:
         return {"name": self.name, "source": "csv", "sha256": self.sha256}
 
 
+def _file_sha256(path: str | Path) -> str:
+    """SHA-256 of a file's bytes (hex); ``OSError`` if it cannot be read."""
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+@dataclass(frozen=True)
+class ControllerRef:
+    """A controller of a sweep: its spec and, for kind ``file``, the SHA-256 of the file's bytes.
+
+    The digest, not the path, identifies a file controller: the same file reached by another
+    path (a relative or an absolute one, a moved checkout) is the same controller, an edited
+    file is another. Small and picklable; :meth:`build` re-reads the file and refuses content
+    that no longer matches the digest (a file edited while the sweep runs).
+
+    Build with :meth:`from_spec`, which reads, hashes and builds the controller once.
+    """
+
+    spec: ControllerSpec
+    sha256: str = ""
+
+    def __post_init__(self) -> None:
+        is_file = self.spec.kind is ControllerKind.FILE
+        if is_file != bool(self.sha256):
+            raise ValueError(
+                "ControllerRef.sha256 is the digest of a 'file' controller's file "
+                f"(and empty for other kinds); got kind {self.spec.kind.value!r}, "
+                f"sha256={self.sha256!r}"
+            )
+
+    @classmethod
+    def from_spec(cls, spec: ControllerSpec) -> ControllerRef:
+        """Hash the controller's file (kind ``file``) and build the controller once.
+
+        Raises
+        ------
+        ValueError
+            If the controller cannot be built (a value its class rejects, a malformed file:
+            :class:`~it2track.io.FisFormatError`, an unknown file suffix).
+        OSError
+            If the file cannot be read.
+        """
+        digest = _file_sha256(spec.path) if spec.kind is ControllerKind.FILE else ""
+        ref = cls(spec, digest)
+        ref.build()
+        return ref
+
+    @property
+    def label(self) -> str:
+        return self.spec.label
+
+    @property
+    def path(self) -> str:
+        """The controller's file (kind ``file``), else ``""``."""
+        return self.spec.path if self.sha256 else ""
+
+    def build(self) -> HeadingController:
+        """The controller; for a file, only if the file still has the planned content."""
+        controller = self.spec.build()
+        if self.sha256:
+            now = _file_sha256(self.spec.path)
+            if now != self.sha256:
+                raise ValueError(
+                    f"controller file {self.spec.path!r} changed since the sweep was planned "
+                    f"(sha256 {self.sha256[:12]}, now {now[:12]}); results of the old and the "
+                    "new controller must not be mixed: restore the file or start a new sweep"
+                )
+        return controller
+
+    def to_dict(self) -> dict[str, Any]:
+        """What identifies the controller: the spec's values, a file's digest for its path."""
+        out = self.spec.to_dict()
+        if self.sha256:
+            del out["path"]
+            out["file_sha256"] = self.sha256
+        return out
+
+
 def parse_trajectories(
     t: Table, key: str, base_dir: Path | None
 ) -> tuple[tuple[TrajectoryRef, ...], tuple[Trajectory, ...]]:
@@ -278,10 +363,11 @@ def _positive_int(t: Table, key: str, default: int) -> int:
 
 def _parse_controllers(
     entries: Any, file: str, base_dir: Path | None
-) -> tuple[ControllerSpec, ...]:
+) -> tuple[ControllerRef, ...]:
+    """The ``[[controllers]]`` entries, expanded, each built once (errors name the entry)."""
     if not isinstance(entries, list) or not entries:
         raise ConfigError(f"{file}: [[controllers]] must list at least one controller table")
-    specs: list[ControllerSpec] = []
+    refs: list[ControllerRef] = []
     origin: dict[str, str] = {}
     for i, entry in enumerate(entries):
         where = f"{file} [controllers][{i}]"
@@ -304,8 +390,17 @@ def _parse_controllers(
                     "every controller of a sweep needs a distinct label"
                 )
             origin[spec.label] = where
-            specs.append(spec)
-    return tuple(specs)
+            try:
+                ref = ControllerRef.from_spec(spec)
+            except OSError as exc:
+                raise ConfigError(
+                    f"{where}: controller {spec.label!r}: cannot read {spec.path!r}: "
+                    f"{exc.strerror or exc}"
+                ) from None
+            except ValueError as exc:
+                raise ConfigError(f"{where}: controller {spec.label!r}: {exc}") from None
+            refs.append(ref)
+    return tuple(refs)
 
 
 def _parse_robots(
@@ -463,12 +558,14 @@ class SweepPlan:
 
     Build with :func:`load_sweep_config` (from TOML) or directly. ``config`` carries the
     simulation settings and the base seed; its ``robot`` is replaced by each of ``robots``.
+    ``controllers`` are :class:`ControllerRef`; plain :class:`~.specs.ControllerSpec` entries
+    are wrapped (hashed and built) by :meth:`ControllerRef.from_spec` on construction.
     """
 
     config: LoopConfig
     robots: tuple[RobotParams, ...]
     robot_columns: dict[str, tuple[float, ...]]
-    controllers: tuple[ControllerSpec, ...]
+    controllers: tuple[ControllerRef, ...]
     trajectory_refs: tuple[TrajectoryRef, ...]
     noise_std: tuple[float, ...]
     seeds: tuple[int, ...]
@@ -482,6 +579,10 @@ class SweepPlan:
             object.__setattr__(
                 self, "trajectories", tuple(r.load() for r in self.trajectory_refs)
             )
+        object.__setattr__(self, "controllers", tuple(
+            ControllerRef.from_spec(c) if isinstance(c, ControllerSpec) else c
+            for c in self.controllers
+        ))  # fmt: skip
         for name, seq in (
             ("robots", self.robots), ("controllers", self.controllers),
             ("trajectory_refs", self.trajectory_refs), ("noise_std", self.noise_std),
@@ -539,19 +640,16 @@ class SweepPlan:
     def normalised(self) -> dict[str, Any]:
         """Everything that determines the results and the chunk layout, as plain JSON data.
 
-        Excludes what cannot change a number (``batch_size``, the executor, file locations).
+        Includes the it2track version and the SHA-256 of every controller and trajectory file.
+        Excludes what cannot change a number: ``batch_size``, the executor, and where files
+        live (the config's own path and the paths of the files it names).
         """
-        cfg = self.config
+        simulation = self.config.to_dict()
+        del simulation["robot"]  # the plant varies by group: "robots"
         return {
             "format": STORE_FORMAT,
-            "seed": cfg.seed,
-            "simulation": {
-                "duration": cfg.duration,
-                "ts": cfg.ts,
-                "noise_rate": cfg.noise_rate,
-                "start_pose": list(cfg.start_pose),
-                "quadrature_nodes": cfg.quadrature_nodes,
-            },
+            "it2track_version": __version__,
+            "simulation": simulation,
             "robots": [asdict(r) for r in self.robots],
             "robot_columns": {k: list(v) for k, v in self.robot_columns.items()},
             "controllers": [c.to_dict() for c in self.controllers],
@@ -568,8 +666,8 @@ class SweepPlan:
     # -- rows -------------------------------------------------------------------------------
     def _controller_fields(self) -> list[str]:
         present: list[str] = []
-        for spec in self.controllers:
-            for key in spec.to_dict():
+        for ref in self.controllers:
+            for key in ref.to_dict():
                 if key not in ("kind", "label") and key not in present:
                     present.append(key)
         order = [f.name for f in ControllerSpec.__dataclass_fields__.values()]
@@ -737,6 +835,37 @@ def _describe_change(old: Mapping[str, Any], new: Mapping[str, Any]) -> str:
     return ", ".join(keys) or "(store format)"
 
 
+def _changed_files(meta: Mapping[str, Any], plan: SweepPlan) -> list[str]:
+    """Sentences naming the controller and trajectory files whose content changed."""
+    old = meta.get("config", {})
+
+    def digests(section: str, key: str, digest_key: str) -> dict[str, str]:
+        entries = old.get(section, [])
+        return {
+            str(e[key]): str(e[digest_key])
+            for e in entries if isinstance(e, Mapping) and key in e and digest_key in e
+        }  # fmt: skip
+
+    controllers = digests("controllers", "label", "file_sha256")
+    trajectories = digests("trajectories", "name", "sha256")
+    out: list[str] = []
+    for c in plan.controllers:
+        before = controllers.get(c.label)
+        if c.path and before is not None and before != c.sha256:
+            out.append(
+                f"controller file {c.path!r} ([[controllers]] {c.label!r}) has changed: sha256 "
+                f"{before[:12]} when the sweep started, now {c.sha256[:12]}"
+            )
+    for r in plan.trajectory_refs:
+        before = trajectories.get(r.name)
+        if r.path and before is not None and before != r.sha256:
+            out.append(
+                f"trajectory file {r.path!r} has changed: sha256 {before[:12]} when the sweep "
+                f"started, now {r.sha256[:12]}"
+            )
+    return out
+
+
 @dataclass(frozen=True)
 class SweepSummary:
     """What :func:`run_sweep` did."""
@@ -773,12 +902,21 @@ def _prepare_store(plan: SweepPlan, out: Path, *, resume: bool) -> None:
             raise StoreError(f"{meta_path}: unreadable sweep metadata: {exc}") from None
         if meta.get("format") != STORE_FORMAT:
             raise StoreError(f"{meta_path}: format {meta.get('format')!r} is not {STORE_FORMAT}")
+        version = meta.get("it2track_version")
+        if version != __version__:
+            raise StoreError(
+                f"{out}: the sweep was started by it2track {version}, this is it2track "
+                f"{__version__}; results of two versions must not be mixed in one store: "
+                f"finish it with it2track {version} or use another directory"
+            )
         if meta.get("hash") != digest:
             changed = _describe_change(meta.get("config", {}), normalised)
+            details = "".join(f"; {s}" for s in _changed_files(meta, plan))
             raise StoreError(
                 f"{out}: the configuration changed since the sweep started (stored hash "
-                f"{str(meta.get('hash'))[:12]}, now {digest[:12]}; differs in: {changed}); "
-                "resume with the original config or use another directory"
+                f"{str(meta.get('hash'))[:12]}, now {digest[:12]}; differs in: {changed})"
+                f"{details}; resume with the original config and files or use another "
+                "directory"
             )
         return
     leftovers = sorted(p.name for p in (out / "chunks").glob("chunk-*.csv"))
@@ -797,6 +935,7 @@ def _prepare_store(plan: SweepPlan, out: Path, *, resume: bool) -> None:
         "run_order": ["group", "controller", "trajectory", "noise_std", "seed"],
         "source": plan.source,
         "trajectory_files": {r.name: r.path for r in plan.trajectory_refs if r.path},
+        "controller_files": {c.label: c.path for c in plan.controllers if c.path},
         "it2track_version": __version__,
     }
     text = json.dumps(meta, indent=1, allow_nan=False) + "\n"
