@@ -9,12 +9,24 @@ from dataclasses import replace
 
 import matplotlib
 import matplotlib.image
+import matplotlib.text
 import numpy as np
 import pytest
 
 from it2track.experiments.analysis import summarise
+from it2track.experiments.specs import ControllerKind, ControllerSpec
 from it2track.experiments.study import PDTuning, StudyConfig, StudyResult, run_study
-from it2track.report.figures import figure_keys, slug, write_figures
+from it2track.report.figures import (
+    _controller_table,
+    _fig_win_rates,
+    _Summary,
+    _surface_info,
+    _trace_index,
+    _zero_de_slice,
+    figure_keys,
+    slug,
+    write_figures,
+)
 from it2track.tracking import LoopConfig
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
@@ -137,3 +149,83 @@ def test_partial_summary_nested_dir_and_determinism(study, written, tmp_path):
 )
 def test_slug(name, expected):
     assert slug(name) == expected
+
+
+def _relabelled(study: StudyResult) -> tuple[StudyResult, dict[str, str]]:
+    """The study with every controller renamed to an opaque label."""
+    names = sorted({str(c) for c in study.rows["controller"]} | set(study.surfaces)
+                   | set(study.trace_controllers))
+    new = {name: f"controller #{i}" for i, name in enumerate(names)}
+    rows = dict(study.rows)
+    rows["controller"] = np.array([new[str(c)] for c in study.rows["controller"]], dtype=object)
+    trace_specs = [replace(s, label=new[s.label]) for s in study.trace_specs]
+    return replace(
+        study, rows=rows, trace_specs=trace_specs,
+        trace_controllers=[s.label for s in trace_specs],
+        surfaces={new[k]: v for k, v in study.surfaces.items()},
+        surface_specs={new[k]: replace(s, label=new[k]) for k, s in study.surface_specs.items()},
+        pd=None if study.pd is None else replace(study.pd, label=new[study.pd.label]),
+    ), new
+
+
+def test_identity_from_specs_not_labels(study):
+    """Kinds and widths come from the specs and the rows' kind/fou columns: opaque labels
+    change nothing."""
+    other, new = _relabelled(study)
+    table = _controller_table(other)
+    for label, spec in study.surface_specs.items():
+        c = table[new[label]]
+        assert c.kind is spec.kind and c.fou == spec.fou, label
+        assert c.spec is not None and c.spec.kind is spec.kind
+    for label in {str(c) for c in study.rows["controller"]}:
+        kind = str(study.rows["kind"][np.flatnonzero(study.rows["controller"] == label)[0]])
+        assert table[new[label]].kind is ControllerKind(kind), label
+    for w in study.config.fous:
+        assert _trace_index(other, ControllerKind.IT2, w) == _trace_index(
+            study, ControllerKind.IT2, w) is not None
+    assert _trace_index(other, ControllerKind.FLC) == 0
+
+
+def test_dead_zone_slice_from_the_spec(study):
+    """The u(e, 0) slice of a paper controller is rebuilt from its spec (reducer included),
+    whatever its label says; a controller without a spec gets its stored surface's column."""
+    spec = ControllerSpec(kind=ControllerKind.IT2, fou=0.2, reducer="nie-tan",
+                          label="IT2FLC FoU 0.2")
+    other = replace(study, surface_specs={**study.surface_specs, spec.label: spec})
+    c = _surface_info(other, _controller_table(other), spec.label)
+    assert c.spec == spec
+    x, u = _zero_de_slice(other, c)
+    fls = spec.build().fls
+    np.testing.assert_allclose(u, fls(x, np.zeros_like(x)), atol=1e-12)
+    exact = ControllerSpec(kind=ControllerKind.IT2, fou=0.2).build().fls
+    assert np.abs(u - exact(x, np.zeros_like(x))).max() > 0.05, "reducer ignored"
+    assert x.size > 1000, "the zoomed panel needs a finer grid than the stored surface"
+    assert np.all(u[np.abs(x) < 0.1 - 1e-9] == 0.0) and np.all(u[np.abs(x) > 0.11] != 0.0)
+
+    orphan = replace(study, surfaces={**study.surfaces, "mystery": study.surfaces[spec.label]})
+    c = _surface_info(orphan, _controller_table(orphan), "mystery")
+    assert c.kind is None and c.spec is None
+    x, u = _zero_de_slice(orphan, c)
+    ge, gde, gu = study.surfaces["IT2FLC FoU 0.2"]
+    mid = gde.shape[1] // 2
+    assert gde[0, mid] == 0.0
+    np.testing.assert_array_equal(x, ge[:, mid])
+    np.testing.assert_array_equal(u, gu[:, mid])
+
+
+def test_win_rate_figure_counts_ties_half(study):
+    """At sigma = 0 on the straight line nothing acts: every pair ties, win rate 0.5, and the
+    figure says so rather than showing a loss."""
+    rows = {k: v[(study.rows["experiment"] == "noise") & (study.rows["noise_std"] == 0.0)]
+            for k, v in study.rows.items()}
+    rows["experiment"] = np.full(len(rows["seed"]), "paper", dtype=object)
+    summary = summarise(rows)
+    straight = [r for r in summary if r["trajectory"] == "straight" and r["win_rate"] != ""]
+    assert straight and all(r["win_rate"] == 0.5 and r["ties"] == 1.0 for r in straight)
+    other = replace(study, config=replace(study.config, noise_std=0.0))
+    fig = _fig_win_rates(other, _Summary(summary), _controller_table(other))
+    texts = [t.get_text() for t in fig.findobj(matplotlib.text.Text)]
+    assert any("ties count ½" in t for t in texts), "colour scale must say ties count half"
+    assert any("½ P(equal error)" in t for t in texts)
+    assert "ties 100%" in texts
+    assert "0.5 no diff." in texts

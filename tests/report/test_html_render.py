@@ -4,6 +4,7 @@ text escaped, no script or network; and it renders in headless Chromium when ava
 from __future__ import annotations
 
 import base64
+import html
 import shutil
 import subprocess
 from dataclasses import replace
@@ -13,10 +14,21 @@ from pathlib import Path
 import matplotlib.image
 import pytest
 
-from it2track.experiments.analysis import evaluate_claims, summarise
+from it2track.experiments.analysis import ClaimResult, evaluate_claims, summarise
+from it2track.experiments.specs import ControllerKind, ControllerSpec
 from it2track.experiments.study import PDTuning, StudyConfig, run_study
 from it2track.report.figures import write_figures
-from it2track.report.html import write_html
+from it2track.report.html import (
+    _assumptions,
+    _claims_section,
+    _glance,
+    _pd_section,
+    _setup_section,
+    _summary_section,
+    _verdict_class,
+    figure_captions,
+    write_html,
+)
 from it2track.tracking import LoopConfig
 
 VOID = {"area", "base", "br", "col", "embed", "hr", "img", "input", "link", "meta", "source",
@@ -65,7 +77,7 @@ class _Collector(HTMLParser):
 
 
 @pytest.fixture(scope="module")
-def report(tmp_path_factory: pytest.TempPathFactory):
+def study():
     config = StudyConfig(
         seeds=3,
         sweep_seeds=3,
@@ -75,7 +87,13 @@ def report(tmp_path_factory: pytest.TempPathFactory):
         pd=PDTuning(seeds=2, kp_grid=(5.0, 20.0), kd_grid=(0.0, 0.1)),
     )
     result = run_study(config)
-    summary = summarise(result.rows)
+    return result, summarise(result.rows)
+
+
+@pytest.fixture(scope="module")
+def report(study, tmp_path_factory: pytest.TempPathFactory):
+    result, summary = study
+    config = result.config
     claims = evaluate_claims(result.rows, fous=config.fous, main_fou=config.main_fou,
                              trajectories=config.trajectories)
     # A statement with markup in it: must come out escaped.
@@ -159,6 +177,131 @@ def test_sections_present(parsed):
     for fact in ("5.6 m", "3.16 rad", "atan2", "zero-order hold", "V0", "trapezoid",
                  "Common random numbers", "dead zone", "misprinted eq. 9"):
         assert fact in text, f"assumption about {fact!r} missing"
+
+
+def test_assumptions_follow_the_config(study):
+    """Numbers the configuration can change are formatted from it, not hard-coded."""
+    result, _ = study
+    loop = result.config.loop
+    motor = replace(loop.robot.motor, voltage_limit=10.0)
+    loop = replace(loop, noise_rate=50.0, robot=replace(loop.robot, motor=motor, half_track=0.3))
+    gains = {label: replace(spec, ke=0.5, kde=2.0) for label, spec in result.surface_specs.items()}
+    trace_specs = [replace(s, ke=0.5, kde=2.0) for s in result.trace_specs]
+    other = replace(result, config=replace(result.config, loop=loop), surface_specs=gains,
+                    trace_specs=trace_specs)
+    text = html.unescape(_assumptions(other))
+    assert "±10 V" in text and "±12 V" not in text
+    assert "at 50 Hz" in text
+    # The paper's 0.1 W at its 100 Hz is 3.16 rad; at this study's 50 Hz it would be 2.24 rad.
+    assert "3.16 rad" in text and "2.24 rad" in text
+    assert "Ke = 0.5, Kde = 2" in text and "Ke = Kde = 1" not in text
+    assert "l = 0.3 m (Table 3 prints 5.6 m" in text
+    assert "departing from DESIGN.md §5" in text and "wrap(e_k − e_{k−1})" in text
+
+    default = html.unescape(_assumptions(result))
+    assert "±12 V" in default and "Ke = 1, Kde = 1" in default
+    assert "at 100 Hz the same power" not in default, "no second σ when the rates agree"
+
+
+def test_curved_gap_is_explained(study):
+    result, summary = study
+    caps = figure_captions(result, summary)
+    curved = caps["paper_curved"][1]
+    assert "starts 4 m from the robot" in curved
+    assert "does not regulate speed" in curved and "gap does not close" in curved
+    straight = caps["paper_straight"][1].split("(d)")[1]
+    assert "starts" not in straight, "the straight reference starts at the robot: no gap note"
+    assert "the curved reference starts 4 m" in html.unescape(_assumptions(result))
+
+
+def test_win_rates_count_ties_half(study):
+    result, summary = study
+    caption = figure_captions(result, summary)["win_rates"][1]
+    assert "ties counting ½" in caption and "not losses" in caption
+    tied = [dict(r, win_rate=0.5, ties=1.0) if r["metric"] == "ISE" else r for r in summary]
+    table = _summary_section(result, tied)
+    assert "ties ½" in table and "0.5 (ties 100%)" in table
+
+
+@pytest.mark.parametrize(
+    ("verdict", "cls"),
+    [
+        ("holds", "v-holds"),
+        ("holds (contradicted nowhere)", "v-holds"),
+        ("holds only for sigma = 0.1 rad", "v-partial"),
+        ("holds only for sigma in [0.1, 0.2] rad (contradicted at sigma = 0.5 rad; not shown at "
+         "sigma = 0, 0.02 rad)", "v-partial"),
+        ("does not hold", "v-not"),
+        ("does not hold (contradicted at sigma = 0.5 rad)", "v-not"),
+        ("not shown", "v-na"),
+        ("not evaluated: the study has no straight trajectory", "v-na"),
+    ],
+)
+def test_verdict_colours(verdict, cls):
+    assert _verdict_class(verdict) == cls
+
+
+def test_claim_outcomes_coloured_and_legacy_passes():
+    """Evidence outcomes get their colour (a tie is inconclusive, grey, never red); the older
+    boolean ``passes`` column still renders; a verdict's detail is shown next to it."""
+    new = ClaimResult(
+        id="X1", statement="s", criterion="c", verdict="holds only for sigma = 0.1 rad",
+        levels=(0.0, 0.1, 0.5), holds_at=(0.1,), contradicted_at=(0.5,),
+        detail="contradicted at sigma = 0.5 rad; not shown at sigma = 0 rad",
+        evidence=[
+            {"sigma": 0.0, "diff_mean": 0.0, "win_rate": 0.5, "outcome": "inconclusive"},
+            {"sigma": 0.1, "diff_mean": -1.0, "win_rate": 1.0, "outcome": "supports"},
+            {"sigma": 0.5, "diff_mean": 1.0, "win_rate": 0.0, "outcome": "contradicts"},
+        ],
+    )
+    old = {"id": "X2", "statement": "s2", "criterion": "c2", "verdict": "does not hold",
+           "evidence": [{"sigma": 0.0, "passes": False}, {"sigma": 0.1, "passes": True}]}
+    section = _claims_section([new, old])
+    assert '<td class="verdict v-partial">holds only for sigma = 0.1 rad <span class="detail">' \
+        "(contradicted at sigma = 0.5 rad; not shown at sigma = 0 rad)</span>" in section
+    assert '<td class="o-inc">inconclusive</td>' in section
+    assert '<td class="o-sup">supports</td>' in section
+    assert '<td class="o-con">contradicts</td>' in section
+    assert '<td class="o-inc">not shown</td>' in section, "legacy passes=False is not a loss"
+    assert "passes" not in section
+    assert '<td class="verdict v-not">does not hold</td>' in section
+    assert "(contradicted at sigma = 0.5 rad" in _glance([new])
+
+
+def test_pd_section_reports_the_effort_limit(study):
+    result, summary = study
+    grid = [[5.0, 0.0, 0.30, 20.0], [20.0, 0.0, 0.10, 80.0], [20.0, 0.1, 0.20, 45.0]]
+    record = {"grid": grid, "grid_columns": ["kp", "kd", "mean ISE", "mean effort"],
+              "kp": 20.0, "kd": 0.1, "objective": 0.2, "effort": 45.0, "effort_limit": 50.0,
+              "on_grid_edge": True, "seed_indices": [1_000_000, 1_000_001], "noise_std": 0.05,
+              "criterion": "mean ISE over trajectories"}
+    text = html.unescape(_pd_section(replace(result, pd_tuning=record), summary))
+    assert "within 50 V²·s" in text
+    assert "mean effort 45 V²·s" in text
+    assert "on the edge of the grid" in text
+    assert "fuzzy controllers' mean effort" in text
+    assert "mean effort (V²·s)" in text
+    assert ">80<" not in _pd_section(replace(result, pd_tuning=record), summary), \
+        "gains over the effort limit are not listed as candidates"
+    # An older record (3 columns, no effort) still renders.
+    legacy = {k: v for k, v in record.items() if k not in ("effort", "effort_limit",
+                                                           "grid_columns")}
+    legacy["grid"] = [g[:3] for g in grid]
+    text = html.unescape(_pd_section(replace(result, pd_tuning=legacy), summary))
+    assert "effort" not in text.split("For comparison")[0]
+
+
+def test_controller_rows_use_specs(study):
+    """Descriptions come from the specs (reducer, t-norm), not from label conventions."""
+    result, summary = study
+    spec = ControllerSpec(kind=ControllerKind.IT2, fou=0.2, reducer="nie-tan", tnorm="min",
+                          label="IT2FLC FoU 0.2")
+    other = replace(result, surface_specs={**result.surface_specs, spec.label: spec},
+                    trace_specs=[spec if s.label == spec.label else s
+                                 for s in result.trace_specs])
+    page = html.unescape(_setup_section(other, summary))
+    assert "approximate type reduction (nie-tan, not exact)" in page
+    assert "min t-norm" in page
 
 
 def _chromium() -> str | None:

@@ -20,7 +20,12 @@ Figures (keys of :func:`write_figures`):
     ``u(e, de)`` of every fuzzy controller and its slice ``u(e, 0)``: the dead zone
     ``|e| < 0.2 - w/2`` that the FoU narrows.
 ``win_rates``
-    Paired win rate against the FLC (fraction of noise realisations with a smaller error).
+    Paired win rate against the FLC: the fraction of noise realisations with a smaller error,
+    ties counting half (0.5 = no difference).
+
+Controllers are identified by their :class:`~it2track.experiments.specs.ControllerSpec` (the
+study's ``trace_specs``, ``surface_specs``, PD and extra controllers) or by the ``kind`` and
+``fou`` columns of the metrics table, never by the text of their labels.
 """
 
 from __future__ import annotations
@@ -43,10 +48,19 @@ from matplotlib.patches import Patch, Rectangle
 
 from ..atomicfile import atomic_open
 from ..experiments.analysis import INTEGRALS
+from ..experiments.specs import ControllerKind, ControllerSpec
 from ..experiments.study import StudyResult
-from ..paper import dead_zone_matched_fls, heading_fls
+from ..tracking import FuzzyHeadingController
 
-__all__ = ["FIGURE_DPI", "INTEGRAL_UNITS", "figure_keys", "slug", "write_figures"]
+__all__ = [
+    "FIGURE_DPI",
+    "INTEGRAL_UNITS",
+    "controller_specs",
+    "figure_keys",
+    "slug",
+    "surface_limit",
+    "write_figures",
+]
 
 #: Resolution of the PNG files, dots per inch.
 FIGURE_DPI = 110
@@ -78,8 +92,6 @@ _FLC_COLOR = "#d62728"
 _PD_COLOR = "#7f7f7f"
 _REF_COLOR = "#222222"
 _EXTRA_COLORS = ("#ff7f0e", "#8c564b", "#e377c2", "#bcbd22", "#17becf", "#1f77b4")
-_IT2_RE = re.compile(r"^IT2FLC FoU (\S+)$")
-_T1M_RE = re.compile(r"^T1 dead-zone-matched (\S+)$")
 
 
 def slug(name: str) -> str:
@@ -109,11 +121,31 @@ def figure_keys(result: StudyResult) -> list[str]:
 # ---------------------------------------------------------------------------------------------
 
 
+def controller_specs(result: StudyResult) -> dict[str, ControllerSpec]:
+    """Label -> :class:`ControllerSpec` of every controller ``result`` knows the spec of: the
+    traced ones, those with a control surface, the PD baseline and the user's extras.
+
+    Controllers seen only in the metrics table (e.g. the FoU sweep's widths) have no entry;
+    their ``kind`` and ``fou`` are columns of ``result.rows``.
+    """
+    specs: dict[str, ControllerSpec] = {}
+    for spec in result.config.extra_controllers:
+        specs[spec.label] = spec
+    if result.pd is not None:
+        specs[result.pd.label] = result.pd
+    for label, spec in result.surface_specs.items():
+        specs[label] = spec
+    for label, spec in zip(result.trace_controllers, result.trace_specs, strict=False):
+        specs[label] = spec
+    return specs
+
+
 @dataclass(frozen=True)
 class _Ctrl:
     label: str
-    kind: str  # "flc", "it2", "t1-matched", "pd", "file" or "" (unknown)
+    kind: ControllerKind | None  # None: unknown
     fou: float
+    spec: ControllerSpec | None = None
 
 
 @dataclass(frozen=True)
@@ -124,31 +156,53 @@ class _Style:
     marker: str
 
 
+_FLC, _IT2, _T1M, _PD = (ControllerKind.FLC, ControllerKind.IT2, ControllerKind.T1_MATCHED,
+                         ControllerKind.PD)
+#: The paper's fuzzy controllers (the sets of DESIGN.md sec. 3, dead zone 0.2 - w/2).
+_PAPER_FUZZY = (_FLC, _IT2, _T1M)
+
+
+def _kind_of(value: Any) -> ControllerKind | None:
+    if isinstance(value, ControllerKind):
+        return value
+    try:
+        return ControllerKind(str(value))
+    except ValueError:
+        return None
+
+
 def _controller_table(result: StudyResult) -> dict[str, _Ctrl]:
-    """Label -> (kind, fou) from the metrics table, with the label conventions as fallback."""
+    """Label -> identity, from the controllers' specs and the metrics table's ``kind`` and
+    ``fou`` columns (labels are names only: nothing is inferred from their text)."""
     table: dict[str, _Ctrl] = {}
     rows = result.rows
-    labels = np.asarray(rows["controller"])
-    _, first = np.unique(labels.astype(str), return_index=True)
+    labels = np.asarray(rows["controller"]).astype(str)
+    _, first = np.unique(labels, return_index=True)
     for i in sorted(first):
-        table[str(labels[i])] = _Ctrl(str(labels[i]), str(rows["kind"][i]), float(rows["fou"][i]))
-    for label in [*result.trace_controllers, *result.surfaces]:
-        if label not in table:
-            table[label] = _parse_label(label)
+        table[labels[i]] = _Ctrl(labels[i], _kind_of(rows["kind"][i]), float(rows["fou"][i]))
+    for label, spec in controller_specs(result).items():
+        fou = spec.fou if spec.kind in (_IT2, _T1M) else 0.0
+        table[label] = _Ctrl(label, spec.kind, fou, spec)
     return table
 
 
-def _parse_label(label: str) -> _Ctrl:
-    if label == "FLC":
-        return _Ctrl(label, "flc", 0.0)
-    for regex, kind in ((_IT2_RE, "it2"), (_T1M_RE, "t1-matched")):
-        m = regex.match(label)
-        if m:
-            try:
-                return _Ctrl(label, kind, float(m.group(1)))
-            except ValueError:
-                break
-    return _Ctrl(label, "", 0.0)
+def _info(ctrls: Mapping[str, _Ctrl], label: str) -> _Ctrl:
+    return ctrls.get(label) or _Ctrl(label, None, 0.0)
+
+
+def _trace_info(result: StudyResult, i: int) -> _Ctrl:
+    """Identity of the controller of trace run ``i`` (from ``trace_specs``)."""
+    spec = result.trace_specs[i]
+    return _Ctrl(result.trace_controllers[i], spec.kind,
+                 spec.fou if spec.kind in (_IT2, _T1M) else 0.0, spec)
+
+
+def _surface_info(result: StudyResult, ctrls: Mapping[str, _Ctrl], label: str) -> _Ctrl:
+    """Identity of the controller behind a stored surface: its ``surface_specs`` entry first."""
+    spec = result.surface_specs.get(label)
+    if spec is None:
+        return _info(ctrls, label)
+    return _Ctrl(label, spec.kind, spec.fou if spec.kind in (_IT2, _T1M) else 0.0, spec)
 
 
 class _Palette:
@@ -170,13 +224,13 @@ class _Palette:
         return f"#{round(r * 255):02x}{round(g * 255):02x}{round(b * 255):02x}"
 
     def style(self, c: _Ctrl) -> _Style:
-        if c.kind == "flc":
+        if c.kind is _FLC:
             return _Style(_FLC_COLOR, "-", None, "o")
-        if c.kind == "it2":
+        if c.kind is _IT2:
             return _Style(self.fou_color(c.fou), "-", None, "s")
-        if c.kind == "t1-matched":
+        if c.kind is _T1M:
             return _Style(self.fou_color(c.fou), "--", "///", "^")
-        if c.kind == "pd":
+        if c.kind is _PD:
             return _Style(_PD_COLOR, "-.", "..", "D")
         if c.label not in self.extra:
             self.extra[c.label] = _EXTRA_COLORS[len(self.extra) % len(_EXTRA_COLORS)]
@@ -184,7 +238,7 @@ class _Palette:
 
 
 def _order_key(c: _Ctrl) -> tuple[int, float, str]:
-    rank = {"flc": 0, "it2": 1, "t1-matched": 2, "pd": 3}.get(c.kind, 4)
+    rank = {_FLC: 0, _IT2: 1, _T1M: 2, _PD: 3}.get(c.kind, 4) if c.kind is not None else 4
     return rank, c.fou, c.label
 
 
@@ -298,11 +352,11 @@ def _sigma_text(result: StudyResult) -> str:
             f"noise seed index {cfg.figure_seed}")
 
 
-def _trace_index(result: StudyResult, ctrls: Mapping[str, _Ctrl], kind: str,
+def _trace_index(result: StudyResult, kind: ControllerKind,
                  fou: float | None = None) -> int | None:
-    for i, label in enumerate(result.trace_controllers):
-        c = ctrls.get(label) or _parse_label(label)
-        if c.kind == kind and (fou is None or math.isclose(c.fou, fou, abs_tol=1e-12)):
+    """Run index in the traces of the first traced controller of ``kind`` (and width ``fou``)."""
+    for i, spec in enumerate(result.trace_specs):
+        if spec.kind is kind and (fou is None or math.isclose(spec.fou, fou, abs_tol=1e-12)):
             return i
     return None
 
@@ -318,8 +372,8 @@ def _fig_paper(result: StudyResult, traj: str, ctrls: Mapping[str, _Ctrl],
     trace = result.traces[traj]
     t = trace.t
     s = trace.series
-    shown = [i for i in (_trace_index(result, ctrls, "flc"),
-                         _trace_index(result, ctrls, "it2", cfg.main_fou)) if i is not None]
+    shown = [i for i in (_trace_index(result, _FLC),
+                         _trace_index(result, _IT2, cfg.main_fou)) if i is not None]
     fig = Figure(figsize=(10.5, 7.6), layout="constrained")
     ax = fig.subplots(2, 2)
     a_pos, a_head, a_v, a_w = ax[0, 0], ax[0, 1], ax[1, 0], ax[1, 1]
@@ -339,7 +393,7 @@ def _fig_paper(result: StudyResult, traj: str, ctrls: Mapping[str, _Ctrl],
     ]
     for i in shown:
         label = result.trace_controllers[i]
-        st = pal.style(ctrls.get(label) or _parse_label(label))
+        st = pal.style(_trace_info(result, i))
         a_pos.plot(s["x"][i], s["y"][i], color=st.color)
         a_pos.plot(s["x"][i][0], s["y"][i][0], st.marker, color=st.color, ms=4)
         a_head.plot(t, s["theta"][i], color=st.color)
@@ -382,7 +436,7 @@ def _fig_fou_comparison(result: StudyResult, ctrls: Mapping[str, _Ctrl],
     n = len(trajs)
     fig = Figure(figsize=(max(4.0 * n, 6.0), 6.6), layout="constrained")
     ax = np.asarray(fig.subplots(2, n, squeeze=False))
-    idx = [(w, _trace_index(result, ctrls, "it2", w)) for w in cfg.fous]
+    idx = [_trace_index(result, _IT2, w) for w in cfg.fous]
     for j, traj in enumerate(trajs):
         trace = result.traces[traj]
         s, t = trace.series, trace.t
@@ -390,11 +444,11 @@ def _fig_fou_comparison(result: StudyResult, ctrls: Mapping[str, _Ctrl],
         ax[0, j].plot(xr, yr, color=_REF_COLOR, ls="--", lw=1.0, label="reference path")
         ax[1, j].plot(t, _reference_heading(xr, yr, t), color=_REF_COLOR, ls="--", lw=1.0,
                       label="path tangent")
-        for w, i in idx:
+        for i in idx:
             if i is None:
                 continue
             label = result.trace_controllers[i]
-            st = pal.style(ctrls.get(label) or _Ctrl(label, "it2", w))
+            st = pal.style(_trace_info(result, i))
             ax[0, j].plot(s["x"][i], s["y"][i], color=st.color, lw=1.1, label=label)
             ax[1, j].plot(t, s["theta"][i], color=st.color, lw=0.9, label=label)
         letter = "abcdefghij"[j % 10]
@@ -414,19 +468,19 @@ def _fig_fou_comparison(result: StudyResult, ctrls: Mapping[str, _Ctrl],
 def _bar_groups(labels: Sequence[str], ctrls: Mapping[str, _Ctrl]) -> list[tuple[str, list[str]]]:
     """FLC | one group per FoU width (IT2FLC and matched type-1 side by side) | PD | others."""
     groups: list[tuple[str, list[str]]] = []
-    infos = sorted((ctrls.get(c) or _parse_label(c) for c in labels), key=_order_key)
+    infos = sorted((_info(ctrls, c) for c in labels), key=_order_key)
     by_fou: dict[float, list[str]] = {}
     for c in infos:
-        if c.kind in ("it2", "t1-matched"):
+        if c.kind in (_IT2, _T1M):
             by_fou.setdefault(round(c.fou, 12), []).append(c.label)
     for c in infos:
-        if c.kind == "flc":
+        if c.kind is _FLC:
             groups.append((c.label, [c.label]))
     for w in sorted(by_fou):
-        members = sorted(by_fou[w], key=lambda lb: _order_key(ctrls.get(lb) or _parse_label(lb)))
+        members = sorted(by_fou[w], key=lambda lb: _order_key(_info(ctrls, lb)))
         groups.append((f"w = {w:g}", members))
     for c in infos:
-        if c.kind not in ("flc", "it2", "t1-matched"):
+        if c.kind not in _PAPER_FUZZY:
             groups.append((c.label, [c.label]))
     return groups
 
@@ -462,7 +516,7 @@ def _fig_integral_errors(result: StudyResult, summ: _Summary, ctrls: Mapping[str
                     r = summ.get("paper", traj, label, sigma, metric)
                     if r is None:
                         continue
-                    st = pal.style(ctrls.get(label) or _parse_label(label))
+                    st = pal.style(_info(ctrls, label))
                     mean, lo, hi = _num(r["mean"]), _num(r["ci_low"]), _num(r["ci_high"])
                     x = g - 0.4 + width * (k + 0.5)
                     a.bar(x, mean, width=width * 0.92, color=st.color if st.hatch is None
@@ -489,12 +543,12 @@ def _fig_integral_errors(result: StudyResult, summ: _Summary, ctrls: Mapping[str
     handles: list[Any] = [Patch(facecolor=_FLC_COLOR, edgecolor=_FLC_COLOR, label="FLC")]
     for w in cfg.fous:
         handles.append(Patch(facecolor=pal.fou_color(w), label=f"IT2FLC FoU {w:g}"))
-    if any(c.kind == "t1-matched" for c in (ctrls.get(lb) for lb in labels) if c):
+    if any(c.kind is _T1M for c in (ctrls.get(lb) for lb in labels) if c):
         handles.append(Patch(facecolor="white", edgecolor="#444444", hatch="///",
                              label="T1 dead-zone-matched (same colour = same w)"))
     for lb in labels:
-        c = ctrls.get(lb) or _parse_label(lb)
-        if c.kind not in ("flc", "it2", "t1-matched"):
+        c = _info(ctrls, lb)
+        if c.kind not in _PAPER_FUZZY:
             st = pal.style(c)
             handles.append(Patch(facecolor="white", edgecolor=st.color, hatch=st.hatch,
                                  label=lb))
@@ -536,7 +590,7 @@ def _fig_noise_sweep(result: StudyResult, summ: _Summary, ctrls: Mapping[str, _C
     trajs = list(cfg.trajectories)
     levels = summ.levels("noise")
     labels = sorted(summ.controllers("noise"),
-                    key=lambda lb: _order_key(ctrls.get(lb) or _parse_label(lb)))
+                    key=lambda lb: _order_key(_info(ctrls, lb)))
     n = len(trajs)
     fig = Figure(figsize=(max(4.2 * n, 6.5), 10.0), layout="constrained")
     ax = np.asarray(fig.subplots(len(INTEGRALS), n, squeeze=False))
@@ -545,7 +599,7 @@ def _fig_noise_sweep(result: StudyResult, summ: _Summary, ctrls: Mapping[str, _C
             a = ax[i, j]
             values: list[float] = []
             for label in labels:
-                st = pal.style(ctrls.get(label) or _parse_label(label))
+                st = pal.style(_info(ctrls, label))
                 rows = [summ.get("noise", traj, label, s, metric) for s in levels]
                 _band(a, levels, rows, st, label, values)
             a.axvline(cfg.noise_std, color="#999999", lw=0.8, ls=":")
@@ -572,10 +626,10 @@ def _fig_fou_sweep(result: StudyResult, summ: _Summary, ctrls: Mapping[str, _Ctr
     trajs = list(cfg.trajectories)
     sigma = summ.levels("fou")[0] if summ.levels("fou") else cfg.noise_std
     labels = summ.controllers("fou")
-    infos = [ctrls.get(lb) or _parse_label(lb) for lb in labels]
-    flc = next((c.label for c in infos if c.kind == "flc"), None)
-    it2 = sorted((c for c in infos if c.kind == "it2"), key=lambda c: c.fou)
-    t1m = sorted((c for c in infos if c.kind == "t1-matched"), key=lambda c: c.fou)
+    infos = [_info(ctrls, lb) for lb in labels]
+    flc = next((c.label for c in infos if c.kind is _FLC), None)
+    it2 = sorted((c for c in infos if c.kind is _IT2), key=lambda c: c.fou)
+    t1m = sorted((c for c in infos if c.kind is _T1M), key=lambda c: c.fou)
     metrics = ("ISE", "IAE")
     n = len(trajs)
     it2_style = _Style("#1f77b4", "-", None, "s")
@@ -622,18 +676,18 @@ def _fig_fou_sweep(result: StudyResult, summ: _Summary, ctrls: Mapping[str, _Ctr
 def _surface_layout(result: StudyResult, ctrls: Mapping[str, _Ctrl]) -> list[list[str | None]]:
     """Columns by FoU width (0 = FLC); row 0 the IT2FLCs, row 1 the matched type-1 FLCs;
     anything else in a further row."""
-    infos = [ctrls.get(lb) or _parse_label(lb) for lb in result.surfaces]
-    widths = sorted({round(c.fou, 12) for c in infos if c.kind in ("it2", "t1-matched")})
+    infos = [_surface_info(result, ctrls, lb) for lb in result.surfaces]
+    widths = sorted({round(c.fou, 12) for c in infos if c.kind in (_IT2, _T1M)})
     cols = [0.0, *widths]
     top: list[str | None] = [None] * len(cols)
     bottom: list[str | None] = [None] * len(cols)
     others: list[str] = []
     for c in infos:
-        if c.kind == "flc" and top[0] is None:
+        if c.kind is _FLC and top[0] is None:
             top[0] = c.label
-        elif c.kind == "it2":
+        elif c.kind is _IT2:
             top[cols.index(round(c.fou, 12))] = c.label
-        elif c.kind == "t1-matched":
+        elif c.kind is _T1M:
             bottom[cols.index(round(c.fou, 12))] = c.label
         else:
             others.append(c.label)
@@ -648,9 +702,29 @@ def _surface_layout(result: StudyResult, ctrls: Mapping[str, _Ctrl]) -> list[lis
 
 
 def _dead_zone(c: _Ctrl) -> float | None:
-    if c.kind in ("flc", "it2", "t1-matched"):
+    """Half-width of the dead zone of the paper's fuzzy controllers in the fuzzy system's input
+    units (``Ke e``, ``Kde de``): only the Z sets fire while both inputs are below it."""
+    if c.kind in _PAPER_FUZZY:
         return 0.2 - c.fou / 2.0
     return None
+
+
+def _input_gains(specs: Iterable[ControllerSpec | None]) -> tuple[float, float] | None:
+    """The (Ke, Kde) shared by every fuzzy controller among ``specs`` (None if they differ)."""
+    gains = {(s.ke, s.kde) for s in specs if s is not None and s.kind is not _PD}
+    return next(iter(gains)) if len(gains) == 1 else None
+
+
+def surface_limit(result: StudyResult) -> float:
+    """The largest |u| over the stored control surfaces, V (the paper's rules: 12)."""
+    return max((float(np.max(np.abs(u))) for _, _, u in result.surfaces.values()), default=0.0)
+
+
+def _input_names(c: _Ctrl) -> tuple[str, str]:
+    spec = c.spec
+    if spec is None or (spec.ke, spec.kde) == (1.0, 1.0):
+        return "e (rad)", "Δe (rad)"
+    return f"Ke·e (Ke = {spec.ke:g})", f"Kde·Δe (Kde = {spec.kde:g})"
 
 
 def _fig_control_surfaces(result: StudyResult, ctrls: Mapping[str, _Ctrl]) -> Figure:
@@ -659,7 +733,9 @@ def _fig_control_surfaces(result: StudyResult, ctrls: Mapping[str, _Ctrl]) -> Fi
     fig = Figure(figsize=(2.9 * ncol + 1.0, 2.8 * nrow + 0.6), layout="constrained")
     ax = np.asarray(fig.subplots(nrow, ncol, squeeze=False))
     image = None
-    levels = [-10, -6, -2, 2, 6, 10]
+    vlim = surface_limit(result) or 1.0
+    step = vlim / 3.0
+    levels = [k * step / 2.0 for k in (-5, -3, -1, 1, 3, 5)]
     for i, row in enumerate(grid):
         for j, label in enumerate(row):
             a = ax[i, j]
@@ -668,11 +744,11 @@ def _fig_control_surfaces(result: StudyResult, ctrls: Mapping[str, _Ctrl]) -> Fi
                 continue
             e, de, u = result.surfaces[label]
             extent = (float(e.min()), float(e.max()), float(de.min()), float(de.max()))
-            image = a.imshow(u.T, origin="lower", extent=extent, cmap="RdBu_r", vmin=-12.0,
-                             vmax=12.0, interpolation="nearest", aspect="equal")
+            image = a.imshow(u.T, origin="lower", extent=extent, cmap="RdBu_r", vmin=-vlim,
+                             vmax=vlim, interpolation="nearest", aspect="equal")
             cs = a.contour(e, de, u, levels=levels, colors="k", linewidths=0.5, alpha=0.6)
             a.clabel(cs, fontsize=6, fmt="%g")
-            c = ctrls.get(label) or _parse_label(label)
+            c = _surface_info(result, ctrls, label)
             d = _dead_zone(c)
             if d is not None and d > 0:
                 a.add_patch(Rectangle((-d, -d), 2 * d, 2 * d, fill=False, ec="black", lw=1.0,
@@ -681,49 +757,60 @@ def _fig_control_surfaces(result: StudyResult, ctrls: Mapping[str, _Ctrl]) -> Fi
             else:
                 a.set_title(label, fontsize=8.5)
             a.grid(False)
-            a.set_xlabel("e (rad)")
-            a.set_ylabel("Δe (rad)")
+            x_name, y_name = _input_names(c)
+            a.set_xlabel(x_name)
+            a.set_ylabel(y_name)
     if image is not None:
         cb = fig.colorbar(image, ax=ax.ravel().tolist(), shrink=0.8, pad=0.02)
         cb.set_label("u (V)")
-    fig.suptitle("Control surfaces u(e, Δe) (Ke = Kde = 1; contours every 4 V; dashed square: "
-                 "only the Z×Z rule fires, u = 0)", fontsize=10)
+    gains = _input_gains(_surface_info(result, ctrls, lb).spec for lb in result.surfaces)
+    gain_text = ("inputs Ke·e, Kde·Δe" if gains is None
+                 else f"Ke = {gains[0]:g}, Kde = {gains[1]:g}")
+    fig.suptitle(f"Control surfaces u(e, Δe) ({gain_text}; contours every {step:.3g} V; dashed "
+                 "square: only the Z×Z rule fires, u = 0)", fontsize=10)
     return fig
 
 
+def _zero_de_slice(result: StudyResult, c: _Ctrl) -> tuple[np.ndarray, np.ndarray]:
+    """``(x, u(x, 0))`` of a fuzzy controller, ``x`` its first input (``Ke e``).
+
+    The paper's controllers are rebuilt from their specs (with their reducer and t-norm) and
+    evaluated on a fine grid, so that the zoomed dead-zone edges are exact; any other controller
+    gets the ``de = 0`` column of its stored surface.
+    """
+    spec = c.spec
+    if spec is not None and spec.kind in _PAPER_FUZZY:
+        controller = spec.build()
+        if isinstance(controller, FuzzyHeadingController):
+            x = np.linspace(-1.0, 1.0, 2001)
+            return x, np.asarray(controller.fls(x, np.zeros_like(x)), dtype=float)
+    ge, gde, gu = result.surfaces[c.label]
+    k = int(np.argmin(np.abs(gde[0, :])))
+    return ge[:, k], gu[:, k]
+
+
 def _fig_dead_zone(result: StudyResult, ctrls: Mapping[str, _Ctrl], pal: _Palette) -> Figure:
-    infos = sorted((ctrls.get(lb) or _parse_label(lb) for lb in result.surfaces), key=_order_key)
-    e = np.linspace(-1.0, 1.0, 2001)
+    infos = sorted((_surface_info(result, ctrls, lb) for lb in result.surfaces), key=_order_key)
     fig = Figure(figsize=(11.0, 4.3), layout="constrained")
     a_full, a_zoom = fig.subplots(1, 2)
     zoom = 0.35
     for c in infos:
         st = pal.style(c)
-        if c.kind == "flc":
-            u = np.asarray(heading_fls(0.0)(e, 0.0), dtype=float)
-        elif c.kind == "it2":
-            u = np.asarray(heading_fls(c.fou)(e, 0.0), dtype=float)
-        elif c.kind == "t1-matched":
-            u = np.asarray(dead_zone_matched_fls(c.fou)(e, 0.0), dtype=float)
-        else:  # a user's fuzzy system: the slice of its stored surface
-            ge, gde, gu = result.surfaces[c.label]
-            k = int(np.argmin(np.abs(gde[0, :])))
-            e_s, u_s = ge[:, k], gu[:, k]
-            a_full.plot(e_s, u_s, color=st.color, ls=st.ls, label=c.label)
-            a_zoom.plot(e_s, u_s, color=st.color, ls=st.ls, label=c.label)
-            continue
-        a_full.plot(e, u, color=st.color, ls=st.ls, label=c.label)
-        a_zoom.plot(e, u, color=st.color, ls=st.ls, label=c.label)
+        x, u = _zero_de_slice(result, c)
+        a_full.plot(x, u, color=st.color, ls=st.ls, label=c.label)
+        a_zoom.plot(x, u, color=st.color, ls=st.ls, label=c.label)
         d = _dead_zone(c)
-        if d is not None and c.kind != "t1-matched":
+        if d is not None and c.kind is not _T1M:
             for sgn in (-1.0, 1.0):
                 a_zoom.axvline(sgn * d, color=st.color, lw=0.8, ls=":")
             a_zoom.annotate(f"{d:g}", (d, 1.0), xycoords=("data", "axes fraction"),
                             xytext=(2, -2), textcoords="offset points", color=st.color,
                             fontsize=7.5, va="top", ha="left")
+    gains = _input_gains(c.spec for c in infos)
+    x_name = "heading error e (rad)" if gains is not None and gains[0] == 1.0 else "Ke·e"
     for a in (a_full, a_zoom):
         a.axhline(0.0, color="#999999", lw=0.6)
-        a.set_xlabel("heading error e (rad), Δe = 0")
+        a.set_xlabel(f"{x_name}, Δe = 0")
         a.set_ylabel("u (V)")
     a_full.set_title("u(e, Δe = 0) over the universe")
     a_zoom.set_xlim(-zoom, zoom)
@@ -746,26 +833,39 @@ def _fig_win_rates(result: StudyResult, summ: _Summary, ctrls: Mapping[str, _Ctr
     trajs = list(cfg.trajectories)
     sigma = summ.levels("paper")[0] if summ.levels("paper") else cfg.noise_std
     labels = sorted((lb for lb in summ.controllers("paper") if lb != "FLC"),
-                    key=lambda lb: _order_key(ctrls.get(lb) or _parse_label(lb)))
+                    key=lambda lb: _order_key(_info(ctrls, lb)))
     n = len(trajs)
-    fig = Figure(figsize=(max(3.3 * n + 2.5, 6.0), 0.42 * max(len(labels), 1) + 1.9),
+    fig = Figure(figsize=(max(3.3 * n + 2.5, 6.0), 0.5 * max(len(labels), 1) + 1.9),
                  layout="constrained")
     ax = np.asarray(fig.subplots(1, n, squeeze=False, sharey=True))[0]
     image = None
+    any_ties = False
     for j, traj in enumerate(trajs):
         a = ax[j]
         m = np.full((len(labels), len(INTEGRALS)), np.nan)
+        ties = np.zeros_like(m)
         for i, label in enumerate(labels):
             for k, metric in enumerate(INTEGRALS):
                 r = summ.get("paper", traj, label, sigma, metric)
                 if r is not None:
                     m[i, k] = _num(r["win_rate"])
+                    t = _num(r.get("ties"))
+                    ties[i, k] = t if math.isfinite(t) else 0.0
         image = a.imshow(m, cmap="RdBu", vmin=0.0, vmax=1.0, aspect="auto")
         for i in range(m.shape[0]):
             for k in range(m.shape[1]):
-                if math.isfinite(m[i, k]):
+                if not math.isfinite(m[i, k]):
+                    continue
+                color = "white" if abs(m[i, k] - 0.5) > 0.3 else "black"
+                if ties[i, k] > 0:  # a tie is no loss: say how much of the 0.5 is ties
+                    any_ties = True
+                    a.text(k, i - 0.12, f"{m[i, k]:.2f}", ha="center", va="center",
+                           fontsize=7.5, color=color)
+                    a.text(k, i + 0.22, f"ties {ties[i, k]:.0%}", ha="center", va="center",
+                           fontsize=6, color=color)
+                else:
                     a.text(k, i, f"{m[i, k]:.2f}", ha="center", va="center", fontsize=7.5,
-                           color="white" if abs(m[i, k] - 0.5) > 0.3 else "black")
+                           color=color)
         a.set_xticks(range(len(INTEGRALS)), INTEGRALS)
         a.set_yticks(range(len(labels)), labels)
         a.tick_params(axis="y", labelleft=(j == 0))
@@ -773,9 +873,13 @@ def _fig_win_rates(result: StudyResult, summ: _Summary, ctrls: Mapping[str, _Ctr
         a.set_title(traj)
     if image is not None:
         cb = fig.colorbar(image, ax=ax.tolist(), shrink=0.9, pad=0.02)
-        cb.set_label("win rate vs FLC")
-    fig.suptitle(f"Paired win rate vs the FLC at σ = {sigma:g} rad: fraction of noise "
-                 "realisations with a smaller error than the FLC (blue: better)", fontsize=10)
+        cb.set_label("win rate vs FLC (ties count ½)")
+        cb.set_ticks([0.0, 0.25, 0.5, 0.75, 1.0],
+                     labels=["0 worse", "0.25", "0.5 no diff.", "0.75", "1 better"])
+    tie_note = "; 'ties': share of exact ties" if any_ties else ""
+    fig.suptitle(f"Paired win rate vs the FLC at σ = {sigma:g} rad: P(smaller error than the "
+                 f"FLC) + ½ P(equal error), over the noise realisations (0.5: no difference; "
+                 f"blue: better{tie_note})", fontsize=10)
     return fig
 
 

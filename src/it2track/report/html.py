@@ -19,9 +19,12 @@ from typing import Any
 import numpy as np
 
 from ..atomicfile import atomic_write_text
-from ..experiments.analysis import INTEGRALS
+from ..experiments.analysis import C3_FACTOR, C3_TARGET, INTEGRALS
+from ..experiments.specs import ControllerKind, ControllerSpec
 from ..experiments.study import StudyResult
-from .figures import INTEGRAL_UNITS, PAPER_FIGURE_NUMBER, slug
+from ..fuzzy import Reducer
+from ..tracking import PDHeadingController
+from .figures import INTEGRAL_UNITS, PAPER_FIGURE_NUMBER, controller_specs, slug, surface_limit
 
 __all__ = ["figure_captions", "render_html", "write_html"]
 
@@ -61,6 +64,10 @@ tbody tr:nth-child(even) td { background: #fbfbfd; }
 .verdict { font-weight: 600; white-space: nowrap; }
 .v-holds { color: var(--ok); } .v-not { color: var(--bad); } .v-partial { color: var(--part); }
 .v-na { color: var(--na); }
+.detail { display: block; font-weight: normal; color: var(--muted); font-size: 0.9em;
+          white-space: normal; }
+td.o-sup { color: var(--ok); font-weight: 600; } td.o-con { color: var(--bad); font-weight: 600; }
+td.o-inc { color: var(--na); }
 .glance { border: 1px solid var(--line); border-radius: 8px; padding: 10px 16px;
           background: var(--bg-alt); }
 .glance ul { margin: 0.3em 0; padding-left: 1.2em; }
@@ -129,14 +136,20 @@ def _num(v: Any) -> float:
 
 
 def _verdict_class(verdict: str) -> str:
+    """CSS class of a verdict: green "holds", red "does not hold", amber "holds only for …",
+    grey "not shown" / "not evaluated" (any parenthetical detail after the verdict is ignored)."""
     v = verdict.strip().lower()
-    if v == "holds":
+    if v.startswith("holds only"):
+        return "v-partial"
+    if v == "holds" or v.startswith(("holds ", "holds(", "holds;", "holds,")):
         return "v-holds"
     if v.startswith("does not hold"):
         return "v-not"
-    if v.startswith("holds only"):
-        return "v-partial"
     return "v-na"
+
+
+#: Outcome of one evidence cell -> CSS class (a tie is inconclusive, never a loss).
+_OUTCOME_CLASS = {"supports": "o-sup", "contradicts": "o-con", "inconclusive": "o-inc"}
 
 
 def _table(header: Sequence[str], rows: Sequence[Sequence[Any]], *, numeric: Sequence[bool]
@@ -163,6 +176,73 @@ def _kv(rows: Sequence[tuple[str, Any]]) -> str:
 def _data_uri(path: Path) -> str:
     mime = _MIME.get(path.suffix.lower(), "application/octet-stream")
     return f"data:{mime};base64," + base64.b64encode(path.read_bytes()).decode("ascii")
+
+
+# ---------------------------------------------------------------------------------------------
+# Facts derived from the result (never hard-coded: the configuration can change them)
+# ---------------------------------------------------------------------------------------------
+
+#: The paper's heading-noise power, W (read as Simulink band-limited white noise).
+PAPER_NOISE_POWER = 0.1
+#: The paper's noise rate, Hz.
+PAPER_NOISE_RATE = 100.0
+_PAPER_FUZZY = (ControllerKind.FLC, ControllerKind.IT2, ControllerKind.T1_MATCHED)
+
+
+def _fuzzy_specs(result: StudyResult) -> list[ControllerSpec]:
+    return [s for s in controller_specs(result).values() if s.kind is not ControllerKind.PD]
+
+
+def _gains_text(result: StudyResult) -> str:
+    """``Ke = 1, Kde = 1`` when every fuzzy controller shares its input gains, else a list."""
+    gains = sorted({(s.ke, s.kde) for s in _fuzzy_specs(result)})
+    if not gains:
+        return "Ke, Kde per controller"
+    if len(gains) == 1:
+        ke, kde = gains[0]
+        return f"Ke = {ke:g}, Kde = {kde:g}"
+    return "per controller: " + "; ".join(f"Ke = {a:g}, Kde = {b:g}" for a, b in gains)
+
+
+def _electrical_pole(result: StudyResult) -> float:
+    """The fast (electrical) pole of the motor model, 1/s."""
+    m = result.config.loop.robot.motor
+    a = np.array([[-m.resistance / m.inductance, -m.torque_constant / m.inductance],
+                  [m.torque_constant / m.inertia, -m.friction / m.inertia]])
+    return float(np.min(np.linalg.eigvals(a).real))
+
+
+def _pd_limit(result: StudyResult) -> float:
+    """The PD controller's output limit, V."""
+    if result.pd is None:
+        return math.nan
+    controller = result.pd.build()
+    return float(controller.u_max) if isinstance(controller, PDHeadingController) else math.nan
+
+
+def _gaps(result: StudyResult, traj: str) -> tuple[float, float, float] | None:
+    """Distance robot - reference point at t = 0, and the smallest and largest at the end over
+    the traced controllers, m (None without a trace)."""
+    trace = result.traces.get(traj)
+    if trace is None:
+        return None
+    s = trace.series
+    gap = np.hypot(s["x"] - s["x_ref"], s["y"] - s["y_ref"])
+    return float(gap[0, 0]), float(gap[:, -1].min()), float(gap[:, -1].max())
+
+
+def _gap_sentence(result: StudyResult, traj: str) -> str:
+    """For a trajectory whose reference starts away from the robot: the gap never closes."""
+    g = _gaps(result, traj)
+    if g is None or g[0] < 0.05:
+        return ""
+    start, lo, hi = g
+    end = f"{lo:.2g} m" if math.isclose(lo, hi, rel_tol=0.05) else f"{lo:.2g}–{hi:.2g} m"
+    t_end = float(result.traces[traj].t[-1])
+    return (f"The reference point starts {start:.3g} m from the robot. The controllers only "
+            "steer: the speed is the feed-forward V0 for the reference speed (the paper's scheme "
+            "does not regulate speed), so the robot never catches up and the gap does not close "
+            f"(still {end} at t = {t_end:g} s).")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -195,7 +275,7 @@ def figure_captions(result: StudyResult, summary: Sequence[Mapping[str, Any]]
             "(dotted). (c) Translational speed and the reference speed |ṗd|; the inset shows "
             "v − |ṗd| after start-up. With the motor mixing V0 ± u and identical motors, v does "
             "not depend on u unless a wheel voltage saturates, so (c) is the same for every "
-            "controller. (d) Rotational speed.",
+            "controller. (d) Rotational speed. " + _gap_sentence(result, traj),
         )
     caps["fou_comparison"] = (
         "FoU comparison (paper Fig. 10)",
@@ -228,27 +308,36 @@ def figure_captions(result: StudyResult, summary: Sequence[Mapping[str, Any]]
         "the paper's widths. Where the dashed curve lies at or below the solid one, narrowing "
         "the dead zone alone explains the improvement over the FLC.",
     )
+    vlim = surface_limit(result)
+    step = vlim / 3.0
+    contours = ", ".join(f"±{k * step / 2:.3g}" for k in (1, 3, 5))
+    gains = _gains_text(result)
+    unit_note = ", so the inputs are in rad" if gains == "Ke = 1, Kde = 1" else ""
     caps["control_surfaces"] = (
         "Control surfaces",
-        "u(e, Δe) of each fuzzy controller over the input universe [−1, 1]² (Ke = Kde = 1, so "
-        "the inputs are in rad), one colour scale for all (±12 V), contours at ±2, ±6, ±10 V. "
-        "Top: the FLC and the IT2FLCs; bottom: the type-1 FLCs whose dead zone matches the "
-        "IT2FLC above them. Dashed square: the dead zone, where only the Z×Z rule fires and "
-        "u = 0.",
+        f"u(e, Δe) of each fuzzy controller over the input universe [−1, 1]² ({gains}"
+        f"{unit_note}), one colour scale for all (±{vlim:.3g} V, the largest consequent), "
+        f"contours at {contours} V. Top: the FLC and the IT2FLCs; bottom: the type-1 FLCs whose "
+        "dead zone matches the IT2FLC above them. Dashed square: the dead zone, where only the "
+        "Z×Z rule fires and u = 0.",
     )
     caps["dead_zone"] = (
         "The dead zone (why a wider FoU helps)",
-        "The slice u(e, Δe = 0). Left: the whole universe; right: zoom with the dead-zone edges "
-        "±(0.2 − w/2) dotted. The FLC does nothing while |e| < 0.2 rad (11.5°); an FoU of width "
-        "w shrinks this to 0.2 − w/2 (DESIGN.md §3). Dashed: the type-1 FLCs with the same dead "
-        "zones; just outside the dead zone they are steeper than the IT2FLCs, whose type-reduced "
-        "output averages the lower and upper firing.",
+        "The slice u(e, Δe = 0) of each controller as built from its specification (reducer and "
+        "t-norm included). Left: the whole universe; right: zoom with the dead-zone edges "
+        "±(0.2 − w/2) dotted. The FLC does nothing while |Ke·e| < 0.2 (0.2 rad = 11.5° for "
+        "Ke = 1); an FoU of width w shrinks this to 0.2 − w/2 (DESIGN.md §3). Dashed: the "
+        "type-1 FLCs with the same dead zones; just outside the dead zone they are steeper than "
+        "the IT2FLCs, whose type-reduced output averages the lower and upper firing.",
     )
     caps["win_rates"] = (
         "Paired win rates",
-        f"Fraction of the {n_paper} noise realisations at {sigma} in which each controller's "
-        "error is smaller than the FLC's on the same realisation, per trajectory and criterion. "
-        "0.5: no systematic difference; blue: better than the FLC; red: worse.",
+        f"Per trajectory and criterion, over the {n_paper} noise realisations at {sigma}: the "
+        "fraction in which the controller's error is smaller than the FLC's on the same "
+        "realisation, ties counting ½ (win rate = P(smaller) + ½ P(equal)). 0.5: no "
+        "difference — including exact ties, e.g. when neither controller leaves its dead zone, "
+        "which are not losses; blue: better than the FLC; red: worse. Cells with ties give "
+        "their share.",
     )
     return caps
 
@@ -270,6 +359,25 @@ def _ordered_keys(figures: Mapping[str, Path], result: StudyResult) -> list[str]
 # ---------------------------------------------------------------------------------------------
 
 
+def _fuzzy_options(spec: ControllerSpec | None) -> str:
+    """t-norm, input gains and (IT2) reducer of a fuzzy controller's spec."""
+    if spec is None:
+        return ""
+    out = [f"{spec.tnorm} t-norm"]
+    if (spec.ke, spec.kde) != (1.0, 1.0):
+        out.append(f"Ke = {spec.ke:g}, Kde = {spec.kde:g}")
+    return ", " + ", ".join(out)
+
+
+def _reducer_text(spec: ControllerSpec | None) -> str:
+    if spec is None:
+        return "type reduction to [yl, yr]"
+    reducer = Reducer.from_name(spec.reducer).value
+    if reducer.exact:
+        return f"exact type reduction ({reducer.name}, KM-equivalent)"
+    return f"approximate type reduction ({reducer.name}, not exact)"
+
+
 def _controller_rows(result: StudyResult) -> list[tuple[str, str]]:
     rows = result.rows
     mask = rows["experiment"] == "paper"
@@ -279,25 +387,34 @@ def _controller_rows(result: StudyResult) -> list[tuple[str, str]]:
     seen: dict[str, tuple[str, float]] = {}
     for lb, k, w in zip(labels, kinds, fous, strict=True):
         seen.setdefault(str(lb), (str(k), float(w)))
+    specs = controller_specs(result)
     out = []
     for lb, (kind, w) in seen.items():
-        if kind == "flc":
+        spec = specs.get(lb)
+        if spec is not None:
+            kind = spec.kind.value
+            w = spec.fou if spec.kind in (ControllerKind.IT2, ControllerKind.T1_MATCHED) else 0.0
+        opts = _fuzzy_options(spec)
+        if kind == ControllerKind.FLC.value:
             desc = ("the paper's type-1 FLC: sets N [−1 −1 −0.2], Z [−0.8 0 0.8], P [0.2 1 1] "
-                    "on e and Δe, nine rules of Table 2 (±4, ±8, ±12 V), product t-norm")
-        elif kind == "it2":
+                    f"on e and Δe, nine rules of Table 2 (±4, ±8, ±12 V){opts}")
+        elif kind == ControllerKind.IT2.value:
             desc = (f"interval type-2 FLC, FoU width w = {w:g}: every sloped side of the FLC's "
-                    "sets widened by ±w/2 (upper/lower MF), same rules, exact type reduction "
-                    "(KM-equivalent), u = (yl + yr)/2")
-        elif kind == "t1-matched":
+                    f"sets widened by ±w/2 (upper/lower MF), same rules, {_reducer_text(spec)}, "
+                    f"u = (yl + yr)/2{opts}")
+        elif kind == ControllerKind.T1_MATCHED.value:
             desc = (f"fair baseline: type-1 FLC built from the upper MFs of the IT2FLC with "
-                    f"w = {w:g}, so its dead zone (|e| < {0.2 - w / 2:g}) equals the IT2FLC's")
-        elif kind == "pd":
-            pd = result.pd
+                    f"w = {w:g}, so its dead zone (|e| < {0.2 - w / 2:g}) equals the "
+                    f"IT2FLC's{opts}")
+        elif kind == ControllerKind.PD.value:
+            pd = spec if spec is not None else result.pd
             gains = "" if pd is None else (
-                f": u = clip(Kp·e + Kd·D, ±12 V), D the derivative of e through the filter "
-                f"1/(Tf s + 1), Tf = {_fmt(pd.tf)} s; Kp = {_fmt(pd.kp)} V/rad, "
-                f"Kd = {_fmt(pd.kd)} V·s/rad")
+                f": u = clip(Kp·e + Kd·D, ±{_fmt(_pd_limit(result))} V), D the derivative of e "
+                f"through the filter 1/(Tf s + 1), Tf = {_fmt(pd.tf)} s; Kp = {_fmt(pd.kp)} "
+                f"V/rad, Kd = {_fmt(pd.kd)} V·s/rad")
             desc = "PD heading controller baseline" + gains + " (tuning below)"
+        elif kind == ControllerKind.FILE.value and spec is not None:
+            desc = f"user-supplied fuzzy system from {spec.path}{opts}"
         else:
             desc = f"user-supplied controller (kind {kind})"
         out.append((lb, desc))
@@ -345,100 +462,225 @@ def _setup_section(result: StudyResult, summary: Sequence[Mapping[str, Any]]) ->
         ("runs in the metrics table", len(result.rows["seed"])),
     ]))
     parts.append("<h3>PD baseline tuning</h3>")
-    parts.append(_pd_section(result))
+    parts.append(_pd_section(result, summary))
     return "".join(parts)
 
 
-def _pd_section(result: StudyResult) -> str:
+def _fuzzy_effort_range(summary: Sequence[Mapping[str, Any]]
+                        ) -> tuple[float, float, float] | None:
+    """The paper's fuzzy controllers' mean control effort in the ``paper`` experiment, V²·s:
+    smallest and largest average over the trajectories (as the PD tuning averages), and the
+    largest on any one trajectory (None if the summary has none)."""
+    fuzzy = {k.value for k in _PAPER_FUZZY}
+    per: dict[str, list[float]] = {}
+    for r in summary:
+        if (r.get("experiment") == "paper" and r.get("metric") == "effort"
+                and str(r.get("kind")) in fuzzy):
+            v = _num(r.get("mean"))
+            if math.isfinite(v):
+                per.setdefault(str(r.get("controller")), []).append(v)
+    if not per:
+        return None
+    means = [sum(v) / len(v) for v in per.values()]
+    return min(means), max(means), max(max(v) for v in per.values())
+
+
+def _pd_section(result: StudyResult, summary: Sequence[Mapping[str, Any]]) -> str:
     rec = _plain(result.pd_tuning or {})
     cfg = result.config
     if cfg.pd is None or result.pd is None:
         return "<p>No PD baseline in this study.</p>"
+    fuzzy = _fuzzy_effort_range(summary)
+    compare = "" if fuzzy is None else (
+        " For comparison, the fuzzy controllers' mean effort in the main experiment, averaged "
+        f"over the trajectories in the same way, is {_e(_fmt(fuzzy[0], 3))}–"
+        f"{_e(_fmt(fuzzy[1], 3))} V²·s (up to {_e(_fmt(fuzzy[2], 3))} V²·s on one trajectory).")
     if not rec.get("grid"):
         return (f"<p>Gains given in the configuration (no tuning): Kp = {_e(_fmt(rec.get('kp')))}"
-                f", Kd = {_e(_fmt(rec.get('kd')))}.</p>")
-    grid = rec["grid"]
+                f", Kd = {_e(_fmt(rec.get('kd')))}.{compare}</p>")
+    grid = [list(g) for g in rec["grid"]]
     kps = sorted({g[0] for g in grid})
     kds = sorted({g[1] for g in grid})
-    best = sorted(grid, key=lambda g: g[2])[:5]
+    limit = rec.get("effort_limit")
+    effort = rec.get("effort")
+    has_effort = all(len(g) >= 4 for g in grid)
+    candidates = grid
+    if has_effort and limit is not None:
+        candidates = [g for g in grid if _num(g[3]) <= _num(limit)]
+    best = sorted(candidates, key=lambda g: _num(g[2]))[:5]
     seeds = rec.get("seed_indices") or ["?", "?"]
+    constraint = "" if limit is None else (
+        f", among the gains whose mean control effort ∫u² dt stays within "
+        f"{_e(_fmt(limit))} V²·s (comparable to the fuzzy controllers; without a limit the "
+        "ISE-optimal PD chatters between its voltage limits)")
+    chosen_effort = "" if effort is None else f", mean effort {_e(_fmt(effort, 3))} V²·s"
+    edge = "; on the edge of the grid (a wider grid might do better)" if rec.get(
+        "on_grid_edge") else ""
     text = (
         f"<p>Grid search over {len(kps)} Kp values ({_e(_fmt(kps[0]))} … {_e(_fmt(kps[-1]))} "
         f"V/rad) × {len(kds)} Kd values ({_e(_fmt(kds[0]))} … {_e(_fmt(kds[-1]))} V·s/rad), "
         f"derivative filter Tf = {_e(_fmt(cfg.pd.tf))} s, minimising "
         f"{_e(rec.get('criterion', 'mean ISE'))} at σ = {_e(_fmt(rec.get('noise_std')))} rad on "
         f"{cfg.pd.seeds} tuning realisations (seed indices {_e(seeds[0])}–{_e(seeds[-1])}, "
-        f"disjoint from the evaluation seeds). Chosen: Kp = {_e(_fmt(rec.get('kp')))}, "
-        f"Kd = {_e(_fmt(rec.get('kd')))}, objective {_e(_fmt(rec.get('objective')))}"
-        f"{'; on the edge of the grid' if rec.get('on_grid_edge') else ''}.</p>"
+        f"disjoint from the evaluation seeds){constraint}. Chosen: "
+        f"Kp = {_e(_fmt(rec.get('kp')))}, Kd = {_e(_fmt(rec.get('kd')))}, objective "
+        f"{_e(_fmt(rec.get('objective')))} rad²·s{chosen_effort}{edge}.{compare}</p>"
     )
-    return text + _table(["Kp (V/rad)", "Kd (V·s/rad)", "objective (rad²·s)"],
-                         [tuple(g) for g in best], numeric=[True] * 3)
+    header = ["Kp (V/rad)", "Kd (V·s/rad)", "mean ISE (rad²·s)"]
+    if has_effort:
+        header.append("mean effort (V²·s)")
+    best = [g[:len(header)] for g in best]
+    caption = "<p>The best gains" + (" within the effort limit" if limit is not None
+                                     and has_effort else "") + ":</p>"
+    return text + caption + _table(header, [tuple(g) for g in best],
+                                   numeric=[True] * len(header))
+
+
+def _noise_item(result: StudyResult) -> str:
+    cfg = result.config
+    rate = cfg.loop.noise_rate
+    paper_sigma = math.sqrt(PAPER_NOISE_POWER * PAPER_NOISE_RATE)
+    text = (f"θ̂ = θ + n, n Gaussian with standard deviation σ, held for 1/{rate:g} s "
+            f"(zero-order hold at {rate:g} Hz, the paper's 'frequency'); positions are measured "
+            f"without noise. The paper's '{PAPER_NOISE_POWER:g} W, {PAPER_NOISE_RATE:g} Hz' read "
+            "as Simulink band-limited white noise (σ = √(P/Ts) = √(P·f)) is "
+            f"σ = √({PAPER_NOISE_POWER:g} × {PAPER_NOISE_RATE:g}) ≈ {paper_sigma:.3g} rad")
+    if not math.isclose(rate, PAPER_NOISE_RATE):
+        own = math.sqrt(PAPER_NOISE_POWER * rate)
+        text += (f" (at this study's noise rate of {rate:g} Hz the same power would be "
+                 f"σ ≈ {own:.3g} rad)")
+    if paper_sigma > 1.0:
+        text += (" — a heading error spread over the whole circle, which no controller "
+                 "survives")
+    return text + (f"; so the study states σ per figure (main: {cfg.noise_std:g} rad) and "
+                   "sweeps it.")
+
+
+def _speed_item(result: StudyResult) -> str:
+    text = ("the controllers only steer (u is the differential voltage); the common-mode "
+            "voltage V0 is the feed-forward for the reference speed, so nothing regulates the "
+            "distance along the path: a robot that starts behind the reference point, or loses "
+            "ground while turning, never catches up (the paper's scheme is the same).")
+    notes = []
+    for traj in result.config.trajectories:
+        g = _gaps(result, traj)
+        if g is None or g[0] < 0.05:
+            continue
+        start, lo, hi = g
+        end = f"{lo:.2g} m" if math.isclose(lo, hi, rel_tol=0.05) else f"{lo:.2g}–{hi:.2g} m"
+        t_end = float(result.traces[traj].t[-1])
+        notes.append(f"the {traj} reference starts {start:.3g} m from the robot and the gap is "
+                     f"still {end} at t = {t_end:g} s")
+    if notes:
+        text += " Here " + "; ".join(notes) + " (the heading errors measure steering only)."
+    return text
+
+
+def _pd_item(result: StudyResult) -> str:
+    tuning = result.config.pd
+    if tuning is None:
+        return "none in this study."
+    if tuning.kp is not None:
+        return ("a PD heading controller with a filtered derivative, gains given in the "
+                "configuration.")
+    limit = getattr(tuning, "effort_limit", None)
+    constraint = "" if limit is None else (
+        f" among the gains whose mean control effort ∫u² dt stays within {limit:g} V²·s, "
+        "comparable to the fuzzy controllers' (the ISE-optimal PD without this limit chatters "
+        "between the voltage limits, no fair comparison)")
+    return ("a PD heading controller with a filtered derivative, tuned by a log-spaced grid "
+            "search on Kp × Kd for the lowest mean ISE over the trajectories at the study's σ"
+            f"{constraint}, on tuning seeds disjoint from the evaluation seeds.")
 
 
 def _assumptions(result: StudyResult) -> str:
     cfg = result.config
     loop = cfg.loop
-    v_dc = loop.robot.motor.torque_constant / (
-        loop.robot.motor.resistance * loop.robot.motor.friction
-        + loop.robot.motor.torque_constant ** 2)
+    robot, motor = loop.robot, loop.robot.motor
+    v_lim = f"±{motor.voltage_limit:g} V"
+    v_dc = motor.torque_constant / (motor.resistance * motor.friction
+                                    + motor.torque_constant ** 2)
+    track = (f"l = {robot.half_track:g} m, as printed in Table 3 (large for a small robot, "
+             "possibly a misprint; kept as the default, configurable)."
+             if math.isclose(robot.half_track, 5.6) else
+             f"l = {robot.half_track:g} m (Table 3 prints 5.6 m, large for a small robot and "
+             "possibly a misprint; this study sets its own value).")
     items = [
         ("FoU sets", "for FoU width w each set's sloped sides move by ±w/2: N upper "
          "[−1, −1, −0.2 + w/2], lower [−1, −1, −0.2 − w/2]; Z upper [−0.8 − w/2, 0, 0.8 + w/2], "
          "lower [−0.8 + w/2, 0, 0.8 − w/2]; P upper [0.2 − w/2, 1, 1], lower [0.2 + w/2, 1, 1]. "
          "This reproduces the paper's Table 1 (w = 0.2) and Table 4 (w = 0.1, 0.3) exactly; "
          "w = 0 is the paper's type-1 FLC."),
-        ("Half wheel track", f"l = {loop.robot.half_track:g} m, as printed in Table 3 (large for "
-         "a small robot, possibly a misprint; kept as the default, configurable)."),
+        ("Half wheel track", track),
         ("Motor model", "L di/dt = V − R i − K ω, J dω/dt = K i − b ω per wheel, discretised "
-         "exactly (zero-order hold, matrix exponential): the electrical pole (≈ −926 s⁻¹) "
-         "makes a fixed-step explicit integrator inaccurate at the control period."),
+         "exactly (zero-order hold, matrix exponential): the electrical pole (≈ "
+         f"{_electrical_pole(result):.3g} s⁻¹ for these parameters) makes a fixed-step explicit "
+         "integrator inaccurate at the control period.".replace("≈ -", "≈ −")),
         ("Kinematics", "the standard differential-drive form v = r(ωR + ωL)/2, "
          "ω = r(ωR − ωL)/(2l) instead of the paper's misprinted eq. 9 matrix; the pose is "
          "integrated accurately to < 1e-6 m over 10 s against a tight ODE reference."),
         ("Desired heading", "θd = atan2(yd(t_k) − y_k, xd(t_k) − x_k) from the pose produced by "
          "the previous period (the paper's 'k − 1'); the paper's printed θd formulas for the "
          "curved and sinusoidal paths are inconsistent and are not used."),
-        ("Heading noise", f"θ̂ = θ + n, n Gaussian with standard deviation σ, held for "
-         f"1/{loop.noise_rate:g} s (zero-order hold at {loop.noise_rate:g} Hz, the paper's "
-         "'frequency'); positions are measured without noise. The paper's '0.1 W, 100 Hz' read as "
-         "Simulink band-limited white noise (σ = √(P/Ts)) is σ ≈ 3.16 rad — a uniformly random "
-         "heading that no controller survives — so the study states σ per figure "
-         f"(main: {cfg.noise_std:g} rad) and sweeps it."),
-        ("Error wrapping", "e = wrap(θd − θ̂) and Δe = wrap(e_k − e_{k−1}) to (−π, π], Δe_0 = 0; "
-         "controller inputs Ke·e and Kde·Δe (Ke = Kde = 1) clipped to the universe [−1, 1]."),
+        ("Heading noise", _noise_item(result)),
+        ("Error wrapping", "e = wrap(θd − θ̂) to (−π, π] and, departing from DESIGN.md §5 "
+         "(which writes Δe_k = e_k − e_{k−1}), Δe = wrap(e_k − e_{k−1}) to (−π, π] as well, "
+         "Δe_0 = 0: the two differ only when e crosses ±π, where the unwrapped difference would "
+         "be a spurious jump of about 2π. Controller inputs Ke·e and Kde·Δe "
+         f"({_gains_text(result)}) clipped to the universe [−1, 1]."),
         ("Motor mixing", "the paper's Fig. 5 is not in the text; here V_R = V0 + u, "
-         "V_L = V0 − u, each saturated to ±12 V, with the feed-forward V0 that makes the wheels "
-         f"turn at the reference speed |ṗd|/r in steady state (DC gain K/(Rb + K²) = "
+         f"V_L = V0 − u, each saturated to {v_lim}, with the feed-forward V0 that makes the "
+         "wheels turn at the reference speed |ṗd|/r in steady state (DC gain K/(Rb + K²) = "
          f"{v_dc:.4g} rad/s per V)."),
+        ("Speed", _speed_item(result)),
         ("Integral criteria", "IAE, ITAE, ISE, ITSE of the true heading error θd − θ "
          "(also reported on the measured one), by the trapezoid rule over the control instants "
          f"t_k = k·{loop.ts:g} s, k = 0 … N; ITAE and ITSE weight sample k by t_k."),
         ("Common random numbers", "seed index i is the same noise realisation for every "
          "controller, trajectory and noise level, so controllers are compared pairwise "
-         "(paired 95 % intervals of differences, win rates); the time-series figures show one "
-         f"realisation (seed index {cfg.figure_seed}), the statistics many."),
-        ("PD baseline", "a PD heading controller with a filtered derivative, tuned by a "
-         "log-spaced grid search on Kp × Kd minimising the mean ISE over the trajectories at the "
-         "study's σ, on tuning seeds disjoint from the evaluation seeds."),
+         "(paired 95 % intervals of differences, win rates with ties counting ½); the "
+         "time-series figures show one realisation (seed index "
+         f"{cfg.figure_seed}), the statistics many."),
+        ("PD baseline", _pd_item(result)),
         ("Dead-zone-matched baseline", "near the origin only the Z sets fire, so the FLC has a "
          "dead zone |e| < 0.2 (Δe small) and the IT2FLC one of 0.2 − w/2. The type-1 FLC built "
          "from the IT2FLC's upper MFs has the same dead zone; comparing against it separates the "
          "effect of the footprint from the effect of a narrower dead zone."),
-        ("Claims", "'holds' means the 95 % interval of the paired difference excludes zero in "
-         "the stated direction for every trajectory and criterion; each claim is tested at "
-         "every noise level of the sweep and reported as holds / does not hold / holds only for "
-         "σ in …. C3 ('of order 0.003') is read as within a factor √10 of 0.003."),
+        ("Claims", "each claim is tested at every noise level of the sweep, cell by cell "
+         "(trajectory × criterion × comparison). A cell supports the claim when the 95 % "
+         "interval of the paired difference lies on the claimed side of zero, contradicts it "
+         "when it lies on the other side, and is inconclusive when it contains zero (e.g. exact "
+         "ties). A level holds when every cell supports the claim and is contradicted when any "
+         "cell contradicts it; otherwise the claim is not shown there. Verdicts: holds / does "
+         "not hold / not shown / holds only for σ in …, with where it is contradicted or not "
+         f"shown. C3 ('of order {C3_TARGET:g}') is read as within a factor "
+         f"{'√10' if math.isclose(C3_FACTOR, math.sqrt(10.0)) else f'{C3_FACTOR:.3g}'} of "
+         f"{C3_TARGET:g}."),
     ]
     body = "".join(f"<li><b>{_e(k)}.</b> {_e(v)}</li>" for k, v in items)
     return ('<h2 id="assumptions">Assumptions</h2><p>What DESIGN.md fixes where the paper is '
-            f'silent, ambiguous or misprinted:</p><ul class="assumptions">{body}</ul>')
+            'silent, ambiguous or misprinted, and where this study departs from DESIGN.md:</p>'
+            f'<ul class="assumptions">{body}</ul>')
 
 
 def _claim_attr(claim: Any, name: str, default: Any = "") -> Any:
     if isinstance(claim, Mapping):
         return claim.get(name, default)
     return getattr(claim, name, default)
+
+
+def _claim_detail(claim: Any) -> str:
+    """Where the claim is contradicted / not shown (``ClaimResult.detail``), unless the verdict
+    already says it."""
+    detail = str(_claim_attr(claim, "detail", "") or "").strip()
+    return "" if not detail or detail in str(_claim_attr(claim, "verdict")) else detail
+
+
+def _verdict_html(claim: Any) -> str:
+    verdict = str(_claim_attr(claim, "verdict"))
+    detail = _claim_detail(claim)
+    extra = f' <span class="detail">({_e(detail)})</span>' if detail else ""
+    return f"{_e(verdict)}{extra}"
 
 
 def _glance(claims: Sequence[Any]) -> str:
@@ -449,10 +691,45 @@ def _glance(claims: Sequence[Any]) -> str:
         verdict = str(_claim_attr(c, "verdict"))
         items.append(
             f'<li><b>{_e(_claim_attr(c, "id"))}</b> {_e(_claim_attr(c, "statement"))}: '
-            f'<span class="verdict {_verdict_class(verdict)}">{_e(verdict)}</span></li>'
+            f'<span class="verdict {_verdict_class(verdict)}">{_verdict_html(c)}</span></li>'
         )
     return (f'<div class="glance"><b>Verdicts at a glance</b> (details in '
             f'<a href="#claims">Claims</a>)<ul>{"".join(items)}</ul></div>')
+
+
+def _outcome(row: Mapping[str, Any]) -> tuple[str, str]:
+    """(text, CSS class) of an evidence row's outcome: the ``outcome`` column, or the older
+    boolean ``passes`` (where "no" may be a tie, so it is grey, not red)."""
+    if "outcome" in row:
+        text = str(row["outcome"])
+        return text, _OUTCOME_CLASS.get(text.strip().lower(), "o-inc")
+    if "passes" in row:
+        ok = bool(row["passes"])
+        return ("supports" if ok else "not shown"), ("o-sup" if ok else "o-inc")
+    return "", ""
+
+
+def _evidence_table(evidence: Sequence[Mapping[str, Any]]) -> str:
+    cols = [k for k in evidence[0] if k not in ("outcome", "passes")]
+    first = evidence[0]
+    numeric = [isinstance(first[k], float | int | np.floating | np.integer)
+               and not isinstance(first[k], bool | np.bool_) for k in cols]
+    has_outcome = "outcome" in first or "passes" in first
+    header = [*cols, "outcome"] if has_outcome else cols
+    out = ['<div class="scroll"><table><thead><tr>']
+    out += [f"<th>{_e(h)}</th>" for h in header]
+    out.append("</tr></thead><tbody>")
+    for row in evidence:
+        out.append("<tr>")
+        for k, is_num in zip(cols, numeric, strict=True):
+            cell = _e(_fmt(row.get(k, "")))
+            out.append(f'<td class="num">{cell}</td>' if is_num else f"<td>{cell}</td>")
+        if has_outcome:
+            text, cls = _outcome(row)
+            out.append(f'<td class="{cls}">{_e(text)}</td>')
+        out.append("</tr>")
+    out.append("</tbody></table></div>")
+    return "".join(out)
 
 
 def _claims_section(claims: Sequence[Any]) -> str:
@@ -466,23 +743,34 @@ def _claims_section(claims: Sequence[Any]) -> str:
         parts.append(
             f'<tr><td><b>{_e(_claim_attr(c, "id"))}</b></td>'
             f'<td>{_e(_claim_attr(c, "statement"))}</td>'
-            f'<td class="verdict {_verdict_class(verdict)}">{_e(verdict)}</td>'
+            f'<td class="verdict {_verdict_class(verdict)}">{_verdict_html(c)}</td>'
             f'<td>{_e(_claim_attr(c, "criterion"))}</td></tr>'
         )
     parts.append("</tbody></table></div>")
+    parts.append("<p>Evidence outcome per cell: <b>supports</b> (the 95 % interval lies on the "
+                 "claimed side of zero), <b>contradicts</b> (it lies on the other side), "
+                 "<b>inconclusive</b> (it contains zero, e.g. exact ties). Win rates count ties "
+                 "as ½.</p>")
     for c in claims:
         evidence = list(_claim_attr(c, "evidence", []) or [])
         if not evidence:
             continue
-        cols = list(evidence[0])
-        numeric = [isinstance(evidence[0][k], float | int | np.floating | np.integer)
-                   and not isinstance(evidence[0][k], bool | np.bool_) for k in cols]
-        rows = [[r.get(k, "") for k in cols] for r in evidence]
         parts.append(f"<details><summary>Evidence for {_e(_claim_attr(c, 'id'))} "
-                     f"({len(rows)} rows)</summary>")
-        parts.append(_table(cols, rows, numeric=numeric))
+                     f"({len(evidence)} rows)</summary>")
+        parts.append(_evidence_table(evidence))
         parts.append("</details>")
     return "".join(parts)
+
+
+def _win_cell(row: Mapping[str, Any] | None) -> str:
+    """A win rate (ties counting ½) with the share of ties, if any."""
+    if row is None or row.get("win_rate") in ("", None):
+        return ""
+    text = _fmt(_num(row["win_rate"]), 3)
+    ties = _num(row.get("ties"))
+    if math.isfinite(ties) and ties > 0:
+        text += f" (ties {ties:.0%})"
+    return text
 
 
 def _summary_section(result: StudyResult, summary: Sequence[Mapping[str, Any]]) -> str:
@@ -499,7 +787,7 @@ def _summary_section(result: StudyResult, summary: Sequence[Mapping[str, Any]]) 
         if r["controller"] not in ctrls:
             ctrls.append(str(r["controller"]))
     header = ["trajectory", "controller"] + [f"{m} ({INTEGRAL_UNITS[m]})" for m in INTEGRALS]
-    header.append("ISE win rate vs FLC")
+    header.append("ISE win rate vs FLC (ties ½)")
     body = []
     for t in trajs:
         for c in ctrls:
@@ -508,15 +796,13 @@ def _summary_section(result: StudyResult, summary: Sequence[Mapping[str, Any]]) 
                 cell = index.get((t, c, m))
                 cells.append("" if cell is None else f"{_fmt(cell['mean'])} "
                              f"[{_fmt(cell['ci_low'], 3)}, {_fmt(cell['ci_high'], 3)}]")
-            ise = index.get((t, c, "ISE"))
-            win = "" if ise is None or ise.get("win_rate") in ("", None) else _fmt(
-                _num(ise["win_rate"]), 3)
-            cells.append(win)
+            cells.append(_win_cell(index.get((t, c, "ISE"))))
             body.append(cells)
     intro = (f"<p>The <code>paper</code> experiment: mean [95 % interval] over {n} noise "
              f"realisations at σ = {sigma:g} rad of the integral errors of the true heading "
              "error; win rate: fraction of realisations with a smaller ISE than the FLC on the "
-             "same realisation. The full table (all experiments, more metrics) is "
+             "same realisation, ties counting ½ (0.5: no difference; the share of exact ties "
+             "is given where there are any). The full table (all experiments, more metrics) is "
              "<code>summary.csv</code>.</p>")
     return head + intro + _table(header, body,
                                  numeric=[False, False] + [True] * (len(INTEGRALS) + 1))
