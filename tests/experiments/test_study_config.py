@@ -121,3 +121,19 @@ def test_non_default_reducers_get_their_own_label():
     b = ControllerSpec(kind=ControllerKind.IT2, fou=0.2, reducer="km")
     assert a == b and a.label == "IT2FLC FoU 0.2 km"
     assert ControllerSpec(kind=ControllerKind.IT2, fou=0.2).label == "IT2FLC FoU 0.2"
+
+
+def test_pd_tuning_matches_the_fuzzy_controllers_effort():
+    # The tuned PD may not work harder than the most active paper fuzzy controller on the same
+    # tuning runs, and is the lowest-ISE grid point that obeys that.
+    from it2track.experiments.study import PDTuning, tune_pd
+    from it2track.tracking import LoopConfig
+
+    cfg = replace(StudyConfig(), loop=LoopConfig(duration=2.0), fous=(0.2,), main_fou=0.2,
+                  pd=PDTuning(seeds=2, kp_grid=(2.0, 6.0, 20.0, 80.0), kd_grid=(0.0, 0.5)))
+    spec, rec = tune_pd(cfg)
+    assert rec["effort_limit_rule"].startswith("largest mean effort")
+    assert rec["effort"] <= rec["effort_limit"]
+    feasible = [g for g in rec["grid"] if g[3] <= rec["effort_limit"]]
+    assert (spec.kp, spec.kd) == tuple(min(feasible, key=lambda g: g[2])[:2])
+    assert any(g[3] > rec["effort_limit"] for g in rec["grid"]), "limit binds nowhere"

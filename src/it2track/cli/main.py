@@ -21,9 +21,9 @@ from .. import __version__
 
 __all__ = ["main"]
 
-#: PD gains used by ``it2track simulate --controller pd`` unless given: the order of the
-#: study's tuned PD at sigma = 0.05 rad (the study re-tunes on every run; see its report).
-DEFAULT_PD = {"kp": 60.0, "kd": 1.8}
+#: PD gains used by ``it2track simulate --controller pd`` unless given: close to the study's
+#: effort-matched PD at sigma = 0.05 rad (the study re-tunes on every run; see its report).
+DEFAULT_PD = {"kp": 6.0, "kd": 0.2}
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
@@ -150,7 +150,7 @@ def _quick(config: Any) -> Any:
     from ..experiments.study import PDTuning
 
     pd = None if config.pd is None else PDTuning(
-        seeds=2, kp_grid=(10.0, 40.0, 160.0), kd_grid=(0.0, 0.5, 2.0), tf=config.pd.tf
+        seeds=2, kp_grid=(2.0, 6.0, 20.0), kd_grid=(0.0, 0.2, 1.0), tf=config.pd.tf
     )
     return replace(config, seeds=6, sweep_seeds=4, noise_levels=(0.0, 0.05, 0.2),
                    fou_sweep=(0.0, 0.1, 0.2, 0.3), pd=pd)

@@ -77,10 +77,12 @@ class PDTuning:
     ``seeds`` tuning realisations (seed indices ``1_000_000 + i``, never used for evaluation)
     at the study's noise level, over the study's trajectories: the gains with the smallest
     mean ISE of the true heading error among those whose mean control effort (integral of
-    ``u^2``) stays within ``effort_limit`` V^2 s. Without the limit the ISE-optimal PD chatters
-    between the voltage limits (effort ~400 V^2 s against at most ~45 for the fuzzy
-    controllers), which is no fair comparison. ``kp``/``kd`` set explicitly skip tuning;
-    ``effort_limit = None`` removes the constraint.
+    ``u^2``) is at most the limit. With ``match_effort`` (default) the limit is the largest mean
+    effort of the paper's fuzzy controllers (FLC and the IT2FLCs) on the same tuning runs: the
+    PD may work as hard as the most active of them, not harder. Otherwise it is
+    ``effort_limit`` V^2 s (``None``: unconstrained -- the ISE-optimal PD then chatters between
+    the voltage limits, ~400 V^2 s, which is no fair comparison). ``kp``/``kd`` set explicitly
+    skip tuning.
     """
 
     seeds: int = 16
@@ -89,7 +91,8 @@ class PDTuning:
         0.0, *(float(round(v, 4)) for v in np.geomspace(0.01, 8.0, 10))
     )
     tf: float = 0.02
-    effort_limit: float | None = 50.0
+    match_effort: bool = True
+    effort_limit: float | None = None
     kp: float | None = None
     kd: float | None = None
 
@@ -231,7 +234,7 @@ class StudyConfig:
             "pd": None if self.pd is None else {
                 "seeds": self.pd.seeds, "kp_grid": list(self.pd.kp_grid),
                 "kd_grid": list(self.pd.kd_grid), "tf": self.pd.tf,
-                "effort_limit": self.pd.effort_limit,
+                "match_effort": self.pd.match_effort, "effort_limit": self.pd.effort_limit,
                 "kp": self.pd.kp, "kd": self.pd.kd,
             },
             "controllers": [s.to_dict() for s in self.extra_controllers],
@@ -288,6 +291,8 @@ def load_study_config(path: str | Path, **overrides: Any) -> StudyConfig:
         for key in ("tf", "kp", "kd", "effort_limit"):
             if key in pd_t:
                 pd_values[key] = pd_t.get(key, float)
+        if "match_effort" in pd_t:
+            pd_values["match_effort"] = pd_t.get("match_effort", bool)
         values["pd"] = PDTuning(**pd_values)
     else:
         values["pd"] = None
@@ -420,7 +425,8 @@ def experiment_sizes(config: StudyConfig) -> dict[str, int]:
     n_t = len(config.trajectories)
     return {
         "pd_tuning": 0 if config.pd is None or config.pd.kp is not None
-        else len(config.pd.kp_grid) * len(config.pd.kd_grid) * n_t * config.pd.seeds,
+        else (len(config.pd.kp_grid) * len(config.pd.kd_grid)
+              + (1 + len(config.fous)) * config.pd.match_effort) * n_t * config.pd.seeds,
         "paper": len(config.paper_controllers(None) if pd_count == 0 else
                      config.paper_controllers(ControllerSpec(kind=ControllerKind.PD, kp=1.0)))
         * n_t * config.seeds,
@@ -449,10 +455,7 @@ def tune_pd(
     trajs = [get_trajectory(t) for t in config.trajectories]
     seeds = TUNING_SEED_OFFSET + np.arange(tuning.seeds)
 
-    def evaluate(gains: Sequence[tuple[float, float]]) -> tuple[FloatArray, FloatArray]:
-        ctrls: list[HeadingController] = [
-            PDHeadingController(kp=kp, kd=kd, tf=tuning.tf) for kp, kd in gains
-        ]
+    def evaluate(ctrls: Sequence[HeadingController]) -> tuple[FloatArray, FloatArray]:
         runs = run_grid(len(ctrls), len(trajs), [config.noise_std], seeds.tolist())
         m = simulate_metrics(ctrls, trajs, runs, config.loop, batch_size=config.batch_size,
                              progress=progress)
@@ -460,13 +463,22 @@ def tune_pd(
         return m["ISE"].reshape(shape).mean(axis=1), m["effort"].reshape(shape).mean(axis=1)
 
     grid = [(kp, kd) for kp in tuning.kp_grid for kd in tuning.kd_grid]
-    ise, effort = evaluate(grid)
-    limit = math.inf if tuning.effort_limit is None else tuning.effort_limit
+    ise, effort = evaluate([PDHeadingController(kp=kp, kd=kd, tf=tuning.tf) for kp, kd in grid])
+    if tuning.match_effort:
+        fuzzy = [ControllerSpec(kind=ControllerKind.FLC)] + [
+            ControllerSpec(kind=ControllerKind.IT2, fou=w) for w in config.fous
+        ]
+        _, fuzzy_effort = evaluate([s.build() for s in fuzzy])
+        limit = float(fuzzy_effort.max())
+        rule = "largest mean effort of the FLC and the IT2FLCs on the tuning runs"
+    else:
+        limit = math.inf if tuning.effort_limit is None else tuning.effort_limit
+        rule = "fixed" if tuning.effort_limit is not None else "none"
     feasible = effort <= limit
     if not feasible.any():
         raise ValueError(
             f"PD tuning: no gains on the grid keep the mean effort within "
-            f"effort_limit={tuning.effort_limit} V^2 s (smallest {effort.min():.3g}); "
+            f"{limit:.3g} V^2 s (smallest {effort.min():.3g}); "
             "raise the limit or extend the grid towards smaller gains"
         )
     best = int(np.argmin(np.where(feasible, ise, np.inf)))
@@ -480,7 +492,8 @@ def tune_pd(
                  for g, v, f in zip(grid, ise, effort, strict=True)],
         "grid_columns": ["kp", "kd", "mean ISE", "mean effort"],
         "kp": spec.kp, "kd": spec.kd, "objective": best_value, "on_grid_edge": edge,
-        "effort": float(effort[best]), "effort_limit": tuning.effort_limit,
+        "effort": float(effort[best]),
+        "effort_limit": None if math.isinf(limit) else limit, "effort_limit_rule": rule,
         "seed_indices": [int(seeds[0]), int(seeds[-1])],
         "noise_std": config.noise_std, "criterion": "mean ISE over trajectories",
     }

@@ -509,10 +509,13 @@ def _pd_section(result: StudyResult, summary: Sequence[Mapping[str, Any]]) -> st
         candidates = [g for g in grid if _num(g[3]) <= _num(limit)]
     best = sorted(candidates, key=lambda g: _num(g[2]))[:5]
     seeds = rec.get("seed_indices") or ["?", "?"]
+    rule = rec.get("effort_limit_rule")
+    why = (f"the {_e(rule)}" if rule and rule not in ("fixed", "none")
+           else "comparable to the fuzzy controllers")
     constraint = "" if limit is None else (
         f", among the gains whose mean control effort ∫u² dt stays within "
-        f"{_e(_fmt(limit))} V²·s (comparable to the fuzzy controllers; without a limit the "
-        "ISE-optimal PD chatters between its voltage limits)")
+        f"{_e(_fmt(limit))} V²·s ({why}; without a limit the ISE-optimal PD chatters between "
+        "its voltage limits)")
     chosen_effort = "" if effort is None else f", mean effort {_e(_fmt(effort, 3))} V²·s"
     edge = "; on the edge of the grid (a wider grid might do better)" if rec.get(
         "on_grid_edge") else ""
@@ -584,10 +587,16 @@ def _pd_item(result: StudyResult) -> str:
         return ("a PD heading controller with a filtered derivative, gains given in the "
                 "configuration.")
     limit = getattr(tuning, "effort_limit", None)
-    constraint = "" if limit is None else (
-        f" among the gains whose mean control effort ∫u² dt stays within {limit:g} V²·s, "
-        "comparable to the fuzzy controllers' (the ISE-optimal PD without this limit chatters "
-        "between the voltage limits, no fair comparison)")
+    if getattr(tuning, "match_effort", False):
+        constraint = (" among the gains whose mean control effort ∫u² dt is at most that of "
+                      "the most active of the FLC and the IT2FLCs on the same tuning runs "
+                      "(the ISE-optimal PD without this limit chatters between the voltage "
+                      "limits, no fair comparison)")
+    else:
+        constraint = "" if limit is None else (
+            f" among the gains whose mean control effort ∫u² dt stays within {limit:g} V²·s "
+            "(the ISE-optimal PD without this limit chatters between the voltage limits, no "
+            "fair comparison)")
     return ("a PD heading controller with a filtered derivative, tuned by a log-spaced grid "
             "search on Kp × Kd for the lowest mean ISE over the trajectories at the study's σ"
             f"{constraint}, on tuning seeds disjoint from the evaluation seeds.")
