@@ -130,3 +130,17 @@ def test_fis_eval_takes_negative_values(tmp_path):
     assert result.exit_code == 0, result.output
     u = float(result.output.split("=")[1].split()[0])
     assert u == pytest.approx(it2track.heading_fls(0.2)(0.3, -0.1), rel=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (["--controller", "pd", "--fou", "0.3"], "--fou does not apply to --controller pd"),
+        (["--controller", "flc", "--kp", "3"], "--kp does not apply"),
+        (["--controller", "t1-matched", "--reducer", "km"], "--reducer does not apply"),
+        (["--noise-power", "0.1", "--noise-std", "0.2"], "not both"),
+    ],
+)
+def test_simulate_rejects_options_it_would_ignore(args, needle):
+    result = CliRunner().invoke(main, ["simulate", "--duration", "0.1", *args])
+    assert result.exit_code != 0 and needle in result.output, result.output

@@ -81,6 +81,7 @@ def simulate(**opts: Any) -> None:
     from ..tracking import LoopConfig, RunTable, get_trajectory
     from ..tracking import simulate as run
 
+    _reject_inapplicable(click.get_current_context(), opts)
     try:
         if opts["noise_power"] is not None:
             noise = HeadingNoise.from_band_limited_power(opts["noise_power"],
@@ -137,6 +138,32 @@ def simulate(**opts: Any) -> None:
     width = max(len(k) for k in metrics)
     for key, value in metrics.items():
         click.echo(f"  {key:<{width}}  {value:.6g}")
+
+
+_APPLIES = {
+    "fou": ("it2", "t1-matched"),
+    "reducer": ("it2",),
+    "ke": ("flc", "it2", "t1-matched", "file"),
+    "kde": ("flc", "it2", "t1-matched", "file"),
+    "kp": ("pd",),
+    "kd": ("pd",),
+}
+
+
+def _reject_inapplicable(ctx: click.Context, opts: dict[str, Any]) -> None:
+    """Options given on the command line that the chosen controller would silently ignore."""
+    from click.core import ParameterSource
+
+    def given(name: str) -> bool:
+        return ctx.get_parameter_source(name) is ParameterSource.COMMANDLINE
+
+    kind = "file" if opts["controller_file"] else opts["controller"]
+    for name, kinds in _APPLIES.items():
+        if given(name) and kind not in kinds:
+            what = "--controller-file" if kind == "file" else f"--controller {kind}"
+            _fail(f"--{name.replace('_', '-')} does not apply to {what}")
+    if given("noise_power") and given("noise_std"):
+        _fail("give either --noise-std or --noise-power, not both")
 
 
 # --------------------------------------------------------------------------------------------

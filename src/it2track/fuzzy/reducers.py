@@ -457,7 +457,7 @@ class TypeReducer:
         batch = fl.shape[:-1]
         fl2 = np.ascontiguousarray(np.moveaxis(fl, -1, 0).reshape(r, -1))
         fu2 = np.ascontiguousarray(np.moveaxis(fu, -1, 0).reshape(r, -1))
-        if self.name == "wu-mendel" and np.any(fl2.sum(axis=0) <= 0):
+        if self._approx is _wu_mendel and np.any(fl2.sum(axis=0) <= 0):
             raise ZeroFiringError("Wu-Mendel bounds need a positive total lower firing strength")
         yl, yr = self.reduce_rules_first(
             fl2, fu2, y_lo, y_hi, np.argsort(y_lo, kind="stable"), np.argsort(y_hi, kind="stable")
