@@ -196,11 +196,9 @@ class Gaussian:
 
 
 @dataclass(frozen=True)
-class UncertainMeanGaussianUpper:
-    """Upper MF of a Gaussian with uncertain mean in ``[m1, m2]``: flat top ``h`` between means.
-
-    ``sigma > 0`` is the common standard deviation, ``h`` the height.
-    """
+class _UncertainMeanGaussian:
+    """Parameters shared by the two bounds of a Gaussian with uncertain mean in ``[m1, m2]``:
+    ``sigma > 0`` is the common standard deviation, ``h`` the height."""
 
     m1: float
     m2: float
@@ -208,13 +206,21 @@ class UncertainMeanGaussianUpper:
     h: float = 1.0
 
     def __post_init__(self) -> None:
-        name = f"UncertainMeanGaussianUpper(m1={self.m1}, m2={self.m2}, sigma={self.sigma})"
+        name = f"{type(self).__name__}(m1={self.m1}, m2={self.m2}, sigma={self.sigma})"
         _check_finite(name, m1=self.m1, m2=self.m2, sigma=self.sigma, h=self.h)
         if self.m1 > self.m2:
             raise ValueError(f"{name}: means must satisfy m1 <= m2")
         if self.sigma <= 0:
             raise ValueError(f"{name}: sigma={self.sigma!r} must be > 0")
         _check_height(name, self.h)
+
+
+@dataclass(frozen=True)
+class UncertainMeanGaussianUpper(_UncertainMeanGaussian):
+    """Upper MF of a Gaussian with uncertain mean in ``[m1, m2]``: flat top ``h`` between means.
+
+    ``sigma > 0`` is the common standard deviation, ``h`` the height.
+    """
 
     def __call__(self, x: ArrayLike) -> FloatArray:
         x = np.asarray(x, dtype=np.float64)
@@ -223,25 +229,11 @@ class UncertainMeanGaussianUpper:
 
 
 @dataclass(frozen=True)
-class UncertainMeanGaussianLower:
+class UncertainMeanGaussianLower(_UncertainMeanGaussian):
     """Lower MF of a Gaussian with uncertain mean in ``[m1, m2]``: the smaller of the two.
 
     ``sigma > 0`` is the common standard deviation, ``h`` the height.
     """
-
-    m1: float
-    m2: float
-    sigma: float
-    h: float = 1.0
-
-    def __post_init__(self) -> None:
-        name = f"UncertainMeanGaussianLower(m1={self.m1}, m2={self.m2}, sigma={self.sigma})"
-        _check_finite(name, m1=self.m1, m2=self.m2, sigma=self.sigma, h=self.h)
-        if self.m1 > self.m2:
-            raise ValueError(f"{name}: means must satisfy m1 <= m2")
-        if self.sigma <= 0:
-            raise ValueError(f"{name}: sigma={self.sigma!r} must be > 0")
-        _check_height(name, self.h)
 
     def __call__(self, x: ArrayLike) -> FloatArray:
         x = np.asarray(x, dtype=np.float64)
