@@ -150,6 +150,17 @@ class ParsedRule:
     line: int
 
 
+@dataclass(frozen=True)
+class Counts:
+    """Sizes declared in ``[System]``, with the entries that declared them (for messages)."""
+
+    n_inputs: int
+    n_in_entry: Entry
+    n_out_entry: Entry
+    n_rules: int
+    n_rules_entry: Entry
+
+
 class Document:
     """A parsed MATLAB-style fuzzy-system file.
 
@@ -218,6 +229,34 @@ class Document:
                     f"missing section [{title}] ({promised_by.key}={promised_by.value})",
                 ) from None
             raise self.error(None, f"missing section [{title}]") from None
+
+    def sugeno_name(self, system: Section) -> str:
+        """The ``Name`` of a ``[System]`` (``""`` if absent), after checking ``Type='sugeno'``."""
+        name = self.string(system.entries["Name"]) if "Name" in system.entries else ""
+        type_entry = self.entry(system, "Type")
+        fis_type = self.string(type_entry)
+        if fis_type.lower() != "sugeno":
+            raise self.error(
+                type_entry.line, f"Type={fis_type!r} is not supported (zero-order 'sugeno' only)"
+            )
+        return name
+
+    def counts(self, system: Section) -> Counts:
+        """``NumInputs``, ``NumOutputs`` (must be 1) and ``NumRules`` of a ``[System]``, with no
+        ``[InputN]``/``[OutputN]`` sections beyond them."""
+        n_in_entry = self.entry(system, "NumInputs")
+        n_inputs = self.integer(n_in_entry, minimum=1)
+        n_out_entry = self.entry(system, "NumOutputs")
+        n_outputs = self.integer(n_out_entry, minimum=1)
+        if n_outputs != 1:
+            raise self.error(
+                n_out_entry.line, f"NumOutputs={n_outputs}: only one output is supported"
+            )
+        n_rules_entry = self.entry(system, "NumRules")
+        n_rules = self.integer(n_rules_entry, minimum=1)
+        self.check_no_extra_sections("Input", n_inputs, n_in_entry)
+        self.check_no_extra_sections("Output", n_outputs, n_out_entry)
+        return Counts(n_inputs, n_in_entry, n_out_entry, n_rules, n_rules_entry)
 
     def check_no_extra_sections(self, kind: str, count: int, promised_by: Entry) -> None:
         for section in self.sections.values():

@@ -172,13 +172,7 @@ def loads(text: str, path: str = "<string>") -> IT2Sugeno | T1Sugeno:
     doc = Document(text, path)
     system = doc.section("System")
     doc.check_keys(system, _SYSTEM_KEYS)
-    name = doc.string(system.entries["Name"]) if "Name" in system.entries else ""
-    type_entry = doc.entry(system, "Type")
-    fis_type = doc.string(type_entry)
-    if fis_type.lower() != "sugeno":
-        raise doc.error(
-            type_entry.line, f"Type={fis_type!r} is not supported (zero-order 'sugeno' only)"
-        )
+    name = doc.sugeno_name(system)
     if "Version" in system.entries:
         doc.number(system.entries["Version"])
     for key in ("OrMethod", "ImpMethod", "AggMethod"):
@@ -211,16 +205,9 @@ def loads(text: str, path: str = "<string>") -> IT2Sugeno | T1Sugeno:
                 entry.line, f"unknown TypeReductionMethod {method!r} (known: {known})"
             )
         reducer = _READ_REDUCERS[method.strip().lower()]
-    n_in_entry = doc.entry(system, "NumInputs")
-    n_inputs = doc.integer(n_in_entry, minimum=1)
-    n_out_entry = doc.entry(system, "NumOutputs")
-    n_outputs = doc.integer(n_out_entry, minimum=1)
-    if n_outputs != 1:
-        raise doc.error(n_out_entry.line, f"NumOutputs={n_outputs}: only one output is supported")
-    n_rules_entry = doc.entry(system, "NumRules")
-    n_rules = doc.integer(n_rules_entry, minimum=1)
-    doc.check_no_extra_sections("Input", n_inputs, n_in_entry)
-    doc.check_no_extra_sections("Output", n_outputs, n_out_entry)
+    counts = doc.counts(system)
+    n_inputs, n_in_entry, n_out_entry = counts.n_inputs, counts.n_in_entry, counts.n_out_entry
+    n_rules, n_rules_entry = counts.n_rules, counts.n_rules_entry
 
     inputs = []
     for k in range(1, n_inputs + 1):
@@ -262,7 +249,7 @@ def loads(text: str, path: str = "<string>") -> IT2Sugeno | T1Sugeno:
         consequents.append((mfv.params[0], mfv.params[0]))
 
     rules_section = doc.section("Rules", promised_by=n_rules_entry)
-    parsed = doc.rules(rules_section, n_inputs, n_outputs)
+    parsed = doc.rules(rules_section, n_inputs, 1)
     if len(parsed) != n_rules:
         raise doc.error(
             n_rules_entry.line, f"NumRules={n_rules} but [Rules] has {len(parsed)} rules"

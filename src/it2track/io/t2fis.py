@@ -150,13 +150,7 @@ def loads(text: str, path: str = "<string>") -> IT2Sugeno | T1Sugeno:
     doc = Document(text, path)
     system = doc.section("System")
     doc.check_keys(system, _SYSTEM_KEYS)
-    name = doc.string(system.entries["Name"]) if "Name" in system.entries else ""
-    type_entry = doc.entry(system, "Type")
-    fis_type = doc.string(type_entry)
-    if fis_type.lower() != "sugeno":
-        raise doc.error(
-            type_entry.line, f"Type={fis_type!r} is not supported (zero-order 'sugeno' only)"
-        )
+    name = doc.sugeno_name(system)
     for key in ("OrMethod", "ImpMethod", "AggMethod", "DefuzzMethod", "outputType"):
         if key in system.entries:
             doc.string(system.entries[key])
@@ -184,16 +178,9 @@ def loads(text: str, path: str = "<string>") -> IT2Sugeno | T1Sugeno:
                 f"{problem} (known: Karnik-Mendel, KM, EKM, IASC, EIASC, EODS, NT, WM)",
             )
         reducer = _READ_REDUCERS[key]
-    n_in_entry = doc.entry(system, "NumInputs")
-    n_inputs = doc.integer(n_in_entry, minimum=1)
-    n_out_entry = doc.entry(system, "NumOutputs")
-    n_outputs = doc.integer(n_out_entry, minimum=1)
-    if n_outputs != 1:
-        raise doc.error(n_out_entry.line, f"NumOutputs={n_outputs}: only one output is supported")
-    n_rules_entry = doc.entry(system, "NumRules")
-    n_rules = doc.integer(n_rules_entry, minimum=1)
-    doc.check_no_extra_sections("Input", n_inputs, n_in_entry)
-    doc.check_no_extra_sections("Output", n_outputs, n_out_entry)
+    counts = doc.counts(system)
+    n_inputs, n_in_entry, n_out_entry = counts.n_inputs, counts.n_in_entry, counts.n_out_entry
+    n_rules, n_rules_entry = counts.n_rules, counts.n_rules_entry
 
     inputs = []
     all_type1 = True
@@ -247,7 +234,7 @@ def loads(text: str, path: str = "<string>") -> IT2Sugeno | T1Sugeno:
         consequents.append((lo, hi))
 
     rules_section = doc.section("Rules", promised_by=n_rules_entry)
-    parsed = doc.rules(rules_section, n_inputs, n_outputs)
+    parsed = doc.rules(rules_section, n_inputs, 1)
     if len(parsed) != n_rules:
         raise doc.error(
             n_rules_entry.line, f"NumRules={n_rules} but [Rules] has {len(parsed)} rules"
