@@ -209,9 +209,9 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
     from ..experiments.study import (
         ROW_KEYS,
         StudyConfig,
-        experiment_sizes,
         load_study_config,
         run_study,
+        study_run_count,
     )
     from ..report import outputs
     from ..tracking import METRIC_NAMES
@@ -228,7 +228,7 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
     except (ConfigError, ValueError) as exc:
         _fail(str(exc))
         return
-    total = sum(experiment_sizes(config).values())
+    total = study_run_count(config)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     staging = Path(tempfile.mkdtemp(prefix=".reproduce-", dir=out))

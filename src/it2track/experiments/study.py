@@ -60,6 +60,7 @@ __all__ = [
     "experiment_sizes",
     "load_study_config",
     "run_study",
+    "study_run_count",
     "tune_pd",
 ]
 
@@ -390,37 +391,94 @@ def _specs_fou(spec: ControllerSpec) -> float:
     return spec.fou if spec.kind in (ControllerKind.IT2, ControllerKind.T1_MATCHED) else 0.0
 
 
-def _run_experiment(
-    name: str,
-    specs: Sequence[ControllerSpec],
-    trajectories: Sequence[str],
-    noise_levels: Sequence[float],
-    n_seeds: int,
-    config: StudyConfig,
-    progress: Callable[[int], object] | None,
-) -> dict[str, np.ndarray]:
-    controllers = [s.build() for s in specs]
-    trajs = [get_trajectory(t) for t in trajectories]
-    runs = run_grid(len(controllers), len(trajs), noise_levels, n_seeds)
-    metrics = simulate_metrics(
-        controllers, trajs, runs, config.loop, batch_size=config.batch_size, progress=progress
-    )
-    n = len(runs)
-    rows: dict[str, np.ndarray] = {
-        "experiment": np.full(n, name, dtype=object),
-        "trajectory": np.array([trajectories[i] for i in runs.trajectory], dtype=object),
-        "controller": np.array([specs[i].label for i in runs.controller], dtype=object),
-        "kind": np.array([specs[i].kind.value for i in runs.controller], dtype=object),
-        "fou": np.array([_specs_fou(specs[i]) for i in runs.controller]),
-        "noise_std": runs.noise_std.copy(),
-        "seed": runs.seed.copy(),
-    }
-    rows.update(metrics)
-    return rows
+@dataclass(frozen=True)
+class _Experiment:
+    name: str
+    specs: tuple[ControllerSpec, ...]
+    noise_levels: tuple[float, ...]
+    n_seeds: int
+
+
+def _experiments(config: StudyConfig, pd: ControllerSpec | None) -> list[_Experiment]:
+    return [
+        _Experiment("paper", tuple(config.paper_controllers(pd)), (config.noise_std,),
+                    config.seeds),
+        _Experiment("noise", tuple(config.noise_controllers(pd)), config.noise_levels,
+                    config.sweep_seeds),
+        _Experiment("fou", tuple(config.fou_controllers()), (config.noise_std,),
+                    config.sweep_seeds),
+    ]
+
+
+@dataclass(frozen=True)
+class _Plan:
+    """The distinct runs behind every row of every experiment.
+
+    The experiments overlap (the paper experiment's controllers at the study's sigma reappear
+    in both sweeps with the same seeds), and without noise every seed gives the same run; each
+    distinct (controller, trajectory, sigma, seed) is simulated once and its metrics are shared
+    by the rows that need it -- bit for bit what separate simulations would give, since a run
+    does not depend on its batch.
+    """
+
+    specs: tuple[ControllerSpec, ...]
+    runs: RunTable
+    rows: tuple[tuple[_Experiment, RunTable, NDArray[np.intp]], ...]
+
+
+def _plan(config: StudyConfig, experiments: Sequence[_Experiment]) -> _Plan:
+    spec_index: dict[ControllerSpec, int] = {}
+    keys: dict[tuple[int, int, float, int], int] = {}
+    rows = []
+    n_traj = len(config.trajectories)
+    for exp in experiments:
+        grid = run_grid(len(exp.specs), n_traj, exp.noise_levels, exp.n_seeds)
+        ctrl = [spec_index.setdefault(spec, len(spec_index)) for spec in exp.specs]
+        index = np.empty(len(grid), dtype=np.intp)
+        for r, (c, t, sigma, seed) in enumerate(zip(
+            grid.controller.tolist(), grid.trajectory.tolist(), grid.noise_std.tolist(),
+            grid.seed.tolist(), strict=True,
+        )):
+            key = (ctrl[c], t, sigma, seed if sigma > 0.0 else 0)
+            index[r] = keys.setdefault(key, len(keys))
+        rows.append((exp, grid, index))
+    table = np.array(list(keys), dtype=np.float64).reshape(-1, 4)
+    runs = RunTable(table[:, 0].astype(np.int64), table[:, 1].astype(np.int64), table[:, 2],
+                    table[:, 3].astype(np.int64))
+    return _Plan(specs=tuple(spec_index), runs=runs, rows=tuple(rows))
+
+
+def _rows_of(plan: _Plan, metrics: dict[str, np.ndarray],
+             trajectories: Sequence[str]) -> dict[str, np.ndarray]:
+    parts = []
+    for exp, grid, index in plan.rows:
+        n = len(grid)
+        specs = exp.specs
+        part: dict[str, np.ndarray] = {
+            "experiment": np.full(n, exp.name, dtype=object),
+            "trajectory": np.array([trajectories[i] for i in grid.trajectory], dtype=object),
+            "controller": np.array([specs[i].label for i in grid.controller], dtype=object),
+            "kind": np.array([specs[i].kind.value for i in grid.controller], dtype=object),
+            "fou": np.array([_specs_fou(specs[i]) for i in grid.controller]),
+            "noise_std": grid.noise_std.copy(),
+            "seed": grid.seed.copy(),
+        }
+        part.update({name: values[index] for name, values in metrics.items()})
+        parts.append(part)
+    return {key: np.concatenate([p[key] for p in parts]) for key in parts[0]}
+
+
+def study_run_count(config: StudyConfig) -> int:
+    """Number of simulations :func:`run_study` performs (PD tuning plus the distinct runs of
+    the experiments), for sizing a progress bar."""
+    placeholder = None if config.pd is None else ControllerSpec(
+        kind=ControllerKind.PD, kp=1.0, label="PD (tuned)")
+    plan = _plan(config, _experiments(config, placeholder))
+    return experiment_sizes(config)["pd_tuning"] + len(plan.runs)
 
 
 def experiment_sizes(config: StudyConfig) -> dict[str, int]:
-    """Number of runs of each experiment (for progress bars)."""
+    """Number of rows of each experiment, and of PD tuning runs (``"pd_tuning"``)."""
     pd_count = 0 if config.pd is None else 1
     n_t = len(config.trajectories)
     return {
@@ -511,21 +569,19 @@ def run_study(
     ----------
     progress : callable, optional
         Called with the number of runs finished, as they finish (for a progress bar sized by
-        ``sum(experiment_sizes(config).values())``).
+        :func:`study_run_count`).
     """
     if config.pd is not None:
         pd, pd_record = tune_pd(config, progress)
     else:
         pd, pd_record = None, {}
-    parts = [
-        _run_experiment("paper", config.paper_controllers(pd), config.trajectories,
-                        [config.noise_std], config.seeds, config, progress),
-        _run_experiment("noise", config.noise_controllers(pd), config.trajectories,
-                        config.noise_levels, config.sweep_seeds, config, progress),
-        _run_experiment("fou", config.fou_controllers(), config.trajectories,
-                        [config.noise_std], config.sweep_seeds, config, progress),
-    ]
-    rows = {key: np.concatenate([p[key] for p in parts]) for key in parts[0]}
+    plan = _plan(config, _experiments(config, pd))
+    metrics = simulate_metrics(
+        [spec.build() for spec in plan.specs],
+        [get_trajectory(t) for t in config.trajectories],
+        plan.runs, config.loop, batch_size=config.batch_size, progress=progress,
+    )
+    rows = _rows_of(plan, metrics, config.trajectories)
 
     # Time series of one realisation for the figures.
     traced = [ControllerSpec(kind=ControllerKind.FLC)] + [

@@ -1,0 +1,54 @@
+"""The study simulates each distinct run once; every row must still equal its own simulation."""
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from it2track.experiments.specs import ControllerKind, ControllerSpec
+from it2track.experiments.study import (
+    StudyConfig,
+    experiment_sizes,
+    run_study,
+    study_run_count,
+)
+from it2track.tracking import METRIC_NAMES, LoopConfig, RunTable, get_trajectory, simulate
+
+
+@pytest.fixture(scope="module")
+def small():
+    cfg = replace(StudyConfig(), loop=LoopConfig(duration=1.0), seeds=4, sweep_seeds=3,
+                  noise_levels=(0.0, 0.05, 0.2), fou_sweep=(0.0, 0.2, 0.3), pd=None)
+    return cfg, run_study(cfg)
+
+
+def test_every_row_equals_a_direct_simulation_of_it(small):
+    cfg, result = small
+    rows = result.rows
+    rng = np.random.default_rng(0)
+    picks = set(rng.choice(len(rows["seed"]), size=25, replace=False).tolist())
+    # always include noise-free rows with a non-zero seed, which share one simulation
+    picks |= set(np.flatnonzero((rows["noise_std"] == 0.0) & (rows["seed"] > 0))[:5].tolist())
+    labels = {s.label: s for s in [
+        ControllerSpec(kind=ControllerKind.FLC),
+        *(ControllerSpec(kind=k, fou=w) for k in (ControllerKind.IT2, ControllerKind.T1_MATCHED)
+          for w in (0.1, 0.2, 0.3)),
+    ]}
+    for i in sorted(picks):
+        spec = labels[rows["controller"][i]]
+        trace = simulate([spec.build()], [get_trajectory(rows["trajectory"][i])],
+                         RunTable(0, 0, rows["noise_std"][i], rows["seed"][i]), cfg.loop)
+        for name in METRIC_NAMES:
+            assert rows[name][i] == trace.metrics[name][0], (
+                f"row {i} ({rows['experiment'][i]}, {rows['controller'][i]}, "
+                f"{rows['trajectory'][i]}, sigma {rows['noise_std'][i]}, seed "
+                f"{rows['seed'][i]}): {name}"
+            )
+
+
+def test_shared_runs_are_simulated_once(small):
+    cfg, result = small
+    rows = len(result.rows["seed"])
+    sizes = experiment_sizes(cfg)
+    assert rows == sizes["paper"] + sizes["noise"] + sizes["fou"]
+    assert study_run_count(cfg) < rows  # overlaps and noise-free seeds are not re-run
