@@ -17,8 +17,12 @@ D1  (Not a paper claim; the question the fair baseline answers.) The IT2FLC beat
     FLC that has the same dead zone: same test as C1 against the dead-zone-matched FLC. Where
     C1 holds and D1 does not, the gain comes from the narrower dead zone, not from the FoU.
 
-Each verdict reads "holds" (at every level), "does not hold" (at none) or "holds only for
-sigma in ..." (listing where it holds).
+Every comparison cell *supports* a claim (interval on the claimed side of 0), *contradicts*
+it (interval on the other side) or is *inconclusive* (interval containing 0, e.g. exact ties).
+A level holds when every cell supports the claim and is contradicted when any cell contradicts
+it. Each verdict reads "holds" (at every level), "does not hold" (contradicted somewhere,
+holding nowhere), "not shown" (inconclusive everywhere) or "holds only for sigma in ..."
+(listing where it holds), with a detail naming where it is contradicted or not shown.
 """
 
 from __future__ import annotations
