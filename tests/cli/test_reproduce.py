@@ -144,3 +144,10 @@ def test_fis_eval_takes_negative_values(tmp_path):
 def test_simulate_rejects_options_it_would_ignore(args, needle):
     result = CliRunner().invoke(main, ["simulate", "--duration", "0.1", *args])
     assert result.exit_code != 0 and needle in result.output, result.output
+
+
+def test_reproduce_rejects_workers_and_scheduler_together(tmp_path):
+    result = CliRunner().invoke(main, ["reproduce", "--quick", "--workers", "2", "--scheduler",
+                                       "tcp://127.0.0.1:1", "--out", str(tmp_path / "o")])
+    assert result.exit_code != 0 and "not both" in result.output, result.output
+    assert not (tmp_path / "o").exists()

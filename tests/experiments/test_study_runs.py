@@ -52,3 +52,14 @@ def test_shared_runs_are_simulated_once(small):
     sizes = experiment_sizes(cfg)
     assert rows == sizes["paper"] + sizes["noise"] + sizes["fou"]
     assert study_run_count(cfg) < rows  # overlaps and noise-free seeds are not re-run
+
+
+def test_local_workers_give_the_same_rows(small):
+    from it2track.experiments.executors import ProcessExecutor
+
+    cfg, result = small
+    chunked = replace(cfg, batch_size=97)  # many chunks, finishing in any order
+    with ProcessExecutor(2) as ex:
+        other = run_study(chunked, executor=ex)
+    for name, values in result.rows.items():
+        assert np.array_equal(values, other.rows[name]), name

@@ -192,9 +192,14 @@ def _quick(config: Any) -> Any:
 @click.option("--sweep-seeds", type=click.IntRange(min=1),
               help="Noise realisations per cell of the noise and FoU sweeps.")
 @click.option("--quick", is_flag=True, help="A seconds-long smoke version (few seeds/levels).")
+@click.option("--workers", type=click.IntRange(min=0), default=0, show_default=True,
+              help="Local worker processes for the experiments' runs (0: this process).")
+@click.option("--scheduler", metavar="tcp://HOST:PORT",
+              help="Run the experiments on this Dask cluster (needs it2track[dask]).")
 @click.option("--no-progress", is_flag=True, help="No progress bar.")
 def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
-              sweep_seeds: int | None, quick: bool, no_progress: bool) -> None:
+              sweep_seeds: int | None, quick: bool, workers: int, scheduler: str | None,
+              no_progress: bool) -> None:
     """Regenerate every result of the paper, with statistics and verdicts on its claims.
 
     Writes figures (PNG+SVG), metrics.csv, summary.csv, claims.md, report.html and
@@ -228,6 +233,13 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
     except (ConfigError, ValueError) as exc:
         _fail(str(exc))
         return
+    from ..experiments.executors import ExecutorError, make_executor
+
+    try:
+        executor = make_executor(workers=workers or None, scheduler=scheduler)
+    except ExecutorError as exc:
+        _fail(str(exc))
+        return
     total = study_run_count(config)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -236,7 +248,10 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
         with tqdm(total=total, unit="run", disable=no_progress, file=sys.stderr,
                   desc="simulating") as bar:
             try:
-                result = run_study(config, progress=bar.update)
+                with executor:
+                    result = run_study(config, progress=bar.update,
+                                       executor=None if workers == 0 and not scheduler
+                                       else executor)
             except (ValueError, OSError) as exc:
                 _fail(f"the study stopped: {exc}")
                 return

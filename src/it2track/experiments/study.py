@@ -43,6 +43,7 @@ from ..tracking import (
     simulate,
     simulate_metrics,
 )
+from .executors import Executor
 from .specs import (
     ConfigError,
     ControllerKind,
@@ -468,6 +469,52 @@ def _rows_of(plan: _Plan, metrics: dict[str, np.ndarray],
     return {key: np.concatenate([p[key] for p in parts]) for key in parts[0]}
 
 
+@dataclass(frozen=True)
+class _Chunk:
+    """A slice of the plan's runs, shipped to a worker as plain specs and names."""
+
+    specs: tuple[ControllerSpec, ...]
+    trajectories: tuple[str, ...]
+    loop: LoopConfig
+    runs: RunTable
+    batch_size: int
+    start: int
+
+
+def _simulate_chunk(chunk: _Chunk) -> dict[str, np.ndarray]:
+    """Worker side of :func:`run_study` with an executor (module level: picklable)."""
+    return simulate_metrics(
+        [spec.build() for spec in chunk.specs],
+        [get_trajectory(t) for t in chunk.trajectories],
+        chunk.runs, chunk.loop, batch_size=chunk.batch_size,
+    )
+
+
+def _simulate_plan(
+    plan: _Plan, config: StudyConfig, executor: Executor | None,
+    progress: Callable[[int], object] | None,
+) -> dict[str, np.ndarray]:
+    if executor is None:
+        return simulate_metrics(
+            [spec.build() for spec in plan.specs],
+            [get_trajectory(t) for t in config.trajectories],
+            plan.runs, config.loop, batch_size=config.batch_size, progress=progress,
+        )
+    n = len(plan.runs)
+    chunks = (
+        _Chunk(plan.specs, config.trajectories, config.loop,
+               plan.runs.take(slice(a, min(a + config.batch_size, n))), config.batch_size, a)
+        for a in range(0, n, config.batch_size)
+    )
+    out: dict[str, np.ndarray] = {}
+    for chunk, metrics in executor.imap_unordered(_simulate_chunk, chunks):
+        for name, values in metrics.items():
+            out.setdefault(name, np.empty(n))[chunk.start:chunk.start + values.size] = values
+        if progress is not None:
+            progress(len(chunk.runs))
+    return out
+
+
 def study_run_count(config: StudyConfig) -> int:
     """Number of simulations :func:`run_study` performs (PD tuning plus the distinct runs of
     the experiments), for sizing a progress bar."""
@@ -562,11 +609,16 @@ def run_study(
     config: StudyConfig,
     *,
     progress: Callable[[int], object] | None = None,
+    executor: Executor | None = None,
 ) -> StudyResult:
     """Run every experiment of the study (see the module docstring).
 
     Parameters
     ----------
+    executor : Executor, optional
+        Where the experiments' runs go, in chunks of ``config.batch_size`` (local processes,
+        a Dask cluster; see :mod:`it2track.experiments.executors`). Default: this process.
+        The numbers do not depend on it. PD tuning, traces and surfaces run here.
     progress : callable, optional
         Called with the number of runs finished, as they finish (for a progress bar sized by
         :func:`study_run_count`).
@@ -576,11 +628,7 @@ def run_study(
     else:
         pd, pd_record = None, {}
     plan = _plan(config, _experiments(config, pd))
-    metrics = simulate_metrics(
-        [spec.build() for spec in plan.specs],
-        [get_trajectory(t) for t in config.trajectories],
-        plan.runs, config.loop, batch_size=config.batch_size, progress=progress,
-    )
+    metrics = _simulate_plan(plan, config, executor, progress)
     rows = _rows_of(plan, metrics, config.trajectories)
 
     # Time series of one realisation for the figures.
