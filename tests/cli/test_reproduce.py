@@ -151,3 +151,35 @@ def test_reproduce_rejects_workers_and_scheduler_together(tmp_path):
                                        "tcp://127.0.0.1:1", "--out", str(tmp_path / "o")])
     assert result.exit_code != 0 and "not both" in result.output, result.output
     assert not (tmp_path / "o").exists()
+
+
+def test_publish_replaces_directories_in_the_way(tmp_path):
+    from it2track.cli.main import _publish
+
+    out = tmp_path / "out"
+    (out / "metrics.csv").mkdir(parents=True)  # a folder where a result goes
+    (out / "old_dir").mkdir()
+    (out / "manifest.json").write_text(json.dumps({"files": ["old_dir", "manifest.json"]}))
+    staging = tmp_path / "staging"
+    staging.mkdir()
+    (staging / "metrics.csv").write_text("new")
+    (staging / "manifest.json").write_text(json.dumps({"files": ["metrics.csv"]}))
+    _publish(staging, out)
+    assert sorted(p.name for p in out.iterdir()) == ["manifest.json", "metrics.csv"]
+    assert (out / "metrics.csv").read_text() == "new"
+
+
+def test_reproduce_with_a_local_worker_writes_the_same_numbers(quick_run, tmp_path):
+    out, _ = quick_run
+    result = CliRunner().invoke(main, ["reproduce", "--quick", "--no-progress", "--workers", "1",
+                                       "--out", str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    for name in ("metrics.csv", "summary.csv", "claims.md"):
+        assert (tmp_path / name).read_bytes() == (out / name).read_bytes(), name
+    manifest = json.loads((tmp_path / "manifest.json").read_text())
+    from it2track.cli.main import _quick
+    from it2track.experiments.study import study_run_count
+
+    assert manifest["simulations"] == study_run_count(_quick(StudyConfig()))
+    with (tmp_path / "metrics.csv").open() as fh:
+        assert manifest["rows"] == sum(1 for _ in fh) - 1

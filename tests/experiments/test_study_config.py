@@ -137,3 +137,32 @@ def test_pd_tuning_matches_the_fuzzy_controllers_effort():
     feasible = [g for g in rec["grid"] if g[3] <= rec["effort_limit"]]
     assert (spec.kp, spec.kd) == tuple(min(feasible, key=lambda g: g[2])[:2])
     assert any(g[3] > rec["effort_limit"] for g in rec["grid"]), "limit binds nowhere"
+
+
+@pytest.mark.parametrize(
+    ("text", "needle"),
+    [
+        ("[pd]\neffort_limit = 5.0\n", "match_effort = false"),
+        ("[pd]\nmatch_effort = false\neffort_limit = -1.0\n", "effort_limit=-1.0"),
+        ("[pd]\nseeds = 0\n", "seeds=0"),
+        ("[pd]\nkp_grid = []\n", "kp_grid"),
+        ("[pd]\nkd = 0.2\n", "without kp"),
+    ],
+)
+def test_bad_pd_tuning_names_the_section(tmp_path, text, needle):
+    path = write(tmp_path, text)
+    with pytest.raises(ConfigError) as info:
+        load_study_config(path)
+    assert "[pd]" in str(info.value) and needle in str(info.value), str(info.value)
+
+
+def test_quick_keeps_the_users_pd_settings():
+    from it2track.cli.main import _quick
+    from it2track.experiments.study import PDTuning
+
+    cfg = replace(StudyConfig(), pd=PDTuning(match_effort=False, effort_limit=30.0, tf=0.05))
+    quick = _quick(cfg).pd
+    assert (quick.match_effort, quick.effort_limit, quick.tf) == (False, 30.0, 0.05)
+    assert quick.seeds == 2
+    given = replace(StudyConfig(), pd=PDTuning(kp=5.0, kd=0.1))
+    assert _quick(given).pd == given.pd

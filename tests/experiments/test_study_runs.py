@@ -63,3 +63,16 @@ def test_local_workers_give_the_same_rows(small):
         other = run_study(chunked, executor=ex)
     for name, values in result.rows.items():
         assert np.array_equal(values, other.rows[name]), name
+
+
+def test_run_study_simulates_exactly_the_distinct_runs():
+    cfg = replace(StudyConfig(), loop=LoopConfig(duration=0.5), seeds=3, sweep_seeds=2,
+                  noise_levels=(0.0, 0.05), fou_sweep=(0.0, 0.2), pd=None)
+    done = []
+    result = run_study(cfg, progress=done.append)
+    # paper: 7 controllers (FLC, 3 IT2, 3 matched) x 3 trajectories x seeds 0-2 = 63 rows, all
+    # distinct. noise: 5 controllers x 3 trajectories x 2 levels x seeds 0-1 = 60 rows; at
+    # sigma = 0 the two seeds are one run (15 new), at sigma = 0.05 all repeat paper runs.
+    # fou: FLC, IT2 0.2, matched 0.2 x 3 x seeds 0-1 = 18 rows, all repeats.
+    assert len(result.rows["seed"]) == 63 + 60 + 18
+    assert sum(done) == study_run_count(cfg) == 63 + 15

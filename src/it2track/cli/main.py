@@ -157,6 +157,8 @@ def _reject_inapplicable(ctx: click.Context, opts: dict[str, Any]) -> None:
     def given(name: str) -> bool:
         return ctx.get_parameter_source(name) is ParameterSource.COMMANDLINE
 
+    if opts["controller_file"] and given("controller"):
+        _fail("give either --controller or --controller-file, not both")
     kind = "file" if opts["controller_file"] else opts["controller"]
     for name, kinds in _APPLIES.items():
         if given(name) and kind not in kinds:
@@ -174,11 +176,9 @@ def _reject_inapplicable(ctx: click.Context, opts: dict[str, Any]) -> None:
 def _quick(config: Any) -> Any:
     from dataclasses import replace
 
-    from ..experiments.study import PDTuning
-
-    pd = None if config.pd is None else PDTuning(
-        seeds=2, kp_grid=(2.0, 6.0, 20.0), kd_grid=(0.0, 0.2, 1.0), tf=config.pd.tf
-    )
+    pd = config.pd
+    if pd is not None and pd.kp is None:  # keep the user's PD settings, tune on a small grid
+        pd = replace(pd, seeds=2, kp_grid=(2.0, 6.0, 20.0), kd_grid=(0.0, 0.2, 1.0))
     return replace(config, seeds=6, sweep_seeds=4, noise_levels=(0.0, 0.05, 0.2),
                    fou_sweep=(0.0, 0.1, 0.2, 0.3), pd=pd)
 
@@ -233,13 +233,12 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
     except (ConfigError, ValueError) as exc:
         _fail(str(exc))
         return
+    from concurrent.futures import BrokenExecutor
+
     from ..experiments.executors import ExecutorError, make_executor
 
-    try:
-        executor = make_executor(workers=workers or None, scheduler=scheduler)
-    except ExecutorError as exc:
-        _fail(str(exc))
-        return
+    if workers and scheduler:
+        _fail("give either --workers or --scheduler, not both")
     total = study_run_count(config)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -248,12 +247,13 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
         with tqdm(total=total, unit="run", disable=no_progress, file=sys.stderr,
                   desc="simulating") as bar:
             try:
-                with executor:
-                    result = run_study(config, progress=bar.update,
-                                       executor=None if workers == 0 and not scheduler
-                                       else executor)
-            except (ValueError, OSError) as exc:
-                _fail(f"the study stopped: {exc}")
+                if workers or scheduler:
+                    with make_executor(workers=workers or None, scheduler=scheduler) as ex:
+                        result = run_study(config, progress=bar.update, executor=ex)
+                else:
+                    result = run_study(config, progress=bar.update)
+            except (ValueError, OSError, ExecutorError, BrokenExecutor) as exc:
+                _fail(f"the study stopped: {type(exc).__name__}: {exc}; nothing was written")
                 return
         summary = summarise(result.rows)
         claims = evaluate_claims(result.rows, fous=config.fous, main_fou=config.main_fou,
@@ -274,7 +274,7 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
         cfg["pd_tuning"] = {k: v for k, v in result.pd_tuning.items() if k != "grid"}
         manifest = outputs.manifest(
             config=cfg, command=command.strip(), elapsed_s=time.perf_counter() - started,
-            extra={"runs": len(result.rows["seed"]),
+            extra={"rows": len(result.rows["seed"]), "simulations": total,
                    "files": sorted(p.name for p in staging.iterdir())},
         )
         write_html(staging / "report.html", result=result, summary=summary, claims=claims,
@@ -286,7 +286,8 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
     finally:
         shutil.rmtree(staging, ignore_errors=True)
     elapsed = time.perf_counter() - started
-    click.echo(f"{len(result.rows['seed'])} runs in {elapsed:.1f} s -> {out}/")
+    click.echo(f"{len(result.rows['seed'])} result rows from {total} simulations in "
+               f"{elapsed:.1f} s -> {out}/")
     for c in claims:
         click.echo(f"  {c.id}: {c.verdict}")
 
@@ -308,9 +309,14 @@ def _publish(staging: Path, out: Path) -> None:
         except (ValueError, OSError):
             stale = set()
         old_manifest.unlink()
-    for name in sorted(stale):
-        if "/" not in name and name not in (".", ".."):
-            (out / name).unlink(missing_ok=True)
+    for name in sorted(stale | new):
+        if "/" in name or name in (".", ".."):
+            continue
+        target = out / name
+        if target.is_dir() and not target.is_symlink():
+            shutil.rmtree(target)
+        elif name in stale:
+            target.unlink(missing_ok=True)
     for name in sorted(new - {"manifest.json"}):
         (staging / name).replace(out / name)
     (staging / "manifest.json").replace(old_manifest)
@@ -337,7 +343,12 @@ def _claims_preamble(config: Any) -> str:
         f"controllers), noise levels sigma = {levels} rad, trajectories "
         f"{', '.join(config.trajectories)}, {config.loop.duration:g} s at "
         f"{1 / config.loop.ts:g} Hz. Intervals are 95 % Student-t intervals of paired "
-        "per-seed differences. Every verdict below is computed from the data in metrics.csv."
+        "per-seed differences. A comparison cell *supports* a claim when its interval lies on "
+        "the claimed side of zero, *contradicts* it when it lies on the other side, and is "
+        "*inconclusive* otherwise (an interval containing zero, e.g. exact ties); a noise level "
+        "holds when every cell supports the claim, is contradicted when any cell contradicts "
+        "it, and is *not shown* otherwise. Every verdict below is computed from the data in "
+        "metrics.csv."
     )
 
 

@@ -18,7 +18,8 @@ D1  (Not a paper claim; the question the fair baseline answers.) The IT2FLC beat
     C1 holds and D1 does not, the gain comes from the narrower dead zone, not from the FoU.
 
 Every comparison cell *supports* a claim (interval on the claimed side of 0), *contradicts*
-it (interval on the other side) or is *inconclusive* (interval containing 0, e.g. exact ties).
+it (interval on the other side) or is *inconclusive* (interval containing 0, e.g. exact ties,
+or a single realisation, which has no interval).
 A level holds when every cell supports the claim and is contradicted when any cell contradicts
 it. Each verdict reads "holds" (at every level), "does not hold" (contradicted somewhere,
 holding nowhere), "not shown" (inconclusive everywhere) or "holds only for sigma in ..."
@@ -226,12 +227,12 @@ def _detail(levels: Sequence[float], holds_at: Sequence[float],
 
 
 def _paired(rows: Rows, groups: dict[tuple[Any, ...], np.ndarray], a: tuple[Any, ...],
-            b: tuple[Any, ...], metric: str) -> tuple[float, float, float, float] | None:
+            b: tuple[Any, ...], metric: str) -> tuple[float, float, float, float, int] | None:
     ia, ib = groups.get(a), groups.get(b)
     if ia is None or ib is None or not np.array_equal(rows["seed"][ia], rows["seed"][ib]):
         return None
     cmp = paired_comparison(rows[metric][ia], rows[metric][ib])
-    return cmp.diff.mean, cmp.diff.low, cmp.diff.high, cmp.win_rate
+    return cmp.diff.mean, cmp.diff.low, cmp.diff.high, cmp.win_rate, cmp.diff.n
 
 
 def _level_outcome(outcomes: Sequence[str]) -> str:
@@ -264,8 +265,12 @@ def _better_everywhere(
                         f"no paired data for {better!r} vs {worse!r} on {traj!r} at sigma "
                         f"{sigma:g}"
                     )
-                mean, low, high, win = res
-                outcome = SUPPORTS if high < 0.0 else CONTRADICTS if low > 0.0 else INCONCLUSIVE
+                mean, low, high, win, n = res
+                if n < 2:  # one realisation has no interval: it can show nothing
+                    outcome = INCONCLUSIVE
+                else:
+                    outcome = (SUPPORTS if high < 0.0 else CONTRADICTS if low > 0.0
+                               else INCONCLUSIVE)
                 outcomes.append(outcome)
                 evidence.append({
                     "sigma": sigma, "trajectory": traj, "metric": metric,
@@ -363,7 +368,9 @@ def evaluate_claims(
                     best_label, best_iv = label, iv
             if best_iv is None:
                 raise ValueError(f"no straight-line ISE at sigma {sigma:g}")
-            if lo <= best_iv.mean <= hi:
+            if best_iv.n < 2:
+                outcome = INCONCLUSIVE
+            elif lo <= best_iv.mean <= hi:
                 outcome = SUPPORTS
             elif best_iv.high < lo or best_iv.low > hi:
                 outcome = CONTRADICTS

@@ -38,6 +38,7 @@ from ..tracking import (
     PDHeadingController,
     RunTable,
     Trace,
+    Trajectory,
     get_trajectory,
     run_grid,
     simulate,
@@ -85,6 +86,21 @@ class PDTuning:
     ``effort_limit`` V^2 s (``None``: unconstrained -- the ISE-optimal PD then chatters between
     the voltage limits, ~400 V^2 s, which is no fair comparison). ``kp``/``kd`` set explicitly
     skip tuning.
+
+    Parameters
+    ----------
+    seeds : int
+        Tuning realisations (>= 1).
+    kp_grid, kd_grid : tuple of float
+        Candidate gains (non-empty, finite, >= 0; ``kp`` > 0).
+    tf : float
+        Derivative filter time constant, s (>= 0).
+    match_effort : bool
+        Limit the effort to the fuzzy controllers' (see above).
+    effort_limit : float or None
+        Fixed effort limit, V^2 s (> 0), used only with ``match_effort = False``.
+    kp, kd : float or None
+        Given gains (skip tuning); ``kd`` needs ``kp``.
     """
 
     seeds: int = 16
@@ -97,6 +113,28 @@ class PDTuning:
     effort_limit: float | None = None
     kp: float | None = None
     kd: float | None = None
+
+    def __post_init__(self) -> None:
+        def bad(key: str, why: str) -> ValueError:
+            return ValueError(f"pd {key}={getattr(self, key)!r}: {why}")
+
+        if isinstance(self.seeds, bool) or not isinstance(self.seeds, int) or self.seeds < 1:
+            raise bad("seeds", "must be an integer >= 1")
+        for key, positive in (("kp_grid", True), ("kd_grid", False)):
+            grid = getattr(self, key)
+            if not grid or not all(math.isfinite(v) and (v > 0 if positive else v >= 0)
+                                   for v in grid):
+                raise bad(key, "must be a non-empty list of finite gains "
+                          + ("> 0" if positive else ">= 0"))
+        if not math.isfinite(self.tf) or self.tf < 0:
+            raise bad("tf", "must be finite and >= 0")
+        if self.effort_limit is not None:
+            if not math.isfinite(self.effort_limit) or self.effort_limit <= 0:
+                raise bad("effort_limit", "must be finite and > 0")
+            if self.match_effort:
+                raise bad("effort_limit", "is used only with match_effort = false")
+        if self.kd is not None and self.kp is None:
+            raise bad("kd", "given without kp (give both to skip tuning)")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -180,9 +218,14 @@ class StudyConfig:
         labels = [s.label for s in self.extra_controllers]
         if len(set(labels)) != len(labels):
             raise bad("extra_controllers", "labels must be unique")
-        n_extra = len(self.extra_controllers)
-        own = self.paper_controllers(None)[: -n_extra or None] + self.fou_controllers()
-        builtin = {s.label for s in own} | {"PD (tuned)"}
+        # Every label the study (and evaluate_claims) may give its own controllers, whether or
+        # not this configuration uses it.
+        own = [ControllerSpec(kind=ControllerKind.FLC)] + [
+            ControllerSpec(kind=k, fou=w)
+            for w in {*self.fous, *(w for w in self.fou_sweep if w > 0.0)}
+            for k in (ControllerKind.IT2, ControllerKind.T1_MATCHED)
+        ]
+        builtin = {s.label for s in own} | {"PD (tuned)", "PD (given)"}
         clash = sorted(set(labels) & builtin)
         if clash:
             raise bad("extra_controllers", f"label(s) {clash} are used by the study's own "
@@ -246,9 +289,9 @@ class StudyConfig:
 def load_study_config(path: str | Path, **overrides: Any) -> StudyConfig:
     """Read a study TOML file (see ``configs/paper.toml``).
 
-    Sections: ``[simulation]``, ``[robot]`` (+ ``[robot.motor]``), ``[study]``, ``[pd]``
-    (or ``pd = false`` in ``[study]``), ``[[controllers]]`` (extra controllers). ``overrides``
-    replace ``[study]`` values (e.g. ``seeds`` from the command line).
+    Sections: ``[simulation]``, ``[robot]`` (+ ``[robot.motor]``), ``[study]``, ``[pd]`` (or
+    ``pd_baseline = false`` in ``[study]``), ``[[controllers]]`` (extra controllers).
+    ``overrides`` replace ``[study]`` values (e.g. ``seeds`` from the command line).
 
     Raises
     ------
@@ -295,7 +338,10 @@ def load_study_config(path: str | Path, **overrides: Any) -> StudyConfig:
                 pd_values[key] = pd_t.get(key, float)
         if "match_effort" in pd_t:
             pd_values["match_effort"] = pd_t.get("match_effort", bool)
-        values["pd"] = PDTuning(**pd_values)
+        try:
+            values["pd"] = PDTuning(**pd_values)
+        except ValueError as exc:
+            raise ConfigError(f"{pd_t.where}: {exc}") from None
     else:
         values["pd"] = None
     pd_t.done()
@@ -312,11 +358,11 @@ def load_study_config(path: str | Path, **overrides: Any) -> StudyConfig:
             extra.append(spec)
     values["extra_controllers"] = tuple(extra)
     root.done()
+    values.update(overrides)
     if "trajectories" in values:
         values["trajectories"] = tuple(
             _resolve_trajectory(name, path) for name in values["trajectories"]
         )
-    values.update(overrides)
     try:
         return StudyConfig(**values)
     except ValueError as exc:
@@ -471,10 +517,11 @@ def _rows_of(plan: _Plan, metrics: dict[str, np.ndarray],
 
 @dataclass(frozen=True)
 class _Chunk:
-    """A slice of the plan's runs, shipped to a worker as plain specs and names."""
+    """A slice of the plan's runs with the controllers and trajectories themselves (built and
+    read here, once), so a worker needs none of the caller's files."""
 
-    specs: tuple[ControllerSpec, ...]
-    trajectories: tuple[str, ...]
+    controllers: tuple[HeadingController, ...]
+    trajectories: tuple[Trajectory, ...]
     loop: LoopConfig
     runs: RunTable
     batch_size: int
@@ -483,26 +530,22 @@ class _Chunk:
 
 def _simulate_chunk(chunk: _Chunk) -> dict[str, np.ndarray]:
     """Worker side of :func:`run_study` with an executor (module level: picklable)."""
-    return simulate_metrics(
-        [spec.build() for spec in chunk.specs],
-        [get_trajectory(t) for t in chunk.trajectories],
-        chunk.runs, chunk.loop, batch_size=chunk.batch_size,
-    )
+    return simulate_metrics(chunk.controllers, chunk.trajectories, chunk.runs, chunk.loop,
+                            batch_size=chunk.batch_size)
 
 
 def _simulate_plan(
     plan: _Plan, config: StudyConfig, executor: Executor | None,
     progress: Callable[[int], object] | None,
 ) -> dict[str, np.ndarray]:
+    controllers = tuple(spec.build() for spec in plan.specs)
+    trajectories = tuple(get_trajectory(t) for t in config.trajectories)
     if executor is None:
-        return simulate_metrics(
-            [spec.build() for spec in plan.specs],
-            [get_trajectory(t) for t in config.trajectories],
-            plan.runs, config.loop, batch_size=config.batch_size, progress=progress,
-        )
+        return simulate_metrics(controllers, trajectories, plan.runs, config.loop,
+                                batch_size=config.batch_size, progress=progress)
     n = len(plan.runs)
     chunks = (
-        _Chunk(plan.specs, config.trajectories, config.loop,
+        _Chunk(controllers, trajectories, config.loop,
                plan.runs.take(slice(a, min(a + config.batch_size, n))), config.batch_size, a)
         for a in range(0, n, config.batch_size)
     )
@@ -547,8 +590,10 @@ def tune_pd(
 ) -> tuple[ControllerSpec, dict[str, Any]]:
     """Tune the PD baseline by the procedure of :class:`PDTuning`.
 
-    Returns the PD spec and a record ``{"grid": [[kp, kd, objective], ...], "kp": ..,
-    "kd": .., "objective": .., "on_grid_edge": bool}``.
+    Returns the PD spec and a record: ``grid`` (rows ``[kp, kd, mean ISE, mean effort]``, see
+    ``grid_columns``), the chosen ``kp``, ``kd``, its ``objective`` (mean ISE) and ``effort``,
+    the ``effort_limit`` applied and the rule behind it (``effort_limit_rule``), and
+    ``on_grid_edge``.
     """
     tuning = config.pd
     assert tuning is not None

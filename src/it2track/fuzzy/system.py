@@ -239,6 +239,15 @@ class _Compiled:
         self.all_h1 = all(v == 1.0 for v in h)
         self._local = threading.local()
 
+    def __getstate__(self) -> dict[str, Any]:
+        state = self.__dict__.copy()
+        del state["_local"]  # per-thread scratch arrays: not picklable, rebuilt on demand
+        return state
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        self.__dict__.update(state)
+        self._local = threading.local()
+
     def workspace(self, n: int) -> dict[str, FloatArray]:
         """Scratch arrays for blocks of up to ``n`` samples, reused across calls (per thread).
 

@@ -65,7 +65,8 @@ def write_claims_md(path: Path, claims: Sequence[Any], *, preamble: str) -> Path
     """``claims.md``: a verdict table, then each claim with its criterion and evidence."""
     lines = [preamble.rstrip(), "", "| claim | statement | verdict |", "|---|---|---|"]
     for c in claims:
-        lines.append(f"| {c.id} | {c.statement} | **{c.verdict}** |")
+        detail = f" ({c.detail})" if getattr(c, "detail", "") else ""
+        lines.append(f"| {c.id} | {c.statement} | **{c.verdict}**{detail} |")
     lines.append("")
     for c in claims:
         lines.append(c.to_markdown())
