@@ -258,6 +258,17 @@ class Document:
         self.check_no_extra_sections("Output", n_outputs, n_out_entry)
         return Counts(n_inputs, n_in_entry, n_out_entry, n_rules, n_rules_entry)
 
+    def counted_rules(self, counts: Counts) -> list[ParsedRule]:
+        """The ``[Rules]`` of a one-output system, as many as ``NumRules`` promised."""
+        section = self.section("Rules", promised_by=counts.n_rules_entry)
+        parsed = self.rules(section, counts.n_inputs, 1)
+        if len(parsed) != counts.n_rules:
+            raise self.error(
+                counts.n_rules_entry.line,
+                f"NumRules={counts.n_rules} but [Rules] has {len(parsed)} rules",
+            )
+        return parsed
+
     def check_no_extra_sections(self, kind: str, count: int, promised_by: Entry) -> None:
         for section in self.sections.values():
             if section.kind == kind and section.index > count:

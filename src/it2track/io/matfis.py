@@ -207,7 +207,6 @@ def loads(text: str, path: str = "<string>") -> IT2Sugeno | T1Sugeno:
         reducer = _READ_REDUCERS[method.strip().lower()]
     counts = doc.counts(system)
     n_inputs, n_in_entry, n_out_entry = counts.n_inputs, counts.n_in_entry, counts.n_out_entry
-    n_rules, n_rules_entry = counts.n_rules, counts.n_rules_entry
 
     inputs = []
     for k in range(1, n_inputs + 1):
@@ -248,12 +247,7 @@ def loads(text: str, path: str = "<string>") -> IT2Sugeno | T1Sugeno:
             )
         consequents.append((mfv.params[0], mfv.params[0]))
 
-    rules_section = doc.section("Rules", promised_by=n_rules_entry)
-    parsed = doc.rules(rules_section, n_inputs, 1)
-    if len(parsed) != n_rules:
-        raise doc.error(
-            n_rules_entry.line, f"NumRules={n_rules} but [Rules] has {len(parsed)} rules"
-        )
+    parsed = doc.counted_rules(counts)
     rules = build_rules(doc, parsed, inputs, consequents)
     midpoint = (out_lo + out_hi) / 2
     if not math.isfinite(midpoint):

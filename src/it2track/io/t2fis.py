@@ -180,7 +180,6 @@ def loads(text: str, path: str = "<string>") -> IT2Sugeno | T1Sugeno:
         reducer = _READ_REDUCERS[key]
     counts = doc.counts(system)
     n_inputs, n_in_entry, n_out_entry = counts.n_inputs, counts.n_in_entry, counts.n_out_entry
-    n_rules, n_rules_entry = counts.n_rules, counts.n_rules_entry
 
     inputs = []
     all_type1 = True
@@ -233,12 +232,7 @@ def loads(text: str, path: str = "<string>") -> IT2Sugeno | T1Sugeno:
             raise doc.error(mfv.line, f"consequent [{lo:g} {hi:g}] must satisfy lower <= upper")
         consequents.append((lo, hi))
 
-    rules_section = doc.section("Rules", promised_by=n_rules_entry)
-    parsed = doc.rules(rules_section, n_inputs, 1)
-    if len(parsed) != n_rules:
-        raise doc.error(
-            n_rules_entry.line, f"NumRules={n_rules} but [Rules] has {len(parsed)} rules"
-        )
+    parsed = doc.counted_rules(counts)
     rules = build_rules(doc, parsed, inputs, consequents)
     type1 = all_type1 and all(r.consequent[0] == r.consequent[1] for r in rules)
     return system_of(
