@@ -258,6 +258,22 @@ class Document:
         self.check_no_extra_sections("Output", n_outputs, n_out_entry)
         return Counts(n_inputs, n_in_entry, n_out_entry, n_rules, n_rules_entry)
 
+    def check_mf_keys(
+        self, section: Section, n: int, count_entry: Entry, *, suffixes: tuple[str, ...] = ("",)
+    ) -> None:
+        """``MF1`` ... ``MFn`` (with each suffix, e.g. ``U``/``L``) present, none beyond ``n``."""
+        for key, entry in section.entries.items():
+            if key.startswith("MF") and int(key[2:].rstrip("UL")) > n:
+                raise self.error(entry.line, f"{key} but {count_entry.key}={count_entry.value}")
+        for j in range(1, n + 1):
+            for suffix in suffixes:
+                if f"MF{j}{suffix}" not in section.entries:
+                    raise self.error(
+                        count_entry.line,
+                        f"missing MF{j}{suffix} in [{section.title}] "
+                        f"({count_entry.key}={count_entry.value})",
+                    )
+
     def counted_rules(self, counts: Counts) -> list[ParsedRule]:
         """The ``[Rules]`` of a one-output system, as many as ``NumRules`` promised."""
         section = self.section("Rules", promised_by=counts.n_rules_entry)

@@ -125,9 +125,7 @@ from ._common import (
 )
 from ._matlab import (
     Document,
-    Entry,
     MFValue,
-    Section,
     fmt_number,
     fmt_string,
     fmt_vector,
@@ -217,7 +215,7 @@ def loads(text: str, path: str = "<string>") -> IT2Sugeno | T1Sugeno:
         universe = doc.universe(doc.entry(section, "Range"))
         n_mfs_entry = doc.entry(section, "NumMFs")
         n_mfs = doc.integer(n_mfs_entry, minimum=1)
-        _check_mf_keys(doc, section, n_mfs, n_mfs_entry)
+        doc.check_mf_keys(section, n_mfs, n_mfs_entry)
         sets = []
         for j in range(1, n_mfs + 1):
             mfv = doc.mf(doc.entry(section, f"MF{j}"), extras=_LOWER_KEYS if type2 else ())
@@ -233,7 +231,7 @@ def loads(text: str, path: str = "<string>") -> IT2Sugeno | T1Sugeno:
     out_lo, out_hi = doc.universe(doc.entry(output, "Range"))
     n_out_mfs_entry = doc.entry(output, "NumMFs")
     n_out_mfs = doc.integer(n_out_mfs_entry, minimum=1)
-    _check_mf_keys(doc, output, n_out_mfs, n_out_mfs_entry)
+    doc.check_mf_keys(output, n_out_mfs, n_out_mfs_entry)
     consequents = []
     for j in range(1, n_out_mfs + 1):
         mfv = doc.mf(doc.entry(output, f"MF{j}"))
@@ -256,18 +254,6 @@ def loads(text: str, path: str = "<string>") -> IT2Sugeno | T1Sugeno:
         doc, system.line, type1=not type2, inputs=inputs, rules=rules, tnorm=tnorm,
         reducer=reducer, name=name, on_zero_firing=midpoint,
     )
-
-
-def _check_mf_keys(doc: Document, section: Section, n: int, count_entry: Entry) -> None:
-    for key, entry in section.entries.items():
-        if key.startswith("MF") and int(key[2:]) > n:
-            raise doc.error(entry.line, f"{key} but {count_entry.key}={count_entry.value}")
-    for j in range(1, n + 1):
-        if f"MF{j}" not in section.entries:
-            raise doc.error(
-                count_entry.line,
-                f"missing MF{j} in [{section.title}] ({count_entry.key}={count_entry.value})",
-            )
 
 
 def _check_shoulders(

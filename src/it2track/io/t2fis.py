@@ -102,7 +102,7 @@ from ._common import (
     set_name,
     system_of,
 )
-from ._matlab import Document, Entry, Section, fmt_number, fmt_string, fmt_vector
+from ._matlab import Document, fmt_number, fmt_string, fmt_vector
 from .errors import UnsupportedFeatureError
 
 __all__ = ["dumps", "loads"]
@@ -191,7 +191,7 @@ def loads(text: str, path: str = "<string>") -> IT2Sugeno | T1Sugeno:
         universe = doc.universe(doc.entry(section, "Range"))
         n_mfs_entry = doc.entry(section, "NumMFs")
         n_mfs = doc.integer(n_mfs_entry, minimum=1)
-        _check_mf_keys(doc, section, n_mfs, n_mfs_entry, suffixes=("U", "L"))
+        doc.check_mf_keys(section, n_mfs, n_mfs_entry, suffixes=("U", "L"))
         sets = []
         for j in range(1, n_mfs + 1):
             up_v = doc.mf(doc.entry(section, f"MF{j}U"))
@@ -214,7 +214,7 @@ def loads(text: str, path: str = "<string>") -> IT2Sugeno | T1Sugeno:
     doc.universe(doc.entry(output, "Range"))
     n_out_mfs_entry = doc.entry(output, "NumMFs")
     n_out_mfs = doc.integer(n_out_mfs_entry, minimum=1)
-    _check_mf_keys(doc, output, n_out_mfs, n_out_mfs_entry, suffixes=("",))
+    doc.check_mf_keys(output, n_out_mfs, n_out_mfs_entry, suffixes=("",))
     consequents = []
     for j in range(1, n_out_mfs + 1):
         mfv = doc.mf(doc.entry(output, f"MF{j}"))
@@ -239,23 +239,6 @@ def loads(text: str, path: str = "<string>") -> IT2Sugeno | T1Sugeno:
         doc, system.line, type1=type1, inputs=inputs, rules=rules, tnorm=tnorm,
         reducer=reducer, name=name,
     )
-
-
-def _check_mf_keys(
-    doc: Document, section: Section, n: int, count_entry: Entry, *, suffixes: tuple[str, ...]
-) -> None:
-    """``MF1`` ... ``MFn`` (with each suffix) present, and no ``MFk`` with ``k > n``."""
-    for key, entry in section.entries.items():
-        if key.startswith("MF") and int(key[2:].rstrip("UL")) > n:
-            raise doc.error(entry.line, f"{key} but {count_entry.key}={count_entry.value}")
-    for j in range(1, n + 1):
-        for suffix in suffixes:
-            if f"MF{j}{suffix}" not in section.entries:
-                raise doc.error(
-                    count_entry.line,
-                    f"missing MF{j}{suffix} in [{section.title}] "
-                    f"({count_entry.key}={count_entry.value})",
-                )
 
 
 def dumps(system: IT2Sugeno | T1Sugeno) -> str:
