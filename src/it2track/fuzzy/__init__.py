@@ -1,6 +1,7 @@
 """General interval type-2 and type-1 Sugeno fuzzy logic (knows nothing about robots).
 
-Imports numpy only. See :mod:`.membership`, :mod:`.sets`, :mod:`.reducers`, :mod:`.system`.
+Imports numpy only. See :mod:`.membership`, :mod:`.sets`, :mod:`.reducers`, :mod:`.rules`,
+:mod:`.tables`, :mod:`.sugeno`, :mod:`.surface`.
 """
 
 from .membership import (
@@ -27,17 +28,11 @@ from .reducers import (
     TypeReducer,
     ZeroFiringError,
 )
+from .rules import Input, Rule, TNorm, rules_from_table
 from .sets import IT2Set, ScaledLagged
-from .system import (
-    FuzzySystem,
-    Input,
-    IT2Sugeno,
-    Rule,
-    T1Sugeno,
-    TNorm,
-    control_surface,
-    rules_from_table,
-)
+from .sugeno import FuzzySystem, IT2Sugeno, T1Sugeno
+from .surface import control_surface
+from .tables import MFKind, SystemTables
 
 __all__ = [
     "EIASC",
@@ -52,11 +47,13 @@ __all__ = [
     "IT2Set",
     "IT2Sugeno",
     "Input",
+    "MFKind",
     "MembershipFunction",
     "PiecewiseLinear",
     "Reducer",
     "Rule",
     "ScaledLagged",
+    "SystemTables",
     "T1Sugeno",
     "TNorm",
     "Trapezoid",

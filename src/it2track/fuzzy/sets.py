@@ -12,7 +12,7 @@ conventions of the field:
 - :meth:`IT2Set.from_scale_lag`: MATLAB's ``LowerScale`` / ``LowerLag`` construction.
 
 ``lower <= upper`` is checked on the input's universe when the set is attached to an input (see
-:class:`it2track.fuzzy.system.Input`), or here when ``universe`` is given.
+:class:`it2track.fuzzy.rules.Input`), or here when ``universe`` is given.
 """
 
 from __future__ import annotations

@@ -1,8 +1,9 @@
 """Zero-order Sugeno fuzzy systems, type-1 and interval type-2, evaluated batch-first.
 
 Definition is apart from evaluation: an :class:`IT2Sugeno` or :class:`T1Sugeno` is an immutable
-description (inputs with their sets, rules, t-norm, type reducer) that compiles itself once into
-arrays; calling it evaluates any number of input points in one vectorised pass.
+description (inputs with their sets, rules, t-norm, type reducer) that lowers itself once into
+arrays (:class:`~it2track.fuzzy.tables.SystemTables`); calling it evaluates any number of input
+points in one vectorised pass.
 
 Shapes
 ------
@@ -17,297 +18,23 @@ the input.
 
 from __future__ import annotations
 
-import enum
 import math
-import threading
-from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .membership import MembershipFunction, PiecewiseLinear
 from .reducers import EXHAUSTIVE, TypeReducer, ZeroFiringError
-from .sets import IT2Set
+from .rules import Input, Rule, TNorm
+from .tables import SystemTables
 
-__all__ = [
-    "IT2Sugeno",
-    "Input",
-    "Rule",
-    "T1Sugeno",
-    "TNorm",
-    "control_surface",
-    "rules_from_table",
-]
+__all__ = ["FuzzySystem", "IT2Sugeno", "T1Sugeno"]
 
 FloatArray = NDArray[np.float64]
 
 #: Samples per internal block: keeps the working set of one block in the CPU cache.
 BLOCK = 4096
-
-
-class TNorm(enum.Enum):
-    """Conjunction of the antecedents (eqs. 13-14 use the product)."""
-
-    PRODUCT = "product"
-    MINIMUM = "min"
-
-    @classmethod
-    def from_name(cls, name: str) -> TNorm:
-        key = name.strip().lower()
-        for member in cls:
-            if key in (member.value, member.name.lower()):
-                return member
-        raise ValueError(f"unknown t-norm {name!r}; choose 'product' or 'min'")
-
-
-@dataclass(frozen=True)
-class Input:
-    """An input variable: a name, a universe ``(lo, hi)`` and its fuzzy sets.
-
-    Sets may be :class:`IT2Set` or, for type-1 systems, ``(name, mf)`` pairs. Each set is
-    checked on the universe (``0 <= lower <= upper <= 1``).
-    """
-
-    name: str
-    universe: tuple[float, float]
-    sets: tuple[IT2Set, ...]
-
-    def __init__(
-        self,
-        name: str,
-        universe: Sequence[float],
-        sets: Iterable[IT2Set | tuple[str, MembershipFunction]],
-    ) -> None:
-        lo, hi = (float(v) for v in universe)
-        if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
-            raise ValueError(
-                f"input {name!r}: universe={tuple(universe)!r} must be finite, lo < hi"
-            )
-        converted = []
-        for s in sets:
-            if isinstance(s, IT2Set):
-                converted.append(s)
-            else:
-                label, mf = s
-                converted.append(IT2Set.type1(mf, label))
-        names = [s.name for s in converted]
-        if not converted:
-            raise ValueError(f"input {name!r}: needs at least one set")
-        if len(set(names)) != len(names) or any(not n for n in names):
-            raise ValueError(f"input {name!r}: set names {names!r} must be non-empty and unique")
-        for s in converted:
-            s.check_on((lo, hi), owner=f"input {name!r}")
-        object.__setattr__(self, "name", name)
-        object.__setattr__(self, "universe", (lo, hi))
-        object.__setattr__(self, "sets", tuple(converted))
-
-    def set_index(self, label: str) -> int:
-        for i, s in enumerate(self.sets):
-            if s.name == label:
-                return i
-        raise ValueError(
-            f"input {self.name!r} has no set {label!r}; its sets are {[s.name for s in self.sets]}"
-        )
-
-
-@dataclass(frozen=True)
-class Rule:
-    """``if x1 is A1 and ... then y = [lo, hi]`` (zero-order Sugeno).
-
-    Parameters
-    ----------
-    antecedent : sequence of str or None
-        One set label per input; ``None`` means the input does not appear in the rule.
-    consequent : float or (float, float)
-        Crisp output, or an interval ``(lo, hi)`` with ``lo <= hi``.
-    """
-
-    antecedent: tuple[str | None, ...]
-    consequent: tuple[float, float]
-
-    def __init__(
-        self, antecedent: Sequence[str | None], consequent: float | Sequence[float]
-    ) -> None:
-        if isinstance(consequent, int | float | np.floating | np.integer):
-            lo = hi = float(consequent)
-        else:
-            values = [float(v) for v in consequent]
-            if len(values) != 2:
-                raise ValueError(f"rule {list(antecedent)!r}: consequent {consequent!r} must be a "
-                                 "number or an interval (lo, hi)")
-            lo, hi = values
-        if not (math.isfinite(lo) and math.isfinite(hi)) or lo > hi:
-            raise ValueError(
-                f"rule {list(antecedent)!r}: consequent ({lo}, {hi}) must be finite, lo <= hi"
-            )
-        object.__setattr__(self, "antecedent", tuple(antecedent))
-        object.__setattr__(self, "consequent", (lo, hi))
-
-
-def rules_from_table(
-    row_sets: Sequence[str], col_sets: Sequence[str], table: Sequence[Sequence[float]]
-) -> tuple[Rule, ...]:
-    """Two-input rule grid: ``table[i][j]`` is the consequent of ``(row_sets[i], col_sets[j])``.
-
-    Examples
-    --------
-    >>> [r.antecedent for r in rules_from_table(["N", "P"], ["Z"], [[-1], [1]])]
-    [('N', 'Z'), ('P', 'Z')]
-    """
-    if len(table) != len(row_sets) or any(len(row) != len(col_sets) for row in table):
-        raise ValueError(
-            f"rule table must be {len(row_sets)} x {len(col_sets)} to match the set labels"
-        )
-    return tuple(
-        Rule((r, c), table[i][j]) for i, r in enumerate(row_sets) for j, c in enumerate(col_sets)
-    )
-
-
-class _Compiled:
-    """Arrays derived from a system's definition, built once."""
-
-    def __init__(self, inputs: tuple[Input, ...], rules: tuple[Rule, ...]) -> None:
-        self.lo = np.array([inp.universe[0] for inp in inputs])
-        self.hi = np.array([inp.universe[1] for inp in inputs])
-        mfs: list[MembershipFunction] = []
-        mf_input: list[int] = []
-
-        def row_of(mf: MembershipFunction, i: int) -> int:
-            for k, (other, j) in enumerate(zip(mfs, mf_input, strict=True)):
-                if j == i and (other is mf or other == mf):
-                    return k
-            mfs.append(mf)
-            mf_input.append(i)
-            return len(mfs) - 1
-
-        n_in = len(inputs)
-        upper_rows = np.empty((len(rules), n_in), dtype=np.intp)
-        lower_rows = np.empty((len(rules), n_in), dtype=np.intp)
-        for r, rule in enumerate(rules):
-            for i, label in enumerate(rule.antecedent):
-                if label is None:
-                    upper_rows[r, i] = lower_rows[r, i] = -1
-                    continue
-                s = inputs[i].sets[inputs[i].set_index(label)]
-                upper_rows[r, i] = row_of(s.upper, i)
-                lower_rows[r, i] = row_of(s.lower, i)
-        n_rows = len(mfs)
-        # Row n_rows is the constant 1 used for inputs a rule does not mention.
-        upper_rows[upper_rows < 0] = n_rows
-        lower_rows[lower_rows < 0] = n_rows
-        self.n_rows = n_rows
-        self.upper_rows = upper_rows
-        self.lower_rows = lower_rows
-        self.type1 = bool(np.array_equal(upper_rows, lower_rows))
-        # Piecewise-linear rows are evaluated together as one trapezoid bank.
-        pl = [k for k, mf in enumerate(mfs) if isinstance(mf, PiecewiseLinear)]
-        self.pl_rows = np.array(pl, dtype=np.intp)
-        self.pl_input = np.array([mf_input[k] for k in pl], dtype=np.intp)
-        a, wl, d, wr, h = [], [], [], [], []
-        for k in pl:
-            mf = mfs[k]
-            assert isinstance(mf, PiecewiseLinear)
-            pa, pb, pc, pd, ph = mf.as_trapezoid()
-            a.append(-math.inf if pa == pb else pa)
-            wl.append(1.0 if pa == pb else pb - pa)
-            d.append(math.inf if pc == pd else pd)
-            wr.append(1.0 if pc == pd else pd - pc)
-            h.append(ph)
-        self.pl_params = [np.array(v)[:, None] for v in (a, wl, d, wr, h)]
-        self.pl_scalar = list(zip(pl, [mf_input[k] for k in pl], a, wl, d, wr, h, strict=True))
-        self.other = [(k, mfs[k], mf_input[k]) for k in range(n_rows) if k not in set(pl)]
-        self.all_pl = not self.other
-        self.identity_pl = self.all_pl and np.array_equal(self.pl_rows, np.arange(n_rows))
-        y_lo = np.array([rule.consequent[0] for rule in rules])
-        y_hi = np.array([rule.consequent[1] for rule in rules])
-        self.y_lo, self.y_hi = y_lo, y_hi
-        self.crisp = bool(np.array_equal(y_lo, y_hi))
-        # Rules are evaluated sorted by their lower consequent, so the type reducers need no
-        # gather; `perm` maps sorted position -> original rule index.
-        self.perm = np.argsort(y_lo, kind="stable")
-        self.inv_perm = np.argsort(self.perm)
-        self.upper_rows_s = np.ascontiguousarray(upper_rows[self.perm])
-        self.lower_rows_s = np.ascontiguousarray(lower_rows[self.perm])
-        self.y_lo_s = y_lo[self.perm]
-        self.y_hi_s = y_hi[self.perm]
-        self.order_ident = np.arange(len(rules))
-        self.order_hi_s = np.argsort(self.y_hi_s, kind="stable")
-        self.upper_rows_s_list = self.upper_rows_s.tolist()
-        self.lower_rows_s_list = self.lower_rows_s.tolist()
-        self.all_h1 = all(v == 1.0 for v in h)
-        self._local = threading.local()
-
-    def __getstate__(self) -> dict[str, Any]:
-        state = self.__dict__.copy()
-        del state["_local"]  # per-thread scratch arrays: not picklable, rebuilt on demand
-        return state
-
-    def __setstate__(self, state: dict[str, Any]) -> None:
-        self.__dict__.update(state)
-        self._local = threading.local()
-
-    def workspace(self, n: int) -> dict[str, FloatArray]:
-        """Scratch arrays for blocks of up to ``n`` samples, reused across calls (per thread).
-
-        Reuse matters: fresh multi-megabyte temporaries cost page faults that take longer than
-        the arithmetic itself.
-        """
-        ws: dict[str, FloatArray] | None = getattr(self._local, "ws", None)
-        if ws is None or ws["m"].shape[1] < n:
-            r = len(self.upper_rows)
-            p = max(len(self.pl_rows), 1)
-            ws = {
-                "m": np.empty((self.n_rows + 1, n)),
-                "xr": np.empty((p, n)),
-                "right": np.empty((p, n)),
-                "fu": np.empty((r, n)),
-                "fl": np.empty((r, n)),
-                "tmp": np.empty((r, n)),
-            }
-            ws["m"][self.n_rows] = 1.0
-            self._local.ws = ws
-        return ws
-
-    def memberships(self, x: FloatArray, out: FloatArray | None = None) -> FloatArray:
-        """All membership rows for a block ``x`` of shape ``(n_inputs, N)``: ``(n_rows+1, N)``.
-
-        The last row is the constant 1 used for inputs a rule does not mention.
-        """
-        n = x.shape[1]
-        ws = self.workspace(n)
-        if out is None:
-            out = np.empty((self.n_rows + 1, n))
-            out[self.n_rows] = 1.0
-        if self.pl_rows.size:
-            a, wl, d, wr, h = self.pl_params
-            xr = np.take(x, self.pl_input, axis=0, out=ws["xr"][:, :n])
-            left = out[: self.n_rows] if self.identity_pl else np.empty_like(xr)
-            right = ws["right"][:, :n]
-            np.subtract(xr, a, out=left)
-            np.divide(left, wl, out=left)
-            np.subtract(d, xr, out=right)
-            np.divide(right, wr, out=right)
-            np.minimum(left, right, out=left)
-            np.minimum(left, 1.0, out=left)
-            np.maximum(left, 0.0, out=left)
-            if not self.all_h1:
-                np.multiply(left, h, out=left)
-            if not self.identity_pl:
-                out[self.pl_rows] = left
-        for k, mf, i in self.other:
-            out[k] = mf(x[i])
-        return out
-
-    def memberships_scalar(self, x: Sequence[float]) -> list[float]:
-        out = [1.0] * (self.n_rows + 1)
-        for k, i, a, wl, d, wr, h in self.pl_scalar:
-            v = min((x[i] - a) / wl, (d - x[i]) / wr)
-            out[k] = h * (0.0 if v < 0.0 else 1.0 if v > 1.0 else v)
-        for k, mf, i in self.other:
-            out[k] = float(mf(np.float64(x[i])))
-        return out
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -317,7 +44,7 @@ class _SugenoBase:
     tnorm: TNorm = TNorm.PRODUCT
     on_zero_firing: float | None = None
     name: str = ""
-    _c: _Compiled = field(init=False, repr=False, compare=False)
+    _c: SystemTables = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "inputs", tuple(self.inputs))
@@ -341,12 +68,18 @@ class _SugenoBase:
                 raise ValueError(f"rule {k} mentions no input")
         if self.on_zero_firing is not None and not math.isfinite(self.on_zero_firing):
             raise ValueError(f"on_zero_firing={self.on_zero_firing!r} must be finite or None")
-        object.__setattr__(self, "_c", _Compiled(self.inputs, self.rules))
+        object.__setattr__(self, "_c", SystemTables(self.inputs, self.rules))
 
     # -- shapes and checks --------------------------------------------------------------------
     @property
     def n_inputs(self) -> int:
         return len(self.inputs)
+
+    @property
+    def tables(self) -> SystemTables:
+        """The system lowered to arrays (:class:`~it2track.fuzzy.tables.SystemTables`), the
+        representation compiled kernels and code generators work from."""
+        return self._c
 
     @property
     def n_rules(self) -> int:
@@ -687,40 +420,3 @@ class T1Sugeno(_SugenoBase):
 
 
 FuzzySystem = IT2Sugeno | T1Sugeno
-
-
-def control_surface(
-    system: _SugenoBase,
-    *,
-    points: int = 101,
-    ranges: Mapping[str, tuple[float, float]] | None = None,
-) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """Output of a two-input system on a grid.
-
-    Parameters
-    ----------
-    system : IT2Sugeno or T1Sugeno
-        A system with exactly two inputs.
-    points : int
-        Grid points per axis.
-    ranges : mapping, optional
-        Input name -> (lo, hi); defaults to each input's universe.
-
-    Returns
-    -------
-    x1, x2, u : ndarray, shape (points, points)
-        Meshgrid (``indexing="ij"``: ``x1`` varies along axis 0) and the output on it.
-    """
-    if system.n_inputs != 2:
-        raise ValueError(f"control_surface needs a two-input system, got {system.n_inputs}")
-    if points < 2:
-        raise ValueError(f"points={points!r} must be >= 2")
-    ranges = dict(ranges or {})
-    axes = []
-    for inp in system.inputs:
-        lo, hi = ranges.pop(inp.name, inp.universe)
-        axes.append(np.linspace(lo, hi, points))
-    if ranges:
-        raise ValueError(f"ranges names unknown inputs {sorted(ranges)}")
-    x1, x2 = np.meshgrid(axes[0], axes[1], indexing="ij")
-    return x1, x2, np.asarray(system(x1, x2))
