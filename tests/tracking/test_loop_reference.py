@@ -33,10 +33,13 @@ def _wrap(a: float) -> float:
     return math.pi if w <= -math.pi else w
 
 
-def reference_loop(traj_fn, config: LoopConfig, *, control=None,
-                   noise=None) -> dict[str, np.ndarray]:
+def reference_loop(traj_fn, config: LoopConfig, *, control=None, noise=None,
+                   start=None, previous_pose=False) -> dict[str, np.ndarray]:
     """Naive closed loop of one run: a PD heading controller (or ``control(e, de) -> u`` on
-    Python floats) and heading noise ``noise[j]`` held for sample ``j = floor(t * rate)``."""
+    Python floats) and heading noise ``noise[j]`` held for sample ``j = floor(t * rate)``.
+
+    ``start`` overrides the start pose; ``previous_pose`` computes theta_d from the pose one
+    period older (the paper's literal y(k - 1))."""
     robot: RobotParams = config.robot
     motor = robot.motor
     ts, n = config.ts, config.n_steps
@@ -44,15 +47,18 @@ def reference_loop(traj_fn, config: LoopConfig, *, control=None,
         motor.resistance * motor.friction + motor.torque_constant**2
     )
     state = np.zeros(7)  # x, y, theta, i_R, omega_R, i_L, omega_L
-    state[:3] = config.start_pose
+    state[:3] = config.start_pose if start is None else start
     out = {name: np.empty(n + 1) for name in ("x", "y", "theta", "e", "u", "v_right", "v_left")}
     e_prev = 0.0
+    older = (float(state[0]), float(state[1]))
     deriv = 0.0
     for k in range(n + 1):
         t = k * ts
         xr, yr, vx, vy = (float(v) for v in np.asarray(traj_fn(np.array([t])))[0])
         x, y, th = (float(v) for v in state[:3])
-        theta_d = math.atan2(yr - y, xr - x)
+        px, py = older if previous_pose else (x, y)
+        older = (x, y)
+        theta_d = math.atan2(yr - py, xr - px)
         held = math.floor(k * ts * config.noise_rate + 1e-9)  # sample active at t_k
         measured = th if noise is None else th + float(noise[held])
         e = _wrap(theta_d - measured)

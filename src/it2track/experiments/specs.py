@@ -21,6 +21,7 @@ from ..fuzzy import Reducer, TNorm
 from ..paper import dead_zone_matched_fls, heading_fls
 from ..plant import MotorParams, RobotParams
 from ..tracking import (
+    ON_PATH,
     FuzzyHeadingController,
     HeadingController,
     LoopConfig,
@@ -321,16 +322,25 @@ def robot_from_table(t: Table) -> RobotParams:
 
 def loop_config_from_table(t: Table, robot: RobotParams, *, seed: int) -> LoopConfig:
     """``[simulation]`` (``duration``, ``ts``, ``noise_rate``, ``start_pose``,
-    ``quadrature_nodes``) onto :class:`LoopConfig`."""
+    ``quadrature_nodes``, ``desired_heading_pose``, ``metric_start``) onto
+    :class:`LoopConfig`."""
     values: dict[str, Any] = {}
-    for key in ("duration", "ts", "noise_rate"):
+    for key in ("duration", "ts", "noise_rate", "metric_start"):
         if key in t:
             values[key] = t.get(key, float)
-    if "start_pose" in t:
+    if "start_pose" in t and isinstance(t.data["start_pose"], str):
+        values["start_pose"] = t.get("start_pose", str)
+        if values["start_pose"] != ON_PATH:
+            raise ConfigError(f"{t.where}: start_pose={values['start_pose']!r} must be "
+                              f"[x, y, theta] or {ON_PATH!r}")
+    elif "start_pose" in t:
         pose = t.get_list("start_pose", float)
         if len(pose) != 3:
-            raise ConfigError(f"{t.where}: start_pose={pose!r} must be [x, y, theta]")
+            raise ConfigError(f"{t.where}: start_pose={pose!r} must be [x, y, theta] or "
+                              f"{ON_PATH!r}")
         values["start_pose"] = tuple(pose)
+    if "desired_heading_pose" in t:
+        values["desired_heading_pose"] = t.get("desired_heading_pose", str)
     if "quadrature_nodes" in t:
         values["quadrature_nodes"] = t.get("quadrature_nodes", int)
     t.done()

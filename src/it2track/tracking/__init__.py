@@ -6,8 +6,10 @@ Builds on :mod:`it2track.fuzzy` (controllers) and :mod:`it2track.plant` (physics
 from .controllers import FuzzyHeadingController, HeadingController, PDHeadingController
 from .metrics import METRIC_NAMES, MetricAccumulator, integral_errors
 from .simulate import (
+    ON_PATH,
     TRACE_FIELDS,
     LoopConfig,
+    PoseTiming,
     RunTable,
     Trace,
     run_grid,
@@ -29,6 +31,7 @@ from .trajectories import (
 
 __all__ = [
     "METRIC_NAMES",
+    "ON_PATH",
     "PAPER_TRAJECTORIES",
     "TRACE_FIELDS",
     "FunctionTrajectory",
@@ -37,6 +40,7 @@ __all__ = [
     "LoopConfig",
     "MetricAccumulator",
     "PDHeadingController",
+    "PoseTiming",
     "RunTable",
     "Trace",
     "Trajectory",

@@ -48,19 +48,23 @@ METRIC_NAMES: tuple[str, ...] = (
 
 
 class _IntegralErrors:
-    """Running trapezoid sums of |e|, t|e|, e^2, t e^2 on a uniform grid."""
+    """Running trapezoid sums of |e|, t|e|, e^2, t e^2 on a uniform grid, over the samples
+    ``k = start ... n_steps``."""
 
-    def __init__(self, n: int, ts: float, n_steps: int) -> None:
+    def __init__(self, n: int, ts: float, n_steps: int, start: int = 0) -> None:
         self.ts = ts
         self.n_steps = n_steps
+        self.start = start
         self.sums = np.zeros((4, n))
         self.ends = np.zeros((4, n))
         self._abs = np.empty(n)
         self._sq = np.empty(n)
 
     def update(self, k: int, e: FloatArray) -> None:
+        if k < self.start:
+            return
         t = k * self.ts
-        end = k == 0 or k == self.n_steps
+        end = k == self.start or k == self.n_steps
         sums, ends = self.sums, self.ends
         a = np.abs(e, out=self._abs)
         s = np.multiply(e, e, out=self._sq)
@@ -86,16 +90,20 @@ class MetricAccumulator:
 
     Call :meth:`update` for ``k = 0 ... n_steps`` in order, then :meth:`result`. ``ts`` is the
     sampling period (s) and ``voltage_limit`` the wheel-voltage limit (V) that ``sat_time``
-    compares the requested voltages with.
+    compares the requested voltages with. The heading-error integrals (IAE ... ITSE, true and
+    measured) cover the samples ``k >= start_index`` only (the other metrics every sample).
     """
 
-    def __init__(self, n: int, ts: float, n_steps: int, voltage_limit: float) -> None:
+    def __init__(self, n: int, ts: float, n_steps: int, voltage_limit: float, *,
+                 start_index: int = 0) -> None:
+        if not 0 <= start_index < n_steps:
+            raise ValueError(f"start_index={start_index!r} must be in [0, n_steps={n_steps})")
         self.n = n
         self.ts = ts
         self.n_steps = n_steps
         self.voltage_limit = voltage_limit
-        self.true = _IntegralErrors(n, ts, n_steps)
-        self.meas = _IntegralErrors(n, ts, n_steps)
+        self.true = _IntegralErrors(n, ts, n_steps, start_index)
+        self.meas = _IntegralErrors(n, ts, n_steps, start_index)
         self.dist_sq = np.zeros(n)
         self.dist_max = np.zeros(n)
         self.dist_final = np.zeros(n)

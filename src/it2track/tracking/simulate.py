@@ -8,7 +8,8 @@ heading controller, a reference trajectory, a noise level and a noise realisatio
 At control instant ``k`` (``t_k = k ts``, ``k = 0 ... N``) every run:
 
 1. computes ``theta_d = atan2(y_d(t_k) - y_k, x_d(t_k) - x_k)`` from the pose the previous period
-   produced and the reference point at ``t_k``;
+   produced and the reference point at ``t_k`` (or, with ``LoopConfig.desired_heading_pose =
+   PoseTiming.PREVIOUS``, from the pose one period older, the paper's literal ``y(k - 1)``);
 2. measures ``theta_hat = theta_k + sigma z[j(t_k)]`` (Gaussian noise held at the noise rate)
    and forms ``e_k = wrap(theta_d - theta_hat)`` in ``(-pi, pi]`` and
    ``de_k = wrap(e_k - e_(k-1))`` (``de_0 = 0``);
@@ -30,6 +31,7 @@ keeps only the metrics (``dict`` of ``(B,)`` arrays), so memory stays flat as ``
 from __future__ import annotations
 
 import dataclasses
+import enum
 import functools
 import math
 from collections.abc import Callable, Sequence
@@ -46,8 +48,10 @@ from .metrics import MetricAccumulator
 from .trajectories import Trajectory
 
 __all__ = [
+    "ON_PATH",
     "TRACE_FIELDS",
     "LoopConfig",
+    "PoseTiming",
     "RunTable",
     "Trace",
     "run_grid",
@@ -89,6 +93,22 @@ def _wrap_inplace(a: FloatArray) -> FloatArray:
     return a
 
 
+#: ``LoopConfig.start_pose`` value that starts each run on its reference path (see there).
+ON_PATH = "on_path"
+
+
+class PoseTiming(enum.Enum):
+    """Which pose the desired heading ``theta_d`` at instant ``k`` is computed from.
+
+    ``CURRENT`` (default): the pose at ``t_k``, i.e. the one the previous period produced
+    (DESIGN.md sec. 5). ``PREVIOUS``: the pose at ``t_(k-1)`` (one more period of delay), the
+    paper's eqs. 20-21 read literally (``y_d(k) - y(k - 1)``); at ``k = 0`` the start pose.
+    """
+
+    CURRENT = "current"
+    PREVIOUS = "previous"
+
+
 @dataclass(frozen=True, kw_only=True)
 class LoopConfig:
     """Physics and timing shared by every run of a batch.
@@ -103,12 +123,21 @@ class LoopConfig:
         Robot and motor parameters (paper Table 3 by default).
     noise_rate : float
         Rate at which the heading noise is resampled and held, Hz (default 100).
-    start_pose : (float, float, float)
-        Initial ``(x, y, theta)``; the robot starts at rest.
+    start_pose : (float, float, float) or "on_path"
+        Initial ``(x, y, theta)``; the robot starts at rest. :data:`ON_PATH` (``"on_path"``)
+        starts every run at its reference point at ``t = 0`` with the reference's tangent
+        heading ``atan2(y_d'(0), x_d'(0))``.
     seed : int
         Base seed of the noise realisations (>= 0).
     quadrature_nodes : int
         Nodes per period of the position integral (see :class:`DifferentialDrive`).
+    desired_heading_pose : PoseTiming or str
+        Pose ``theta_d`` is computed from (see :class:`PoseTiming`; default ``"current"``).
+    metric_start : float
+        Start of the window of the heading-error integrals (IAE ... ITSE and their ``_meas``
+        forms), s: they integrate over ``[metric_start, duration]`` (ITAE/ITSE still weight
+        by the absolute time ``t``). A whole number of periods in ``[0, duration)``;
+        default 0 (the whole run).
     """
 
     duration: float = 10.0
@@ -118,6 +147,8 @@ class LoopConfig:
     start_pose: tuple[float, float, float] = (0.0, 0.0, 0.0)
     seed: int = 0
     quadrature_nodes: int = 4
+    desired_heading_pose: PoseTiming = PoseTiming.CURRENT
+    metric_start: float = 0.0
 
     def __post_init__(self) -> None:
         for key in ("duration", "ts", "noise_rate"):
@@ -136,13 +167,40 @@ class LoopConfig:
                 f"LoopConfig: duration={self.duration!r} must be a whole number of periods "
                 f"ts={self.ts!r}"
             )
-        try:
-            pose = tuple(float(v) for v in self.start_pose)
-        except (TypeError, ValueError):
-            pose = ()
-        if len(pose) != 3 or not all(math.isfinite(v) for v in pose):
-            raise ValueError(f"LoopConfig.start_pose={self.start_pose!r} must be 3 finite numbers")
-        object.__setattr__(self, "start_pose", pose)
+        if isinstance(self.start_pose, str):
+            if self.start_pose != ON_PATH:
+                raise ValueError(f"LoopConfig.start_pose={self.start_pose!r} must be 3 finite "
+                                 f"numbers or {ON_PATH!r}")
+        else:
+            try:
+                pose = tuple(float(v) for v in self.start_pose)
+            except (TypeError, ValueError):
+                pose = ()
+            if len(pose) != 3 or not all(math.isfinite(v) for v in pose):
+                raise ValueError(f"LoopConfig.start_pose={self.start_pose!r} must be 3 finite "
+                                 f"numbers or {ON_PATH!r}")
+            object.__setattr__(self, "start_pose", pose)
+        timing = self.desired_heading_pose
+        if not isinstance(timing, PoseTiming):
+            try:
+                timing = PoseTiming(timing)
+            except ValueError:
+                raise ValueError(
+                    f"LoopConfig.desired_heading_pose={timing!r} must be one of "
+                    f"{[t.value for t in PoseTiming]}"
+                ) from None
+            object.__setattr__(self, "desired_heading_pose", timing)
+        start = self.metric_start
+        if isinstance(start, bool) or not isinstance(start, Real) or not math.isfinite(start):
+            raise ValueError(f"LoopConfig.metric_start={start!r} must be a finite number")
+        start = float(start)
+        k0 = start / self.ts
+        if not 0.0 <= start < self.duration or abs(k0 - round(k0)) > 1e-9 * max(1.0, k0):
+            raise ValueError(
+                f"LoopConfig.metric_start={start!r} must be a whole number of periods "
+                f"ts={self.ts!r} in [0, duration={self.duration!r})"
+            )
+        object.__setattr__(self, "metric_start", start)
         if isinstance(self.seed, bool) or not isinstance(self.seed, Integral) or self.seed < 0:
             raise ValueError(f"LoopConfig.seed={self.seed!r} must be an integer >= 0")
         object.__setattr__(self, "seed", int(self.seed))
@@ -157,14 +215,22 @@ class LoopConfig:
         """Plain values (JSON/TOML-ready), the robot as a nested dict."""
         return {
             "duration": self.duration, "ts": self.ts, "noise_rate": self.noise_rate,
-            "start_pose": list(self.start_pose), "seed": self.seed,
-            "quadrature_nodes": self.quadrature_nodes, "robot": dataclasses.asdict(self.robot),
+            "start_pose": (self.start_pose if isinstance(self.start_pose, str)
+                           else list(self.start_pose)),
+            "seed": self.seed, "quadrature_nodes": self.quadrature_nodes,
+            "desired_heading_pose": self.desired_heading_pose.value,
+            "metric_start": self.metric_start, "robot": dataclasses.asdict(self.robot),
         }  # fmt: skip
 
     @property
     def n_steps(self) -> int:
         """Number of control periods N (instants ``k = 0 ... N``)."""
         return round(self.duration / self.ts)
+
+    @property
+    def metric_start_index(self) -> int:
+        """First control instant ``k`` inside the error-integral window."""
+        return round(self.metric_start / self.ts)
 
     @property
     def times(self) -> FloatArray:
@@ -355,6 +421,13 @@ class _Engine:
         self.x_ref = np.ascontiguousarray(ref[:, :, 0].T)
         self.y_ref = np.ascontiguousarray(ref[:, :, 1].T)
         self.v0 = np.ascontiguousarray((np.hypot(ref[:, :, 2], ref[:, :, 3]) / gain).T)
+        if config.start_pose == ON_PATH:
+            # (x, y, tangent heading) of each reference at t = 0: (n_traj, 3)
+            self.start = np.stack([ref[:, 0, 0], ref[:, 0, 1],
+                                   np.arctan2(ref[:, 0, 3], ref[:, 0, 2])], axis=1)
+        else:
+            self.start = np.tile(np.asarray(config.start_pose, dtype=np.float64),
+                                 (len(trajectories), 1))
         self.hold = held_sample_index(t, config.noise_rate)
         self.n_noise = int(self.hold[-1]) + 1
         self.v_lim = motor.voltage_limit
@@ -394,18 +467,22 @@ class _Engine:
         ] if n else []
         states = [c.initial_state(s.stop - s.start, cfg.ts) for c, s in groups]
 
-        pose = np.empty((3, n))
-        pose[0], pose[1], pose[2] = cfg.start_pose
+        pose = np.ascontiguousarray(self.start[tidx].T) if n else np.empty((3, 0))
+        previous = cfg.desired_heading_pose is PoseTiming.PREVIOUS
+        prev_xy = pose[:2].copy()  # pose at t_(k-1) for PoseTiming.PREVIOUS (t_0 at k = 0)
         wheels = np.zeros((4, n))
         volts = np.empty((2, n))
         u = np.empty(n)
-        acc = MetricAccumulator(n, cfg.ts, n_steps, self.v_lim)
+        acc = MetricAccumulator(n, cfg.ts, n_steps, self.v_lim,
+                                start_index=cfg.metric_start_index)
         rec = {f: np.empty((n_steps + 1, n)) for f in TRACE_FIELDS} if record else None
         half_r = 0.5 * cfg.robot.wheel_radius
         w_scale = cfg.robot.wheel_radius / (2.0 * cfg.robot.half_track)
         # Work rows reused every step (fresh temporaries would cost allocations and page
         # faults). Every operation on them is elementwise: runs stay batch-independent.
         dx, dy, theta_d, theta_meas, e_true, dist, tmp, vr_req, vl_req = np.empty((9, n))
+        if previous:
+            dxp, dyp = np.empty(n), np.empty(n)
         e_meas, e_prev = np.empty(n), np.empty(n)  # swapped each step
         de = np.zeros(n)  # de_0 = 0
         if not one_traj:
@@ -421,7 +498,12 @@ class _Engine:
                 np.take(self.v0[k], tidx, out=v0)
             np.subtract(xr, pose[0], out=dx)
             np.subtract(yr, pose[1], out=dy)
-            np.arctan2(dy, dx, out=theta_d)
+            if previous:
+                np.subtract(xr, prev_xy[0], out=dxp)
+                np.subtract(yr, prev_xy[1], out=dyp)
+                np.arctan2(dyp, dxp, out=theta_d)
+            else:
+                np.arctan2(dy, dx, out=theta_d)
             np.add(pose[2], z[self.hold[k]], out=theta_meas)
             _wrap_inplace(np.subtract(theta_d, pose[2], out=e_true))
             _wrap_inplace(np.subtract(theta_d, theta_meas, out=e_meas))
@@ -453,6 +535,8 @@ class _Engine:
                 for name, value in row.items():
                     rec[name][k] = value
             if k < n_steps:
+                if previous:
+                    prev_xy[:] = pose[:2]
                 pose, wheels = self.drive.step(pose, wheels, volts)
             e_prev, e_meas = e_meas, e_prev
 
