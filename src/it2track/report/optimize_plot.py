@@ -9,13 +9,14 @@ evolution) and the best value so far (a step line), with optional horizontal ref
 
 from __future__ import annotations
 
-import os
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 from matplotlib.figure import Figure
+
+from ..atomicfile import atomic_open
 
 __all__ = ["plot_convergence"]
 
@@ -83,14 +84,6 @@ def plot_convergence(
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
-        with open(tmp, "wb") as fh:
-            fig.savefig(fh, format="png", dpi=dpi, metadata={"Software": None})
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
+    with atomic_open(path, "wb") as fh:  # exclusive, unpredictable temporary; never follows links
+        fig.savefig(fh, format="png", dpi=dpi, metadata={"Software": None})
     return path
