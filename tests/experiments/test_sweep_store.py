@@ -22,6 +22,7 @@ from it2track.cli.sweep import sweep as sweep_command
 from it2track.experiments import sweep as sweep_module
 from it2track.experiments.sweep import (
     StoreError,
+    digest_path,
     load_sweep_config,
     read_results,
     run_sweep,
@@ -135,7 +136,7 @@ def test_chunk_size_does_not_change_results(tmp_path: Path) -> None:
     assert a.config_hash() != b.config_hash()  # the layout is part of the identity
     run_sweep(a, tmp_path / "a", progress=False)
     run_sweep(b, tmp_path / "b", progress=False)
-    assert len(list((tmp_path / "b" / "chunks").iterdir())) == 2  # one per plant set
+    assert len(list((tmp_path / "b" / "chunks").glob("chunk-*.csv"))) == 2  # one per plant set
     assert (tmp_path / "a" / "results.csv").read_bytes() == (
         tmp_path / "b" / "results.csv"
     ).read_bytes()
@@ -151,12 +152,23 @@ def test_resume_recomputes_only_missing_or_broken_chunks(tmp_path: Path) -> None
     chunks[4].unlink()
     text = chunks[2].read_text()
     chunks[2].write_text(text[: len(text) // 2])  # torn file (as if written without rename)
-    (out / "chunks" / f".{chunks[3].name}.999.tmp").write_text("partial")  # killed writer
+    # A killed writer's temporary (our naming, a pid that cannot exist on Linux) ...
+    ours = out / "chunks" / f".{chunks[3].name}.it2track-4999999-0123456789ab.tmp"
+    ours.write_text("partial")
+    # ... and the user's own files that merely look like temporaries: they must survive.
+    foreign = [out / "chunks" / f".{chunks[3].name}.999.tmp", out / ".notes.tmp",
+               out / f".results.csv.it2track-{os.getpid()}-0123456789ab.tmp"]  # a live pid
+    for f in foreign:
+        f.write_text("the user's")
     (out / "results.csv").unlink()
     summary = run_sweep(plan, out, resume=True, progress=False)
     assert summary.chunks_computed == 3
     assert summary.chunks_skipped == len(chunks) - 3
     assert (out / "results.csv").read_bytes() == reference
+    assert not ours.exists()
+    assert all(f.read_text() == "the user's" for f in foreign)
+    for f in foreign:
+        f.unlink()
     assert not list(out.rglob("*.tmp"))
     # Resuming a finished sweep only re-assembles the same file.
     again = run_sweep(plan, out, resume=True, progress=False)
@@ -323,22 +335,61 @@ def slow_reference(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, byte
     return config, (base / "reference" / "results.csv").read_bytes()
 
 
+# Imported by the sweep subprocess (and its spawned workers): chunk GATE and later ones wait
+# (after writing a marker) instead of computing, so that the signal always reaches a sweep with
+# exactly the chunks before GATE saved and the rest still to do -- never a finished one.
+GATE_MODULE = """
+import os
+import time
+from pathlib import Path
+
+from it2track.experiments import sweep as _sweep
+
+_real = _sweep.simulate_grid_chunk
+
+
+def gated(chunk):
+    if chunk.chunk_id >= int(os.environ["SWEEP_GATE"]):
+        Path(os.environ["SWEEP_GATE_MARKER"]).touch()
+        time.sleep(120)
+    return _real(chunk)
+
+
+_sweep.simulate_grid_chunk = gated
+"""
+
+
+def _complete_chunks(out: Path) -> list[str]:
+    """Chunk files whose checksum file exists too (what a resume will keep)."""
+    return sorted(
+        p.name for p in out.glob("chunks/chunk-*.csv") if digest_path(p).exists()
+    )
+
+
 def _start_and_wait_for_chunks(
     config: Path, out: Path, n: int, workers: int
 ) -> subprocess.Popen[bytes]:
+    """Start a sweep whose chunks >= n block, and wait until it is blocked with n saved."""
+    gate_dir = out.parent / "gate"
+    gate_dir.mkdir()
+    (gate_dir / "sweepgate.py").write_text(GATE_MODULE)
+    marker = gate_dir / "reached"
+    env = {**os.environ, "SWEEP_GATE": str(n), "SWEEP_GATE_MARKER": str(marker),
+           "PYTHONPATH": os.pathsep.join([str(gate_dir), os.environ.get("PYTHONPATH", "")])}
     proc = subprocess.Popen(
-        [sys.executable, "-m", "it2track.cli.main", "sweep", "--config", str(config),
-         "--out", str(out), "--no-progress", "--workers", str(workers)],
-        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+        [sys.executable, "-c", "import sweepgate; from it2track.cli.main import main; main()",
+         "sweep", "--config", str(config), "--out", str(out), "--no-progress",
+         "--workers", str(workers)],
+        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env,
     )  # fmt: skip
     deadline = time.monotonic() + 60
-    while len(list(out.glob("chunks/chunk-*.csv"))) < n:
+    while not marker.exists() or len(_complete_chunks(out)) < n:
         if proc.poll() is not None:
             _, err = proc.communicate()
             pytest.fail(f"sweep exited early ({proc.returncode}): {err.decode()}")
         if time.monotonic() > deadline:
             proc.kill()
-            pytest.fail("sweep produced no chunks within 60 s")
+            pytest.fail("the sweep did not reach its gate within 60 s")
         time.sleep(0.005)
     return proc
 
@@ -379,8 +430,8 @@ def test_killed_sweep_resumes_to_identical_results(
     else:
         assert proc.returncode == 130, err.decode()
         assert "rerun with --resume" in err.decode()
-    saved = sorted(p.name for p in (out / "chunks").glob("chunk-*.csv"))
-    assert 3 <= len(saved) < n_chunks, "the sweep was not interrupted mid-way"
+    saved = _complete_chunks(out)
+    assert len(saved) == 3 < n_chunks, "the sweep was not interrupted at its gate"
     assert not (out / "results.csv").exists()
     if workers:
         # Worker processes notice their driver's death and exit (no orphans left computing).
@@ -395,6 +446,7 @@ def test_killed_sweep_resumes_to_identical_results(
     assert result.exit_code == 0, result.output
     assert f"{n_chunks - len(saved)} chunks, {len(saved)} already done" in result.output
     assert (out / "results.csv").read_bytes() == reference  # no duplicate, no missing row
-    assert sorted(p.name for p in (out / "chunks").iterdir()) == [
-        f"chunk-{i:06d}.csv" for i in range(n_chunks)
-    ]
+    assert sorted(p.name for p in (out / "chunks").iterdir()) == sorted(
+        [f"chunk-{i:06d}.csv" for i in range(n_chunks)]
+        + [f"chunk-{i:06d}.csv.sha256" for i in range(n_chunks)]
+    )

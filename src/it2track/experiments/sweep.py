@@ -24,15 +24,19 @@ never arrays of runs -- and comes back as metric arrays; only the driver writes 
 
 Results store (directory ``DIR``)::
 
-    DIR/sweep.json                normalised configuration, its SHA-256, layout, columns
-    DIR/chunks/chunk-000042.csv   one CSV per finished chunk (header + its rows)
-    DIR/results.csv               all rows in run order, assembled when every chunk is done
-    DIR/.lock                     advisory lock held while a process works on DIR
+    DIR/sweep.json                       normalised configuration, its SHA-256, layout, columns
+    DIR/chunks/chunk-000042.csv          one CSV per finished chunk (header + its rows)
+    DIR/chunks/chunk-000042.csv.sha256   its SHA-256 (``sha256sum -c`` format)
+    DIR/results.csv                      all rows in run order, assembled when every chunk is done
+    DIR/.lock                            advisory lock held while a process works on DIR
 
-Every file is written to a temporary name, flushed, ``fsync``-ed and renamed (then the directory
-is ``fsync``-ed), so a chunk file exists only if it is complete: killing the process at any
-moment loses at most the chunks being computed. ``resume`` checks the configuration hash and
-skips the chunks on disk. The hash covers everything that determines the numbers and the chunk
+Every file is written to a temporary name (:mod:`it2track.atomicfile`), flushed, ``fsync``-ed
+and renamed (then the directory is ``fsync``-ed), so a chunk file exists only if it is complete:
+killing the process at any moment loses at most the chunks being computed. ``resume`` checks the
+configuration hash and skips the chunks on disk whose bytes still hash to their stored SHA-256
+(an edited, torn or unverifiable chunk is computed again); temporaries are removed only if they
+carry this package's temporary naming and their writer is dead, never a user's ``.*.tmp``. The
+hash covers everything that determines the numbers and the chunk
 layout -- including the it2track version and the bytes (not the paths) of controller and
 trajectory files -- so a store is never extended with results of another configuration, an
 edited file or another version of it2track. Floats are written with ``repr``, which
@@ -57,6 +61,7 @@ import json
 import math
 import os
 import socket
+import stat
 import sys
 import time
 from collections.abc import Iterator, Mapping, Sequence
@@ -69,7 +74,7 @@ from numpy.typing import NDArray
 from tqdm import tqdm
 
 from .. import __version__
-from ..atomicfile import atomic_open, atomic_write_bytes
+from ..atomicfile import atomic_open, atomic_write_bytes, remove_stale_temporaries
 from ..plant import RobotParams
 from ..tracking import (
     METRIC_NAMES,
@@ -120,7 +125,7 @@ __all__ = [
 FloatArray = NDArray[np.float64]
 
 #: Identifies the store layout in ``sweep.json``.
-STORE_FORMAT = "it2track-sweep/1"
+STORE_FORMAT = "it2track-sweep/2"
 #: Default number of runs per chunk (one ``simulate_metrics`` call, about 1-2 s of work).
 DEFAULT_CHUNK_SIZE = 2000
 DEFAULT_BATCH_SIZE = 4096
@@ -802,7 +807,11 @@ def _locked(out: Path) -> Iterator[None]:
     except ImportError:  # pragma: no cover - Windows: no locking
         yield
         return
-    fd = os.open(out / ".lock", os.O_RDWR | os.O_CREAT, 0o644)
+    flags = os.O_RDWR | os.O_CREAT | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_CLOEXEC", 0)
+    try:
+        fd = os.open(out / ".lock", flags, 0o644)
+    except OSError as exc:
+        raise StoreError(f"{out / '.lock'}: cannot open the sweep's lock file: {exc}") from None
     try:
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
@@ -817,17 +826,54 @@ def chunk_path(out: Path, chunk_id: int) -> Path:
     return out / "chunks" / f"chunk-{chunk_id:06d}.csv"
 
 
-def _chunk_ok(path: Path, header: str, size: int) -> bool:
-    """Is ``path`` a complete chunk file (our header, ``size`` rows)? Missing -> False."""
+def digest_path(chunk_file: Path) -> Path:
+    """The checksum file of a chunk: ``chunk-000042.csv.sha256`` (``sha256sum -c`` format)."""
+    return chunk_file.with_name(chunk_file.name + ".sha256")
+
+
+def _digest_line(chunk_file: Path, digest: str) -> bytes:
+    return f"{digest}  {chunk_file.name}\n".encode("ascii")
+
+
+def _write_chunk(path: Path, data: bytes) -> None:
+    """The chunk file, then its checksum file (each atomically): a chunk counts as done only
+    when both exist and agree, so a kill between the two only costs a recomputation."""
+    atomic_write_bytes(path, data)
+    atomic_write_bytes(digest_path(path), _digest_line(path, hashlib.sha256(data).hexdigest()))
+
+
+def _read_regular(path: Path) -> bytes | None:
+    """The bytes of a regular file (never following a symbolic link), or None."""
     try:
-        data = path.read_bytes()
+        st = os.lstat(path)
+        if not stat.S_ISREG(st.st_mode):
+            return None
+        return path.read_bytes()
     except OSError:
-        return False
-    return (
+        return None
+
+
+def _chunk_digest(path: Path, header: str, size: int) -> str | None:
+    """The SHA-256 of ``path`` if it is a complete, unaltered chunk, else None.
+
+    Complete: our header and ``size`` rows; unaltered: its bytes hash to the digest stored in
+    its ``.sha256`` file when it was written. A missing, torn or edited chunk (or checksum
+    file) gives None: the chunk is computed again.
+    """
+    data = _read_regular(path)
+    stored = _read_regular(digest_path(path))
+    if data is None or stored is None:
+        return None
+    digest = hashlib.sha256(data).hexdigest()
+    if stored != _digest_line(path, digest):
+        return None
+    if not (
         data.startswith(header.encode("utf-8"))
         and data.endswith(b"\n")
         and data.count(b"\n") == size + 1
-    )
+    ):
+        return None
+    return digest
 
 
 def _describe_change(old: Mapping[str, Any], new: Mapping[str, Any]) -> str:
@@ -942,15 +988,29 @@ def _prepare_store(plan: SweepPlan, out: Path, *, resume: bool) -> None:
     atomic_write_bytes(meta_path, text.encode("utf-8"))
 
 
-def _assemble(plan: SweepPlan, out: Path, header: str) -> None:
-    """``results.csv``: the header, then every chunk's rows in run order (streamed)."""
+def _assemble(plan: SweepPlan, out: Path, header: str, digests: Mapping[int, str]) -> None:
+    """``results.csv``: the header, then every chunk's rows in run order (streamed).
+
+    Each chunk is hashed while it is copied and must still have the digest it had when it was
+    verified or written (``digests``): a chunk changed meanwhile stops the assembly.
+    """
     with atomic_open(out / "results.csv", "wb") as dst:
         dst.write(header.encode("utf-8"))
         for chunk in plan.chunks():
-            with open(chunk_path(out, chunk.id), "rb") as src:
-                src.readline()  # the chunk's header
+            path = chunk_path(out, chunk.id)
+            h = hashlib.sha256()
+            with open(path, "rb") as src:
+                first = src.readline()  # the chunk's header
+                h.update(first)
                 while block := src.read(1 << 20):
+                    h.update(block)
                     dst.write(block)
+            if h.hexdigest() != digests[chunk.id]:
+                raise StoreError(
+                    f"{path} changed while the sweep was assembling results.csv (sha256 "
+                    f"{digests[chunk.id][:12]} expected, {h.hexdigest()[:12]} found); "
+                    "rerun with --resume to recompute it"
+                )
 
 
 def run_sweep(
@@ -988,11 +1048,20 @@ def run_sweep(
     t0 = time.perf_counter()
     with _locked(out):
         _prepare_store(plan, out, resume=resume)
-        for stale in itertools.chain(out.glob(".*.tmp"), (out / "chunks").glob(".*.tmp")):
-            stale.unlink(missing_ok=True)  # left by a killed run; the lock says it is dead
         header_line = plan.header_csv()
         chunks = plan.chunks()
-        todo = [c for c in chunks if not _chunk_ok(chunk_path(out, c.id), header_line, c.size)]
+        # Temporaries a killed run of ours left (our naming, dead writer); nothing else.
+        remove_stale_temporaries(out, ("sweep.json", "results.csv"))
+        names = {chunk_path(out, c.id).name for c in chunks}
+        remove_stale_temporaries(out / "chunks", names | {n + ".sha256" for n in names})
+        digests: dict[int, str] = {}
+        todo = []
+        for c in chunks:
+            digest = _chunk_digest(chunk_path(out, c.id), header_line, c.size)
+            if digest is None:
+                todo.append(c)
+            else:
+                digests[c.id] = digest
         done_runs = plan.n_runs - sum(c.size for c in todo)
         by_id = {c.id: c for c in todo}
         workers: set[str] = set()
@@ -1008,15 +1077,16 @@ def run_sweep(
                 simulate_grid_chunk, tasks, max_pending=max_pending
             ):
                 chunk = by_id[task.chunk_id]
-                text = header_line + plan.rows_csv(chunk, result.metrics)
-                atomic_write_bytes(chunk_path(out, chunk.id), text.encode("utf-8"))
+                data = (header_line + plan.rows_csv(chunk, result.metrics)).encode("utf-8")
+                _write_chunk(chunk_path(out, chunk.id), data)
+                digests[chunk.id] = hashlib.sha256(data).hexdigest()
                 workers.add(result.worker)
                 worker_rss = max(worker_rss, result.peak_rss)
                 runs_computed += chunk.size
                 bar.update(chunk.size)
         finally:
             bar.close()
-        _assemble(plan, out, header_line)
+        _assemble(plan, out, header_line, digests)
     return SweepSummary(
         out=out,
         n_runs=plan.n_runs,
