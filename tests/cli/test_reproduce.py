@@ -88,15 +88,21 @@ def test_bad_config_is_reported_without_output(tmp_path):
 
 
 def test_publish_replaces_a_previous_run_without_leftovers(tmp_path):
+    import hashlib
+
     from it2track.cli.main import _publish
+
+    def sha(text):
+        return hashlib.sha256(text.encode()).hexdigest()
 
     out = tmp_path / "out"
     out.mkdir()
-    (out / "old_figure.png").write_text("old")
+    (out / "old_figure.png").write_text("old")  # the previous run's, unchanged: removed
     (out / "users_notes.txt").write_text("keep me")  # not ours: never touched
     (out / "metrics.csv").write_text("old")
-    (out / "manifest.json").write_text(json.dumps({"files": ["old_figure.png", "metrics.csv",
-                                                             "manifest.json"]}))
+    (out / "manifest.json").write_text(json.dumps({
+        "files": ["old_figure.png", "metrics.csv", "manifest.json"],
+        "sha256": {"old_figure.png": sha("old"), "metrics.csv": sha("old")}}))
     staging = tmp_path / "staging"
     staging.mkdir()
     (staging / "metrics.csv").write_text("new")
@@ -106,6 +112,7 @@ def test_publish_replaces_a_previous_run_without_leftovers(tmp_path):
     assert sorted(p.name for p in out.iterdir()) == ["manifest.json", "metrics.csv",
                                                      "users_notes.txt"]
     assert (out / "metrics.csv").read_text() == "new"
+    assert json.loads((out / "manifest.json").read_text())["sha256"] == {"metrics.csv": sha("new")}
 
 
 def test_manifest_command_comes_from_the_parsed_options(quick_run):
@@ -153,20 +160,24 @@ def test_reproduce_rejects_workers_and_scheduler_together(tmp_path):
     assert not (tmp_path / "o").exists()
 
 
-def test_publish_replaces_directories_in_the_way(tmp_path):
+def test_publish_never_removes_directories(tmp_path):
+    from click import ClickException
+
     from it2track.cli.main import _publish
 
     out = tmp_path / "out"
     (out / "metrics.csv").mkdir(parents=True)  # a folder where a result goes
+    (out / "metrics.csv" / "inside.txt").write_text("the user's")
     (out / "old_dir").mkdir()
     (out / "manifest.json").write_text(json.dumps({"files": ["old_dir", "manifest.json"]}))
     staging = tmp_path / "staging"
     staging.mkdir()
     (staging / "metrics.csv").write_text("new")
     (staging / "manifest.json").write_text(json.dumps({"files": ["metrics.csv"]}))
-    _publish(staging, out)
-    assert sorted(p.name for p in out.iterdir()) == ["manifest.json", "metrics.csv"]
-    assert (out / "metrics.csv").read_text() == "new"
+    with pytest.raises(ClickException, match="metrics.csv exists and is not a regular file"):
+        _publish(staging, out)
+    assert (out / "metrics.csv" / "inside.txt").read_text() == "the user's"
+    assert (out / "old_dir").is_dir() and (out / "manifest.json").is_file()
 
 
 def test_reproduce_with_a_local_worker_writes_the_same_numbers(quick_run, tmp_path):
