@@ -13,34 +13,82 @@ import json
 import time
 from concurrent.futures import BrokenExecutor
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import click
 
 if TYPE_CHECKING:
     from ..experiments.executors import Executor
 
-__all__ = ["optimize", "sweep"]
+__all__ = ["DASK_OPTIONS", "check_scheduler", "dask_options", "dask_settings", "optimize",
+           "sweep"]
+
+def check_scheduler(ctx: click.Context, param: click.Parameter, value: str | None) -> str | None:
+    """Click callback: a malformed ``--scheduler`` is an error before anything starts."""
+    if value is None:
+        return None
+    from ..experiments.executors import ExecutorError, check_scheduler_address
+
+    try:
+        return check_scheduler_address(value)
+    except ExecutorError as exc:
+        raise click.BadParameter(str(exc)) from None
+
 
 _WORKERS = click.option(
     "--workers", type=click.IntRange(min=0), default=0, show_default=True,
     help="Local worker processes (0: run in this process).",
 )  # fmt: skip
 _SCHEDULER = click.option(
-    "--scheduler", metavar="tcp://HOST:PORT", default=None,
-    help="Run on this Dask cluster (needs it2track[dask]; workers need it2track installed).",
+    "--scheduler", metavar="tcp://HOST:PORT", default=None, callback=check_scheduler,
+    help="Run on this Dask cluster (needs it2track[dask]; workers need it2track installed). "
+    "Only on a trusted network, or with TLS: see README, 'Dask: trust model'.",
 )  # fmt: skip
 _PROGRESS = click.option(
     "--progress/--no-progress", default=True, show_default=True,
     help="Progress bar with ETA on stderr.",
 )  # fmt: skip
+_FILE = click.Path(exists=True, dir_okay=False)
+#: Dask connection options shared by ``sweep``, ``optimize`` and ``reproduce``.
+DASK_OPTIONS = (
+    click.option("--tls-ca-file", type=_FILE, default=None,
+                 help="Dask TLS: CA certificate of the cluster (PEM); needs tls://HOST:PORT."),
+    click.option("--tls-cert", type=_FILE, default=None,
+                 help="Dask TLS: this client's certificate (PEM)."),
+    click.option("--tls-key", type=_FILE, default=None,
+                 help="Dask TLS: this client's private key (PEM), if not in --tls-cert."),
+    click.option("--worker-timeout", type=click.FloatRange(min=0, min_open=True), default=60.0,
+                 show_default=True,
+                 help="Dask: seconds to wait for a worker when the scheduler has none."),
+)
 
 
-def _executor(workers: int, scheduler: str | None) -> Executor:
+def dask_options(f: Any) -> Any:
+    """Decorator adding :data:`DASK_OPTIONS` to a command."""
+    for option in reversed(DASK_OPTIONS):
+        f = option(f)
+    return f
+
+
+def dask_settings(
+    tls_ca_file: str | None, tls_cert: str | None, tls_key: str | None, worker_timeout: float
+) -> dict[str, Any]:
+    """``make_executor`` keyword arguments for the Dask options (errors as ClickException)."""
+    from ..experiments.executors import DaskSecurity, ExecutorError
+
+    try:
+        security = DaskSecurity(ca_file=tls_ca_file or "", cert=tls_cert or "",
+                                key=tls_key or "")
+    except ExecutorError as exc:
+        raise click.ClickException(str(exc)) from None
+    return {"security": security, "worker_timeout": worker_timeout}
+
+
+def _executor(workers: int, scheduler: str | None, dask: dict[str, Any]) -> Executor:
     from ..experiments.executors import ExecutorError, make_executor
 
     try:
-        return make_executor(workers=workers or None, scheduler=scheduler)
+        return make_executor(workers=workers or None, scheduler=scheduler, **dask)
     except ExecutorError as exc:
         raise click.ClickException(str(exc)) from None
 
@@ -54,6 +102,7 @@ def _executor(workers: int, scheduler: str | None) -> Executor:
               help="Continue the sweep in OUT (same config), skipping finished chunks.")
 @_WORKERS
 @_SCHEDULER
+@dask_options
 @_PROGRESS
 @click.pass_context
 def sweep(
@@ -64,6 +113,7 @@ def sweep(
     workers: int,
     scheduler: str | None,
     progress: bool,
+    **dask: Any,
 ) -> None:
     """Simulate the cartesian product of the config's axes into a resumable store.
 
@@ -79,7 +129,7 @@ def sweep(
     except ConfigError as exc:
         raise click.ClickException(str(exc)) from None
     out = Path(out_dir)
-    executor = _executor(workers, scheduler)
+    executor = _executor(workers, scheduler, dask_settings(**dask))
     click.echo(
         f"sweep {plan.config_hash()[:12]}: {plan.n_runs} runs in {len(plan.chunks())} chunks "
         f"({len(plan.robots)} plant set(s) x {len(plan.controllers)} controller(s) x "
@@ -93,19 +143,19 @@ def sweep(
     except (StoreError, ConfigError) as exc:
         raise click.ClickException(str(exc)) from None
     except BrokenExecutor as exc:
-        saved = len(list((out / "chunks").glob("chunk-*.csv")))
+        saved = len(list((out / "chunks").glob("chunk-*.csv.sha256")))
         raise click.ClickException(
             f"a worker process died ({exc}); {saved} finished chunks are saved in {out}: "
             "rerun with --resume"
         ) from None
     except (ValueError, OSError) as exc:
-        saved = len(list((out / "chunks").glob("chunk-*.csv")))
+        saved = len(list((out / "chunks").glob("chunk-*.csv.sha256")))
         raise click.ClickException(
             f"the sweep stopped: {type(exc).__name__}: {exc}; {saved} finished chunks are "
             f"saved in {out}: remove the cause and rerun with --resume"
         ) from None
     except KeyboardInterrupt:
-        saved = len(list((out / "chunks").glob("chunk-*.csv")))
+        saved = len(list((out / "chunks").glob("chunk-*.csv.sha256")))
         click.echo(
             f"\ninterrupted: {saved} of {len(plan.chunks())} chunks saved in {out}; "
             "rerun with --resume to finish",
@@ -126,9 +176,11 @@ def sweep(
               help="Output directory (optimize.json, optimize.md, convergence.png).")
 @_WORKERS
 @_SCHEDULER
+@dask_options
 @_PROGRESS
 def optimize(
-    config_path: str, out_dir: str, workers: int, scheduler: str | None, progress: bool
+    config_path: str, out_dir: str, workers: int, scheduler: str | None, progress: bool,
+    **dask: Any,
 ) -> None:
     """Find the FoU widths minimising the config's objective; verify on held-out seeds.
 
@@ -148,7 +200,7 @@ def optimize(
     out = Path(out_dir)
     t0 = time.perf_counter()
     try:
-        with _executor(workers, scheduler) as executor:
+        with _executor(workers, scheduler, dask_settings(**dask)) as executor:
             result = run_optimization(
                 cfg, executor=executor, progress=progress, log=lambda s: click.echo(s, err=True)
             )

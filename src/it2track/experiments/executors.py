@@ -28,22 +28,28 @@ Determinism is the function's business: executors never change what a task compu
 from __future__ import annotations
 
 import abc
+import math
 import multiprocessing
 import os
+import queue
+import re
 import signal
 import sys
 import threading
 import time
 from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from dataclasses import dataclass
 from typing import Any, TypeVar
 
 __all__ = [
     "DaskExecutor",
+    "DaskSecurity",
     "Executor",
     "ExecutorError",
     "InProcessExecutor",
     "ProcessExecutor",
+    "check_scheduler_address",
     "make_executor",
     "peak_rss_bytes",
 ]
@@ -211,31 +217,168 @@ def _import_distributed() -> Any:
     return distributed
 
 
+#: Scheduler address: ``[scheme://]host:port`` (IPv6 hosts in brackets).
+_ADDRESS_RE = re.compile(
+    r"^(?:(?P<scheme>[A-Za-z][A-Za-z0-9+.-]*)://)?"
+    r"(?P<host>\[[0-9A-Fa-f:.]+\]|[^\s:/\[\]@]+):(?P<port>[0-9]{1,5})/?$"
+)
+_SCHEMES = ("tcp", "tls", "ws", "wss", "ucx")
+
+
+def check_scheduler_address(address: object) -> str:
+    """``address`` if it looks like a Dask scheduler address, else :class:`ExecutorError`.
+
+    Accepted: ``scheme://host:port`` with scheme tcp, tls, ws, wss or ucx, or ``host:port``
+    (TCP); port 1-65535; and ``inproc://...`` (a scheduler in this process). Checked before
+    Dask is asked to connect: a malformed address would otherwise raise inside
+    ``distributed.Client`` and stall its destructor for a minute.
+    """
+    if not isinstance(address, str) or not address:
+        raise ExecutorError(
+            f"scheduler={address!r} must be an address like tcp://HOST:PORT (e.g. "
+            "tcp://10.0.0.5:8786)"
+        )
+    if address.startswith("inproc://") and len(address) > len("inproc://"):
+        return address  # a scheduler in this process (tests, notebooks)
+    m = _ADDRESS_RE.match(address)
+    if m is None:
+        raise ExecutorError(
+            f"scheduler address {address!r} is not of the form tcp://HOST:PORT (e.g. "
+            "tcp://10.0.0.5:8786 or tls://host:8786); the port is required"
+        )
+    scheme = (m["scheme"] or "tcp").lower()
+    if scheme not in _SCHEMES:
+        raise ExecutorError(
+            f"scheduler address {address!r}: unknown protocol {scheme!r}; use one of "
+            f"{', '.join(_SCHEMES)}"
+        )
+    port = int(m["port"])
+    if not 1 <= port <= 65535:
+        raise ExecutorError(f"scheduler address {address!r}: port {port} is not in 1-65535")
+    return address
+
+
+@dataclass(frozen=True, kw_only=True)
+class DaskSecurity:
+    """TLS settings for the connection to a Dask scheduler (``distributed.Security``).
+
+    Parameters
+    ----------
+    ca_file : str
+        CA certificate(s) that signed the scheduler's certificate (PEM).
+    cert : str
+        This client's certificate (PEM); may also hold the key.
+    key : str
+        This client's private key (PEM), if not in ``cert``.
+
+    With any of these given, the scheduler address must use ``tls://`` and encryption is
+    required. Without them, Dask's own configuration applies (``distributed.comm.tls.*`` in
+    ``~/.config/dask/*.yaml`` or ``DASK_DISTRIBUTED__COMM__TLS__CA_FILE`` etc.).
+    """
+
+    ca_file: str = ""
+    cert: str = ""
+    key: str = ""
+
+    def __post_init__(self) -> None:
+        for key in ("ca_file", "cert", "key"):
+            value = getattr(self, key)
+            if not isinstance(value, str):
+                raise ExecutorError(f"TLS {key}={value!r} must be a file path")
+            if value and not os.path.isfile(value):
+                raise ExecutorError(f"TLS {key} file {value!r} does not exist or is not a file")
+        if self.key and not self.cert:
+            raise ExecutorError("a TLS key needs its certificate (--tls-cert)")
+
+    @property
+    def given(self) -> bool:
+        return bool(self.ca_file or self.cert or self.key)
+
+    def to_distributed(self, distributed: Any) -> Any:
+        return distributed.Security(
+            tls_ca_file=self.ca_file or None,
+            tls_client_cert=self.cert or None,
+            tls_client_key=self.key or None,
+            require_encryption=True,
+        )
+
+
 class DaskExecutor(Executor):
     """Tasks on a ``dask.distributed`` cluster.
+
+    Trust model: Dask's scheduler does not authenticate clients or workers unless TLS is
+    configured, and results come back from workers as pickles that the driver unpickles -- a
+    machine that can reach the scheduler can run code on the driver. Use a cluster on a network
+    you trust, or TLS with certificates (``security``), never a scheduler open to others.
 
     Parameters
     ----------
     scheduler : str
-        Scheduler address, e.g. ``"tcp://10.0.0.5:8786"``.
+        Scheduler address, e.g. ``"tcp://10.0.0.5:8786"`` (``tls://`` with TLS).
     timeout : float
         Seconds to wait for the connection.
+    worker_timeout : float
+        Seconds to wait for at least one worker (when the scheduler has none, at start or
+        because every worker left during the run) before giving up with :class:`ExecutorError`.
+    security : DaskSecurity, optional
+        TLS certificates; default: Dask's configuration.
 
     Raises
     ------
     ExecutorError
-        If dask.distributed is not installed or the scheduler cannot be reached.
+        If the address is malformed, dask.distributed is not installed, the scheduler cannot
+        be reached, or no worker connects within ``worker_timeout``.
     """
 
-    def __init__(self, scheduler: str, *, timeout: float = 30.0) -> None:
-        if not isinstance(scheduler, str) or not scheduler:
-            raise ExecutorError(f"scheduler={scheduler!r} must be an address like tcp://host:port")
+    #: Seconds between checks for lost workers while waiting for results.
+    poll_interval: float = 1.0
+
+    def __init__(
+        self,
+        scheduler: str,
+        *,
+        timeout: float = 30.0,
+        worker_timeout: float = 60.0,
+        security: DaskSecurity | None = None,
+    ) -> None:
+        check_scheduler_address(scheduler)
+        for name, value in (("timeout", timeout), ("worker_timeout", worker_timeout)):
+            if (isinstance(value, bool) or not isinstance(value, int | float)
+                    or not math.isfinite(value) or value <= 0):
+                raise ExecutorError(f"{name}={value!r} must be a number of seconds > 0")
+        tls = scheduler.lower().startswith("tls://")
+        if security is not None and security.given and not tls:
+            raise ExecutorError(
+                f"TLS certificates were given but the scheduler address {scheduler!r} is not "
+                "tls://HOST:PORT"
+            )
         distributed = _import_distributed()
         self.scheduler = scheduler
+        self.worker_timeout = float(worker_timeout)
+        kwargs: dict[str, Any] = {}
+        if security is not None and security.given:
+            kwargs["security"] = security.to_distributed(distributed)
         try:
-            self._client = distributed.Client(scheduler, timeout=timeout, set_as_default=False)
-        except OSError as exc:  # includes TimeoutError and connection refusals
+            self._client = distributed.Client(
+                scheduler, timeout=timeout, set_as_default=False, **kwargs
+            )
+        except (OSError, ValueError, TypeError) as exc:  # includes timeouts and refusals
             raise ExecutorError(f"cannot connect to Dask scheduler {scheduler!r}: {exc}") from exc
+        try:
+            if not self._client.nthreads():
+                print(
+                    f"waiting up to {self.worker_timeout:g} s for a Dask worker to connect to "
+                    f"{scheduler} ...",
+                    file=sys.stderr,
+                    flush=True,
+                )
+                self._client.wait_for_workers(1, timeout=self.worker_timeout)
+        except (OSError, TimeoutError) as exc:
+            self.close()
+            raise ExecutorError(
+                f"no Dask worker is connected to {scheduler} (waited {self.worker_timeout:g} s): "
+                f"start workers with `dask worker {scheduler}` or raise --worker-timeout"
+            ) from exc
         threads = sum(self._client.nthreads().values())
         self.n_workers = max(1, threads)
 
@@ -247,35 +390,53 @@ class DaskExecutor(Executor):
         max_pending: int | None = None,
     ) -> Iterator[tuple[T, R]]:
         limit = self._pending_limit(max_pending)
-        distributed = _import_distributed()
         client = self._client
+        if client is None:
+            raise ExecutorError("the Dask executor is closed")
         it = iter(tasks)
         owner: dict[str, T] = {}
+        pending: dict[str, Any] = {}
+        ready: queue.SimpleQueue[Any] = queue.SimpleQueue()
 
-        def submit() -> Any | None:
+        def submit() -> bool:
             try:
                 task = next(it)
             except StopIteration:
-                return None
+                return False
             fut = client.submit(fn, task, pure=False)
             owner[fut.key] = task
-            return fut
+            pending[fut.key] = fut
+            fut.add_done_callback(ready.put)  # called from Dask's thread when it finishes
+            return True
 
-        first = [f for f in (submit() for _ in range(limit)) if f is not None]
-        if not first:
-            return
-        pending = {f.key: f for f in first}
-        queue = distributed.as_completed(first, loop=client.loop)
+        while len(pending) < limit and submit():
+            pass
+        idle_since: float | None = None
         try:
-            for fut in queue:
+            while pending:
+                try:
+                    fut = ready.get(timeout=self.poll_interval)
+                except queue.Empty:
+                    # Nothing finished for a while: are there still workers to do the work?
+                    if client.nthreads():
+                        idle_since = None
+                    elif idle_since is None:
+                        idle_since = time.monotonic()
+                    elif time.monotonic() - idle_since > self.worker_timeout:
+                        raise ExecutorError(
+                            f"every Dask worker left {self.scheduler} and none came back within "
+                            f"{self.worker_timeout:g} s; {len(pending)} task(s) were waiting"
+                        ) from None
+                    continue
+                if fut.key not in pending:
+                    continue
+                idle_since = None
                 result = fut.result()
                 task = owner.pop(fut.key)
                 del pending[fut.key]
                 fut.release()
-                nxt = submit()
-                if nxt is not None:
-                    pending[nxt.key] = nxt
-                    queue.add(nxt)
+                while len(pending) < limit and submit():
+                    pass
                 yield task, result
         finally:
             if pending:
@@ -292,7 +453,12 @@ class DaskExecutor(Executor):
 
 
 def make_executor(
-    *, workers: int | None = None, scheduler: str | None = None, context: str = "spawn"
+    *,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    context: str = "spawn",
+    security: DaskSecurity | None = None,
+    worker_timeout: float = 60.0,
 ) -> Executor:
     """The executor for the CLI options ``--workers N`` / ``--scheduler ADDRESS``.
 
@@ -311,7 +477,9 @@ def make_executor(
     if scheduler is not None:
         if workers:
             raise ExecutorError("give either workers or a Dask scheduler, not both")
-        return DaskExecutor(scheduler)
+        return DaskExecutor(scheduler, security=security, worker_timeout=worker_timeout)
+    if security is not None and security.given:
+        raise ExecutorError("TLS certificates apply only to a Dask scheduler (--scheduler)")
     if not workers:
         return InProcessExecutor()
     return ProcessExecutor(workers, context=context)
