@@ -174,7 +174,7 @@ def test_publish_never_removes_directories(tmp_path):
     staging.mkdir()
     (staging / "metrics.csv").write_text("new")
     (staging / "manifest.json").write_text(json.dumps({"files": ["metrics.csv"]}))
-    with pytest.raises(ClickException, match="metrics.csv exists and is not a regular file"):
+    with pytest.raises(ClickException, match=r"metrics\.csv exists and is not a regular file"):
         _publish(staging, out)
     assert (out / "metrics.csv" / "inside.txt").read_text() == "the user's"
     assert (out / "old_dir").is_dir() and (out / "manifest.json").is_file()
