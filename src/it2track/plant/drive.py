@@ -34,7 +34,18 @@ from numpy.typing import ArrayLike, NDArray
 
 from .motor import MotorParams, _check_period
 
-__all__ = ["DifferentialDrive", "RobotParams", "body_velocity", "continuous_rhs"]
+__all__ = [
+    "MAX_QUADRATURE_NODES",
+    "DifferentialDrive",
+    "RobotParams",
+    "body_velocity",
+    "continuous_rhs",
+]
+
+#: Most quadrature nodes per period. The product rule is exact for polynomial headings of
+#: degree < n and already at rounding level with a handful (4 is the default); the
+#: precomputation costs O(n^2) time and memory, so a million nodes would need terabytes.
+MAX_QUADRATURE_NODES = 64
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -366,7 +377,8 @@ class DifferentialDrive:
     ts : float
         Control period in s (the voltages are held constant over it), finite and > 0.
     quadrature_nodes : int, default 4
-        Number of nodes n per period for the position integral; at least 1.
+        Number of nodes n per period for the position integral, 1 to
+        :data:`MAX_QUADRATURE_NODES` (64).
 
     Attributes
     ----------
@@ -379,7 +391,8 @@ class DifferentialDrive:
     Raises
     ------
     ValueError
-        If ``ts`` is not finite and > 0, or ``quadrature_nodes`` is not an integer >= 1.
+        If ``ts`` is not finite and > 0, or ``quadrature_nodes`` is not an integer in
+        ``[1, 64]``.
 
     Notes
     -----
@@ -442,9 +455,12 @@ class DifferentialDrive:
         if (
             isinstance(quadrature_nodes, bool)
             or not isinstance(quadrature_nodes, Integral)
-            or quadrature_nodes < 1
+            or not 1 <= quadrature_nodes <= MAX_QUADRATURE_NODES
         ):
-            raise ValueError(f"quadrature_nodes must be an integer >= 1, got {quadrature_nodes!r}")
+            raise ValueError(
+                f"quadrature_nodes must be an integer in [1, {MAX_QUADRATURE_NODES}], got "
+                f"{quadrature_nodes!r}"
+            )
         n = int(quadrature_nodes)
         self.params = params
         self.ts = ts

@@ -17,12 +17,18 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 __all__ = [
+    "MAX_NOISE_STD",
     "HeadingNoise",
     "held_sample_index",
     "noise_samples_needed",
     "run_generator",
     "standard_noise",
 ]
+
+#: Largest heading-noise standard deviation accepted, rad. Beyond about 10 rad the wrapped
+#: noise is already uniform on the circle; at 1e6 rad ``theta + n`` keeps ~1e-10 rad of
+#: resolution, and far beyond it ``sigma * z`` loses the heading entirely, then overflows.
+MAX_NOISE_STD = 1e6
 
 #: Relative tolerance of :func:`held_sample_index`: ``t * rate`` within this of an
 #: integer ``k`` counts as ``k`` (absorbs the rounding of ``k * ts * rate``).
@@ -73,8 +79,11 @@ class HeadingNoise:
 
     def __post_init__(self) -> None:
         std = _real(self.std, "std")
-        if std < 0.0:
-            raise ValueError(f"std must be >= 0, got {self.std!r}")
+        if not 0.0 <= std <= MAX_NOISE_STD:
+            raise ValueError(
+                f"std must be in [0, {MAX_NOISE_STD:g}] rad, got {self.std!r}"
+                + (" (the noise power and sample time give that)" if std > 0 else "")
+            )
         rate = _real(self.rate, "rate")
         if rate <= 0.0:
             raise ValueError(f"rate must be > 0, got {self.rate!r}")

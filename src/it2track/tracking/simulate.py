@@ -42,7 +42,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .._limits import ResourceLimitError, check_memory, loop_bytes
 from ..plant import DifferentialDrive, RobotParams, held_sample_index, standard_noise
+from ..plant.drive import MAX_QUADRATURE_NODES
+from ..plant.noise import MAX_NOISE_STD
 from .controllers import HeadingController
 from .metrics import MetricAccumulator
 from .trajectories import Trajectory
@@ -64,6 +67,9 @@ FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
 
 TWO_PI = 2.0 * math.pi
+#: Upper bound on the control periods (and held noise samples) of one run: 1e12 instants are
+#: 8 TB per recorded row; anything near it is refused by the memory estimate first.
+_MAX_STEPS = 1e12
 
 
 def wrap_angle(a: ArrayLike) -> FloatArray:
@@ -130,7 +136,7 @@ class LoopConfig:
     seed : int
         Base seed of the noise realisations (>= 0).
     quadrature_nodes : int
-        Nodes per period of the position integral (see :class:`DifferentialDrive`).
+        Nodes per period of the position integral, 1 to 64 (see :class:`DifferentialDrive`).
     desired_heading_pose : PoseTiming or str
         Pose ``theta_d`` is computed from (see :class:`PoseTiming`; default ``"current"``).
     metric_start : float
@@ -162,6 +168,11 @@ class LoopConfig:
                 raise ValueError(f"LoopConfig.{key}={value!r} must be a finite number > 0")
             object.__setattr__(self, key, float(value))
         n = self.duration / self.ts
+        if not n <= _MAX_STEPS:  # also inf: round() would overflow
+            raise ResourceLimitError(
+                f"LoopConfig: duration={self.duration!r} s at ts={self.ts!r} s is {n:.3g} "
+                f"control periods, more than the {_MAX_STEPS:.0e} any run can hold in memory"
+            )
         if abs(n - round(n)) > 1e-9 * max(1.0, n):
             raise ValueError(
                 f"LoopConfig: duration={self.duration!r} must be a whole number of periods "
@@ -205,11 +216,33 @@ class LoopConfig:
             raise ValueError(f"LoopConfig.seed={self.seed!r} must be an integer >= 0")
         object.__setattr__(self, "seed", int(self.seed))
         q = self.quadrature_nodes
-        if isinstance(q, bool) or not isinstance(q, Integral) or q < 1:
-            raise ValueError(f"LoopConfig.quadrature_nodes={q!r} must be an integer >= 1")
+        if (isinstance(q, bool) or not isinstance(q, Integral)
+                or not 1 <= q <= MAX_QUADRATURE_NODES):
+            raise ValueError(
+                f"LoopConfig.quadrature_nodes={q!r} must be an integer in "
+                f"[1, {MAX_QUADRATURE_NODES}]"
+            )
         object.__setattr__(self, "quadrature_nodes", int(q))
         if not isinstance(self.robot, RobotParams):
             raise ValueError(f"LoopConfig.robot={self.robot!r} must be a RobotParams")
+        self._check_memory()
+
+    def _check_memory(self) -> None:
+        """One run of this config must fit in memory (the arrays grow with duration/ts and
+        duration*noise_rate): refuse now rather than with a MemoryError mid-run."""
+        samples = self.duration * self.noise_rate + 1
+        if not samples <= _MAX_STEPS:
+            raise ResourceLimitError(
+                f"LoopConfig: noise_rate={self.noise_rate!r} Hz over duration={self.duration!r} s "
+                f"is {samples:.3g} held noise samples per run, more than the {_MAX_STEPS:.0e} "
+                "any run can hold in memory"
+            )
+        check_memory(
+            loop_bytes(n_steps=self.n_steps, runs=1, noise_samples=int(samples)),
+            what=(f"LoopConfig: duration={self.duration!r} s at ts={self.ts!r} s "
+                  f"({self.n_steps} control periods, noise_rate={self.noise_rate!r} Hz)"),
+            hint="one run of it would not fit: shorten duration or lengthen ts",
+        )
 
     def to_dict(self) -> dict[str, Any]:
         """Plain values (JSON/TOML-ready), the robot as a nested dict."""
@@ -268,17 +301,22 @@ class RunTable:
         noise_std: ArrayLike,
         seed: ArrayLike,
     ) -> None:
-        arrays = np.broadcast_arrays(
-            np.asarray(controller), np.asarray(trajectory), np.asarray(noise_std),
-            np.asarray(seed),
-        )
+        given = {
+            name: _plain_array(value, name)
+            for name, value in (("controller", controller), ("trajectory", trajectory),
+                                ("noise_std", noise_std), ("seed", seed))
+        }
+        try:
+            arrays = np.broadcast_arrays(*given.values())
+        except ValueError:
+            shapes = ", ".join(f"{k} {v.shape}" for k, v in given.items())
+            raise ValueError(
+                f"RunTable: the columns must broadcast together; got {shapes}"
+            ) from None
         c, t, s, z = (np.ascontiguousarray(a).reshape(-1) for a in arrays)
-        for name, arr in (("controller", c), ("trajectory", t), ("seed", z)):
-            if arr.size and (not np.issubdtype(arr.dtype, np.integer) or arr.min() < 0):
-                raise ValueError(f"RunTable.{name} must hold integers >= 0")
-        s = s.astype(np.float64)
-        if s.size and (not np.isfinite(s).all() or s.min() < 0):
-            raise ValueError("RunTable.noise_std must be finite and >= 0")
+        c, t, z = (_index_column(a, name) for a, name in
+                   ((c, "controller"), (t, "trajectory"), (z, "seed")))
+        s = _noise_column(s)
         object.__setattr__(self, "controller", c.astype(np.int64))
         object.__setattr__(self, "trajectory", t.astype(np.int64))
         object.__setattr__(self, "noise_std", s)
@@ -303,6 +341,79 @@ class RunTable:
         return RunTable(
             self.controller[idx], self.trajectory[idx], self.noise_std[idx], self.seed[idx]
         )
+
+
+#: Largest seed index or controller/trajectory index a run may have (int64).
+MAX_INDEX = 2**63 - 1
+
+
+def _plain_array(value: ArrayLike, name: str) -> NDArray[Any]:
+    """``np.asarray`` that refuses what it would silently change: masked entries."""
+    if isinstance(value, np.ma.MaskedArray):
+        if np.ma.getmaskarray(value).any():
+            raise ValueError(
+                f"RunTable.{name} is a masked array with masked entries; give plain values "
+                "(the mask would be dropped)"
+            )
+        value = value.data
+    try:
+        return np.asarray(value)
+    except (TypeError, ValueError) as exc:  # ragged nested sequences
+        raise ValueError(f"RunTable.{name}={value!r} is not an array of numbers: {exc}") from None
+
+
+def _index_column(arr: NDArray[Any], name: str) -> NDArray[Any]:
+    """Integers in ``[0, MAX_INDEX]``; Python ints beyond int64 are named, not truncated."""
+    if not arr.size:
+        return arr.astype(np.int64)
+    if arr.dtype == object:
+        bad = next((v for v in arr.tolist()
+                    if isinstance(v, bool) or not isinstance(v, Integral)), None)
+        if bad is not None:
+            raise ValueError(f"RunTable.{name} must hold integers >= 0, got {bad!r}")
+        out = next((v for v in arr.tolist() if not 0 <= v <= MAX_INDEX), None)
+        if out is not None:
+            raise ValueError(
+                f"RunTable.{name} value {out!r} is outside the allowed range [0, 2**63 - 1]"
+            )
+        return arr.astype(np.int64)
+    if arr.dtype.kind not in "iu":
+        example = arr.reshape(-1)[:1].tolist()[0]
+        raise ValueError(
+            f"RunTable.{name} must hold integers >= 0, got {arr.dtype} values (e.g. {example!r})"
+        )
+    low, high = arr.min(), arr.max()
+    if low < 0:
+        raise ValueError(f"RunTable.{name} must hold integers >= 0, got {int(low)}")
+    if int(high) > MAX_INDEX:
+        raise ValueError(
+            f"RunTable.{name} value {int(high)} is outside the allowed range [0, 2**63 - 1]"
+        )
+    return arr
+
+
+def _noise_column(arr: NDArray[Any]) -> FloatArray:
+    """Real noise levels in ``[0, MAX_NOISE_STD]`` rad as float64."""
+    if arr.size and arr.dtype.kind not in "iuf":
+        example = arr.reshape(-1)[:1].tolist()[0]
+        raise ValueError(
+            f"RunTable.noise_std must hold real numbers, got {arr.dtype} values "
+            f"(e.g. {example!r})"
+        )
+    s = arr.astype(np.float64)
+    if s.size:
+        if not np.isfinite(s).all():
+            bad = float(s[~np.isfinite(s)][0])
+            raise ValueError(f"RunTable.noise_std value {bad!r} must be finite")
+        if s.min() < 0:
+            raise ValueError(f"RunTable.noise_std value {float(s.min())!r} must be >= 0")
+        if s.max() > MAX_NOISE_STD:
+            raise ValueError(
+                f"RunTable.noise_std value {float(s.max())!r} exceeds the largest heading-noise "
+                f"standard deviation allowed, {MAX_NOISE_STD:g} rad (beyond it theta + noise "
+                "loses the heading's precision, and far beyond it overflows)"
+            )
+    return s
 
 
 def run_grid(
@@ -379,9 +490,18 @@ def _check_inputs(
     controllers: Sequence[HeadingController],
     trajectories: Sequence[Trajectory],
     runs: RunTable,
+    config: LoopConfig | None = None,
+    *,
+    record: bool = False,
+    batch_size: int | None = None,
 ) -> None:
+    """Types and indices of a simulation call; with ``config``, also that its arrays fit in
+    memory (``record``: the full trace of every run; else one batch of ``batch_size``)."""
     if not isinstance(runs, RunTable):
         raise ValueError(f"runs must be a RunTable, got {type(runs).__name__}")
+    for name, seq in (("controllers", controllers), ("trajectories", trajectories)):
+        if not isinstance(seq, list | tuple):
+            raise ValueError(f"{name} must be a list or tuple, got {type(seq).__name__}")
     for i, c in enumerate(controllers):
         if not isinstance(c, HeadingController):
             raise ValueError(f"controllers[{i}]={c!r} is not a HeadingController")
@@ -397,6 +517,19 @@ def _check_inputs(
             raise ValueError(
                 f"runs name trajectory {runs.trajectory.max()} but only {len(trajectories)} given"
             )
+    if config is None:
+        return
+    if not isinstance(config, LoopConfig):
+        raise ValueError(f"config must be a LoopConfig, got {type(config).__name__}")
+    n = len(runs) if record or batch_size is None else min(len(runs), batch_size)
+    check_memory(
+        loop_bytes(n_steps=config.n_steps, runs=n, trajectories=max(1, len(trajectories)),
+                   noise_samples=int(config.duration * config.noise_rate) + 1, record=record),
+        what=(f"simulating {len(runs)} run(s) of {config.n_steps} periods"
+              + (" with their time series" if record else f" in batches of {n}")),
+        hint=("use simulate_metrics (metrics only) or fewer runs" if record
+              else "lower batch_size"),
+    )
 
 
 @functools.lru_cache(maxsize=32)
@@ -575,7 +708,7 @@ def simulate(
         Memory is ``17 * 8 * B * (N+1)`` bytes; use :func:`simulate_metrics` for big batches.
     """
     config = config or LoopConfig()
-    _check_inputs(controllers, trajectories, runs)
+    _check_inputs(controllers, trajectories, runs, config, record=True)
     engine = _Engine(trajectories, config)
     metrics, series = engine.run(controllers, runs, record=True)
     assert series is not None
@@ -613,7 +746,7 @@ def simulate_metrics(
     config = config or LoopConfig()
     if isinstance(batch_size, bool) or not isinstance(batch_size, int) or batch_size < 1:
         raise ValueError(f"batch_size={batch_size!r} must be a positive integer")
-    _check_inputs(controllers, trajectories, runs)
+    _check_inputs(controllers, trajectories, runs, config, batch_size=batch_size)
     engine = _Engine(trajectories, config)
     n = len(runs)
     out: dict[str, FloatArray] | None = None
