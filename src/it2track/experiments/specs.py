@@ -17,6 +17,7 @@ from dataclasses import dataclass, fields, replace
 from pathlib import Path
 from typing import Any
 
+from .._files import InputFileError, read_text
 from ..fuzzy import Reducer, TNorm
 from ..paper import dead_zone_matched_fls, heading_fls
 from ..plant import MotorParams, RobotParams
@@ -63,14 +64,19 @@ class ControllerSpec:
     fou : float
         FoU width for ``IT2`` and ``T1_MATCHED`` (``0 <= fou < 1.6``).
     ke, kde : float
-        Input gains of the fuzzy controllers.
+        Input gains of the fuzzy controllers (``ke > 0``, ``kde >= 0``).
     reducer : str
         Type-reducer name (``km``, ``ekm``, ``eiasc``, ``exhaustive``, ``nie-tan``,
         ``wu-mendel``) for IT2 systems.
     tnorm : str
         ``"product"`` or ``"min"``.
     kp, kd, tf : float
-        PD gains (V/rad, V s/rad) and derivative filter time constant (s).
+        PD gains (V/rad, V s/rad) and derivative filter time constant (s); ``PD`` needs
+        ``kp > 0``, ``kd, tf >= 0``.
+
+    A field that does not apply to the kind (e.g. ``fou`` for ``PD`` or ``FILE``, ``kp`` for
+    a fuzzy kind, ``reducer``/``tnorm`` for ``FILE``) must keep its default: a value given
+    for it is an error, never silently dropped.
     path : str
         Fuzzy-system file for ``FILE``.
     label : str
@@ -114,6 +120,30 @@ class ControllerSpec:
         object.__setattr__(self, "tnorm", TNorm.from_name(self.tnorm).value)
         if self.kind is ControllerKind.FILE and not self.path:
             raise ValueError("controller kind 'file' needs a path")
+        defaults = {f.name: f.default for f in fields(self)}
+        for key, kinds in _APPLIES_TO.items():
+            if self.kind not in kinds and getattr(self, key) != defaults[key]:
+                allowed = ", ".join(repr(k.value) for k in kinds)
+                raise ValueError(
+                    f"controller {key}={getattr(self, key)!r} does not apply to kind "
+                    f"{self.kind.value!r} (only to {allowed}); remove it"
+                )
+        if self.kind is ControllerKind.PD:
+            if not self.kp > 0:
+                raise ValueError(
+                    f"controller kind 'pd' needs a gain kp > 0 (V/rad), got kp={self.kp!r}"
+                )
+            for key in ("kd", "tf"):
+                if getattr(self, key) < 0:
+                    raise ValueError(f"controller {key}={getattr(self, key)!r} must be >= 0")
+        else:
+            if not self.ke > 0:
+                raise ValueError(f"controller ke={self.ke!r} must be > 0 (error input gain)")
+            if self.kde < 0:
+                raise ValueError(f"controller kde={self.kde!r} must be >= 0 (error-change gain)")
+        for key in ("label", "path"):
+            if not isinstance(getattr(self, key), str):
+                raise ValueError(f"controller {key}={getattr(self, key)!r} must be a string")
         if not self.label:
             object.__setattr__(self, "label", self._default_label())
 
@@ -186,6 +216,18 @@ class ControllerSpec:
             known = ", ".join(m.value for m in ControllerKind)
             raise ConfigError(f"{where}: kind={kind_name!r} must be one of {known}") from None
         values: dict[str, Any] = {"kind": kind}
+        for key, kinds in _APPLIES_TO.items():
+            if key in t and kind not in kinds:
+                allowed = ", ".join(repr(k.value) for k in kinds)
+                raise ConfigError(
+                    f"{where}: {key}={t.data[key]!r} does not apply to kind {kind.value!r} "
+                    f"(only to {allowed}); remove it"
+                )
+        if kind is ControllerKind.PD and "kp" not in t:
+            raise ConfigError(
+                f"{where}: kind 'pd' needs its gains: kp (V/rad, > 0) and optionally kd "
+                "(V s/rad, >= 0, default 0) and tf (s, default 0.02)"
+            )
         for f in fields(cls):
             if f.name == "kind":
                 continue
@@ -200,6 +242,23 @@ class ControllerSpec:
             return cls(**values)
         except ValueError as exc:
             raise ConfigError(f"{where}: {exc}") from None
+
+
+_FUZZY = (ControllerKind.FLC, ControllerKind.IT2, ControllerKind.T1_MATCHED)
+#: Which fields apply to which kinds: any other kind must leave them at their defaults
+#: (a configuration must not even give them): a value that would be silently ignored -- and
+#: would still change a sweep's identity -- is an error.
+_APPLIES_TO: dict[str, tuple[ControllerKind, ...]] = {
+    "fou": (ControllerKind.IT2, ControllerKind.T1_MATCHED),
+    "reducer": (ControllerKind.IT2,),
+    "tnorm": _FUZZY,
+    "ke": (*_FUZZY, ControllerKind.FILE),
+    "kde": (*_FUZZY, ControllerKind.FILE),
+    "kp": (ControllerKind.PD,),
+    "kd": (ControllerKind.PD,),
+    "tf": (ControllerKind.PD,),
+    "path": (ControllerKind.FILE,),
+}
 
 
 class Table:
@@ -289,13 +348,20 @@ def _convert(value: Any, kind: type | Callable[[Any], Any], what: str) -> Any:
 
 
 def read_toml(path: str | Path) -> dict[str, Any]:
-    """Parse a TOML file; syntax errors become :class:`ConfigError` naming the file."""
+    """Parse a TOML file; syntax errors become :class:`ConfigError` naming the file.
+
+    Only regular files of at most 64 MiB of UTF-8 text are read (a FIFO, a device, a binary
+    or non-UTF-8 file is a :class:`ConfigError` naming the file; see :mod:`it2track._files`).
+    """
     path = Path(path)
     try:
-        with path.open("rb") as fh:
-            return tomllib.load(fh)
+        text = read_text(path, what="TOML configuration")
+    except InputFileError as exc:
+        raise ConfigError(str(exc)) from None
     except OSError as exc:
-        raise ConfigError(f"{path}: cannot read: {exc.strerror}") from None
+        raise ConfigError(f"{path}: cannot read: {exc.strerror or exc}") from None
+    try:
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ConfigError(f"{path}: invalid TOML: {exc}") from None
 

@@ -30,6 +30,7 @@ import os
 from collections.abc import Callable
 from pathlib import Path
 
+from .._files import InputFileError, decode_text, read_bytes, refuse_binary
 from ..atomicfile import atomic_write_text
 from ..fuzzy import IT2Sugeno, T1Sugeno
 from . import matfis, t2fis, tomlfmt
@@ -111,26 +112,26 @@ def load(path: str | os.PathLike[str]) -> IT2Sugeno | T1Sugeno:
     Raises
     ------
     FisFormatError
-        If the file is malformed or uses something it2track cannot represent; ``str(err)`` is
-        ``"path:line: problem"``.
+        If the file is malformed or uses something it2track cannot represent, is not a regular
+        file (a FIFO, a device, a directory), is larger than 64 MiB, holds binary data or (for
+        ``.toml``) is not UTF-8; ``str(err)`` is ``"path:line: problem"`` (or ``"path:
+        problem"``).
     ValueError
         For an unknown suffix.
     OSError
-        If the file cannot be read.
+        If the file does not exist or cannot be read.
     """
     name = format_of(path)
-    data = Path(path).read_bytes()
     label = os.fspath(path)
-    if name == "toml":
-        try:
-            text = data.decode("utf-8-sig")
-        except UnicodeDecodeError as exc:
-            line = data.count(b"\n", 0, exc.start) + 1
-            raise FisFormatError(
-                label, line, f"not valid UTF-8 (byte 0x{data[exc.start]:02x})"
-            ) from None
-    else:
-        text = decode(data)
+    try:
+        data = read_bytes(path, what="fuzzy-system file")
+        if name == "toml":
+            text = decode_text(data, label, what="fuzzy-system file")
+        else:
+            refuse_binary(data, label, what="fuzzy-system file")
+            text = decode(data)  # UTF-8, else Latin-1 (MATLAB files)
+    except InputFileError as exc:
+        raise FisFormatError(label, exc.line, exc.problem) from None
     return FORMATS[name][1](text, label)
 
 

@@ -19,6 +19,8 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .._files import read_text
+
 __all__ = [
     "PAPER_TRAJECTORIES",
     "FunctionTrajectory",
@@ -209,9 +211,9 @@ def load_waypoints_csv(path: str | Path, *, kind: str = "cubic") -> WaypointTraj
     """
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = read_text(path, what="waypoint CSV file")
     except OSError as exc:
-        raise ValueError(f"{path}: cannot read waypoints: {exc.strerror}") from None
+        raise ValueError(f"{path}: cannot read waypoints: {exc.strerror or exc}") from None
     reader = csv.reader(text.splitlines())
     rows = list(reader)
     if not rows:
