@@ -51,6 +51,7 @@ from numpy.typing import NDArray
 from tqdm import tqdm
 
 from .. import __version__
+from .._limits import check_memory, loop_bytes
 from ..fuzzy import Reducer, TNorm
 from ..paper import LABELS, MAX_FOU, heading_fls_widths
 from ..tracking import METRIC_NAMES, FuzzyHeadingController, LoopConfig, Trajectory
@@ -329,6 +330,7 @@ class OptimizeConfig:
         for w in self.compare:
             if not 0.0 < w < MAX_FOU:
                 raise ValueError(f"compare width {w!r} must satisfy 0 < w < {MAX_FOU}")
+        self._check_memory()
         # Build every kind of controller the run will build, now: bad gains, reducer or t-norm
         # fail here (ValueError naming the field), not after minutes of optimisation.
         widths = {lo, hi, 0.0, *self.compare}
@@ -336,6 +338,25 @@ class OptimizeConfig:
             self.symmetric_spec(w).build()
         for w in (lo, hi):
             self.asymmetric_spec([w] * len(WIDTH_NAMES)).build()
+
+    def _check_memory(self) -> None:
+        """One evaluation holds every run's metrics (~300 bytes per run, driver and worker
+        side) for all candidates of a generation, plus one simulation batch."""
+        candidates = max(self.symmetric.grid, 6 * self.asymmetric.popsize,
+                         len(self.compare) + 3)
+        per = len(self.trajectory_refs) * len(self.noise_std)
+        seeds = max(len(self.train_seeds), len(self.holdout_seeds))
+        runs = candidates * per * seeds
+        need = 300 * runs + loop_bytes(
+            n_steps=self.config.n_steps, runs=min(self.batch_size, runs),
+            trajectories=len(self.trajectory_refs),
+            noise_samples=int(self.config.duration * self.config.noise_rate) + 1)
+        check_memory(
+            need,
+            what=(f"an evaluation of {candidates} candidates x {per} trajectory/noise cells x "
+                  f"{seeds} seeds ({runs} runs, batch_size={self.batch_size})"),
+            hint="use fewer seeds, a smaller grid/popsize or a smaller batch_size",
+        )
 
     def symmetric_spec(self, w: float) -> ControllerSpec:
         """The paper's controller with FoU ``w`` (``w == 0``: the type-1 FLC)."""

@@ -74,8 +74,11 @@ from numpy.typing import NDArray
 from tqdm import tqdm
 
 from .. import __version__
+from .._files import read_bytes
+from .._limits import ResourceLimitError, check_memory, loop_bytes
 from ..atomicfile import atomic_open, atomic_write_bytes, remove_stale_temporaries
 from ..plant import RobotParams
+from ..plant.noise import MAX_NOISE_STD
 from ..tracking import (
     METRIC_NAMES,
     HeadingController,
@@ -85,7 +88,8 @@ from ..tracking import (
     get_trajectory,
     simulate_metrics,
 )
-from ..tracking.trajectories import PAPER_TRAJECTORIES
+from ..tracking.simulate import MAX_INDEX
+from ..tracking.trajectories import PAPER_TRAJECTORIES, WaypointTrajectory
 from .executors import Executor, InProcessExecutor, peak_rss_bytes
 from .specs import (
     ConfigError,
@@ -189,6 +193,12 @@ def parse_seeds(t: Table, key: str, default: Any = ...) -> tuple[int, ...]:
         sub.done()
         if start < 0 or count < 1:
             raise ConfigError(f"{what}={dict(raw)!r} needs start >= 0 and count >= 1")
+        if start + count - 1 > MAX_INDEX:
+            raise ConfigError(
+                f"{what}={dict(raw)!r}: seed indices must lie in [0, 2**63 - 1] (the last "
+                f"would be {start + count - 1})"
+            )
+        _check_seed_count(count, what)
         return tuple(range(start, start + count))
     if isinstance(raw, list):
         seeds = t.get_list(key, int)
@@ -197,13 +207,30 @@ def parse_seeds(t: Table, key: str, default: Any = ...) -> tuple[int, ...]:
         bad = [s for s in seeds if s < 0]
         if bad:
             raise ConfigError(f"{what}={seeds!r}: seed indices must be >= 0 (got {bad[0]})")
+        big = [s for s in seeds if s > MAX_INDEX]
+        if big:
+            raise ConfigError(
+                f"{what}: seed index {big[0]!r} is larger than 2**63 - 1, the largest allowed"
+            )
         if len(set(seeds)) != len(seeds):
             raise ConfigError(f"{what}={seeds!r}: seed indices must not repeat")
         return tuple(seeds)
     count = t.get(key, int)
     if count < 1:
         raise ConfigError(f"{what}={count!r} must be a seed count >= 1, a list or a table")
+    if count - 1 > MAX_INDEX:
+        raise ConfigError(f"{what}={count!r}: seed indices must lie in [0, 2**63 - 1]")
+    _check_seed_count(count, what)
     return tuple(range(count))
+
+
+def _check_seed_count(count: int, what: str) -> None:
+    """The seed list is held in memory (~40 bytes per index): refuse absurd counts."""
+    try:
+        check_memory(40 * count, what=f"{what}: {count} seed indices",
+                     hint="give fewer seeds")
+    except ResourceLimitError as exc:
+        raise ConfigError(str(exc)) from None
 
 
 def parse_noise_levels(t: Table, key: str) -> tuple[float, ...]:
@@ -215,6 +242,12 @@ def parse_noise_levels(t: Table, key: str) -> tuple[float, ...]:
     for v in values:
         if v < 0:
             raise ConfigError(f"{t.where}: {key} value {v!r} must be >= 0")
+        if v > MAX_NOISE_STD:
+            raise ConfigError(
+                f"{t.where}: {key} value {v!r} exceeds {MAX_NOISE_STD:g} rad, the largest "
+                "heading-noise standard deviation allowed (beyond it theta + noise loses all "
+                "precision, and far beyond it overflows)"
+            )
     if len(set(values)) != len(values):
         raise ConfigError(f"{t.where}: {key}={values!r}: values must not repeat")
     return tuple(values)
@@ -232,7 +265,10 @@ class TrajectoryRef:
     sha256: str = ""
 
     def load(self) -> Trajectory:
-        return get_trajectory(self.path or self.name)
+        traj = get_trajectory(self.path or self.name)
+        if isinstance(traj, WaypointTrajectory) and traj.name != self.name:
+            traj = WaypointTrajectory(self.name, traj.times, traj.points, traj.kind)
+        return traj
 
     def to_dict(self) -> dict[str, str]:
         """What identifies the trajectory (not where the file lives)."""
@@ -242,8 +278,10 @@ class TrajectoryRef:
 
 
 def _file_sha256(path: str | Path) -> str:
-    """SHA-256 of a file's bytes (hex); ``OSError`` if it cannot be read."""
-    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+    """SHA-256 of a regular file's bytes (hex); ``OSError`` if it cannot be read,
+    :class:`~it2track._files.InputFileError` (a ``ValueError``) if it is not a regular file or
+    too big."""
+    return hashlib.sha256(read_bytes(path, what="input file")).hexdigest()
 
 
 @dataclass(frozen=True)
@@ -327,7 +365,8 @@ def parse_trajectories(
     names = t.get_list(key, str) if isinstance(raw, list) else [t.get(key, str)]
     if not names:
         raise ConfigError(f"{t.where}: {key}=[] is an empty axis (give at least one trajectory)")
-    refs, loaded = [], []
+    refs: list[TrajectoryRef] = []
+    loaded: list[Trajectory] = []
     for name in names:
         if name in PAPER_TRAJECTORIES:
             ref = TrajectoryRef(name)
@@ -336,27 +375,53 @@ def parse_trajectories(
             if not p.is_absolute() and base_dir is not None:
                 p = base_dir / p
             try:
-                digest = hashlib.sha256(p.read_bytes()).hexdigest()
+                digest = _file_sha256(p)
             except OSError as exc:
                 raise ConfigError(
-                    f"{t.where}: {key}: cannot read {str(p)!r}: {exc.strerror}"
+                    f"{t.where}: {key}: cannot read {str(p)!r}: {exc.strerror or exc}"
                 ) from None
+            except ValueError as exc:
+                raise ConfigError(f"{t.where}: {key}: {exc}") from None
             ref = TrajectoryRef(p.stem, str(p), digest)
         else:
             raise ConfigError(
                 f"{t.where}: {key}: unknown trajectory {name!r}; use one of "
                 f"{sorted(PAPER_TRAJECTORIES)} or a .csv waypoint file"
             )
+        refs.append(ref)
+    refs = _unique_trajectory_names(refs, f"{t.where}: {key}")
+    for ref in refs:
         try:
-            traj = ref.load()
+            loaded.append(ref.load())
         except ValueError as exc:
             raise ConfigError(f"{t.where}: {key}: {exc}") from None
-        refs.append(ref)
-        loaded.append(traj)
-    seen = [r.name for r in refs]
-    if len(set(seen)) != len(seen):
-        raise ConfigError(f"{t.where}: {key}={names!r}: trajectory names must not repeat")
     return tuple(refs), tuple(loaded)
+
+
+def _unique_trajectory_names(refs: list[TrajectoryRef], where: str) -> list[TrajectoryRef]:
+    """Give CSV trajectories that share a file name distinct names (the name is their identity
+    in rows, figures and hashes): ``a/path.csv`` and ``b/path.csv`` become ``a-path`` and
+    ``b-path``, with as many parent folders as it takes. The same file or built-in twice is a
+    :class:`ConfigError`."""
+    keys = [(r.path and str(Path(r.path).resolve())) or r.name for r in refs]
+    for i, k in enumerate(keys):
+        if k in keys[:i]:
+            raise ConfigError(
+                f"{where}: {refs[i].path or refs[i].name!r} is listed twice (trajectories must "
+                "not repeat)"
+            )
+    names = [r.name for r in refs]
+    for depth in range(1, 64):
+        clash = {n for n in names if names.count(n) > 1}
+        if not clash:
+            break
+        for i, r in enumerate(refs):
+            if names[i] in clash and r.path:
+                parts = Path(keys[i]).parent.parts[-depth:]
+                names[i] = "-".join([*(p.strip("/") or "root" for p in parts), r.name])
+    else:  # pragma: no cover - needs 64 nested folders of identical names
+        raise ConfigError(f"{where}: cannot give the trajectories distinct names: {names}")
+    return [replace(r, name=n) for r, n in zip(refs, names, strict=True)]
 
 
 def _positive_int(t: Table, key: str, default: int) -> int:
@@ -602,6 +667,24 @@ class SweepPlan:
             value = getattr(self, key)
             if isinstance(value, bool) or not isinstance(value, int) or value < 1:
                 raise ValueError(f"SweepPlan.{key}={value!r} must be an integer >= 1")
+        self._check_memory()
+
+    def _check_memory(self) -> None:
+        """The chunk layout (~200 bytes per chunk) and one chunk in flight (its rows as text and
+        lists, ~2 kB per run, plus one simulation batch) must fit in memory."""
+        per_group = self.runs_per_group
+        n_chunks = len(self.robots) * -(-per_group // self.chunk_size)
+        chunk = min(self.chunk_size, per_group)
+        need = 200 * n_chunks + 2048 * chunk + loop_bytes(
+            n_steps=self.config.n_steps, runs=min(self.batch_size, chunk),
+            trajectories=len(self.trajectory_refs),
+            noise_samples=int(self.config.duration * self.config.noise_rate) + 1)
+        check_memory(
+            need,
+            what=(f"the sweep of {self.n_runs} runs in {n_chunks} chunks of up to {chunk} runs "
+                  f"(chunk_size={self.chunk_size}, batch_size={self.batch_size})"),
+            hint="use fewer runs, or a chunk_size/batch_size that fits",
+        )
 
     # -- sizes and order --------------------------------------------------------------------
     @property
@@ -781,19 +864,22 @@ def load_sweep_config(path: str | Path) -> SweepPlan:
     root.used.add("controllers")
     controllers = _parse_controllers(data["controllers"], file, path.parent)
     root.done()
-    return SweepPlan(
-        config=config,
-        robots=robots,
-        robot_columns=robot_columns,
-        controllers=controllers,
-        trajectory_refs=refs,
-        noise_std=noise,
-        seeds=seeds,
-        chunk_size=chunk_size,
-        batch_size=batch_size,
-        source=file,
-        trajectories=trajectories,
-    )
+    try:
+        return SweepPlan(
+            config=config,
+            robots=robots,
+            robot_columns=robot_columns,
+            controllers=controllers,
+            trajectory_refs=refs,
+            noise_std=noise,
+            seeds=seeds,
+            chunk_size=chunk_size,
+            batch_size=batch_size,
+            source=file,
+            trajectories=trajectories,
+        )
+    except ValueError as exc:  # e.g. the plan would not fit in memory
+        raise ConfigError(f"{file}: {exc}") from None
 
 
 # -- the store -----------------------------------------------------------------------------------

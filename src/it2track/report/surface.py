@@ -25,6 +25,7 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 from numpy.typing import NDArray
 
+from .._limits import check_memory, fuzzy_batch_bytes
 from ..atomicfile import atomic_open
 from ..fuzzy import IT2Sugeno, T1Sugeno, ZeroFiringError
 
@@ -80,8 +81,13 @@ def surface_grid(
     """
     if system.n_inputs < 2:
         raise ValueError("a surface needs a system with at least two inputs")
-    if points < 2:
-        raise ValueError(f"points={points!r} must be >= 2")
+    if isinstance(points, bool) or not isinstance(points, int) or points < 2:
+        raise ValueError(f"points={points!r} must be an integer >= 2")
+    check_memory(  # the grids (x, y, u) plus the evaluation, before any allocation
+        3 * 8 * points**2 + fuzzy_batch_bytes(points**2, system.n_inputs),
+        what=f"points={points} ({points}^2 = {points**2} grid points)",
+        hint="use fewer points (e.g. 101-501 per axis)",
+    )
     names = [inp.name for inp in system.inputs]
     pair = list(inputs) if inputs is not None else names[:2]
     if len(pair) != 2 or pair[0] == pair[1] or any(p not in names for p in pair):
