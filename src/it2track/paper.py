@@ -14,6 +14,7 @@ baseline with the same dead zone as the IT2FLC of width ``w``.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from numbers import Real
 
 from .fuzzy import (
     EXHAUSTIVE,
@@ -54,6 +55,14 @@ LABELS = ("N", "Z", "P")
 MAX_FOU = 1.6
 
 
+def _width(value: object, name: str) -> float:
+    """A FoU width as a float; strings and booleans are refused, not converted
+    (``heading_fls("0.2")`` or ``heading_fls(True)`` would silently build FoU 0.2 or 1)."""
+    if isinstance(value, bool) or not isinstance(value, Real):
+        raise ValueError(f"{name}={value!r} must be a real number (a FoU width)")
+    return float(value)
+
+
 def _rules() -> tuple[Rule, ...]:
     return rules_from_table(LABELS, LABELS, RULE_TABLE)
 
@@ -91,7 +100,7 @@ def heading_fls(
     >>> heading_fls(0.0)(0.1, 0.0)  # inside the type-1 dead zone
     0.0
     """
-    fou = float(fou)
+    fou = _width(fou, "fou")
     if not 0.0 <= fou < MAX_FOU:
         raise ValueError(f"fou={fou!r} must satisfy 0 <= fou < {MAX_FOU}")
     return heading_fls_widths(
@@ -132,7 +141,15 @@ def heading_fls_widths(
     """
     inputs = []
     for label, widths in (("e", e_widths), ("de", de_widths)):
-        ws = [float(w) for w in widths]
+        try:
+            if isinstance(widths, str | bytes):
+                raise TypeError
+            items = list(widths)
+        except TypeError:
+            raise ValueError(
+                f"{label}_widths={widths!r} must be a sequence of 3 widths (N, Z, P)"
+            ) from None
+        ws = [_width(w, f"{label}_widths") for w in items]
         if len(ws) != len(LABELS):
             raise ValueError(f"{label}_widths={list(widths)!r} must be 3 widths (N, Z, P)")
         for k, w in zip(LABELS, ws, strict=True):
@@ -161,7 +178,7 @@ def dead_zone_matched_fls(fou: float, *, tnorm: TNorm = TNorm.PRODUCT) -> T1Suge
     footprint itself from the effect of a narrower dead zone. ``tnorm`` as in
     :func:`heading_fls`.
     """
-    fou = float(fou)
+    fou = _width(fou, "fou")
     if not 0.0 <= fou < MAX_FOU:
         raise ValueError(f"fou={fou!r} must satisfy 0 <= fou < {MAX_FOU}")
     sets = [IT2Set.from_fou(CENTRE_SETS[k], fou, k).upper for k in LABELS]

@@ -33,6 +33,38 @@ __all__ = ["FuzzySystem", "IT2Sugeno", "T1Sugeno"]
 
 FloatArray = NDArray[np.float64]
 
+
+def real_input(x: ArrayLike, name: str) -> FloatArray:
+    """``x`` as a float64 array, refusing what a conversion would silently change.
+
+    Accepted: Python and NumPy integers and floats, and arrays (or nested sequences) of them.
+    Refused with a ``ValueError`` naming the input: ``None``, strings, booleans, complex
+    numbers (the imaginary part would be dropped), objects, and masked arrays with masked
+    entries (the mask would be ignored).
+    """
+    if x is None:
+        raise ValueError(f"input {name!r} is None; give a number or an array of numbers")
+    if isinstance(x, np.ma.MaskedArray):
+        if np.ma.getmaskarray(x).any():
+            raise ValueError(
+                f"input {name!r} is a masked array with masked entries; fill or drop them "
+                "(the mask would be ignored)"
+            )
+        x = x.data
+    try:
+        arr = np.asarray(x)
+    except (TypeError, ValueError) as exc:  # ragged nested sequences
+        raise ValueError(f"input {name!r} is not an array of numbers: {exc}") from None
+    if arr.dtype.kind not in "iuf":
+        example = arr.reshape(-1)[:1].tolist()[0] if arr.size else arr.tolist()
+        kind = {"b": "booleans", "c": "complex numbers", "U": "strings", "S": "bytes",
+                "O": "Python objects"}.get(arr.dtype.kind, str(arr.dtype))
+        raise ValueError(
+            f"input {name!r} must be real numbers, got {kind} (e.g. {example!r})"
+        )
+    return arr.astype(np.float64, copy=False)
+
+
 #: Samples per internal block: keeps the working set of one block in the CPU cache.
 BLOCK = 4096
 
@@ -91,7 +123,7 @@ class _SugenoBase:
                 f"{type(self).__name__} {self.name!r} takes {self.n_inputs} inputs "
                 f"({', '.join(i.name for i in self.inputs)}), got {len(xs)}"
             )
-        arrays = [np.asarray(x, dtype=np.float64) for x in xs]
+        arrays = [real_input(x, inp.name) for x, inp in zip(xs, self.inputs, strict=True)]
         for inp, arr in zip(self.inputs, arrays, strict=True):
             # One cheap reduction first; the exact elementwise check only if it is not finite
             # (it can overflow to inf on finite but huge values, which must not warn).
@@ -116,7 +148,7 @@ class _SugenoBase:
         return x, shape
 
     def _stacked(self, x: ArrayLike) -> tuple[FloatArray, ...]:
-        arr = np.asarray(x, dtype=np.float64)
+        arr = real_input(x, "stacked inputs")
         if arr.ndim == 0 or arr.shape[-1] != self.n_inputs:
             raise ValueError(
                 f"stacked inputs must have shape (..., {self.n_inputs}), got {arr.shape}"
