@@ -13,7 +13,7 @@ import sys
 import tempfile
 import time
 from pathlib import Path
-from typing import Any
+from typing import Any, NoReturn
 
 import click
 
@@ -35,7 +35,7 @@ def main() -> None:
     """Interval type-2 fuzzy trajectory tracking: simulate, reproduce the paper, sweep, optimise."""
 
 
-def _fail(message: str) -> None:
+def _fail(message: str) -> NoReturn:
     raise click.ClickException(message)
 
 
@@ -85,6 +85,10 @@ def simulate(**opts: Any) -> None:
     from ..tracking import simulate as run
 
     _reject_inapplicable(click.get_current_context(), opts)
+    # Everything that can fail is checked before the simulation starts, each error naming
+    # the option(s) it comes from.
+    if opts["trace"] is not None:
+        _check_output_file(opts["trace"], "--trace")
     try:
         if opts["noise_power"] is not None:
             noise = HeadingNoise.from_band_limited_power(opts["noise_power"],
@@ -92,6 +96,10 @@ def simulate(**opts: Any) -> None:
             sigma = noise.std
         else:
             sigma = opts["noise_std"]
+    except ValueError as exc:
+        _fail(f"--noise-power {opts['noise_power']:g} with --noise-rate "
+              f"{opts['noise_rate']:g}: {exc}")
+    try:
         if opts["controller_file"]:
             spec = ControllerSpec(kind=ControllerKind.FILE, path=opts["controller_file"],
                                   ke=opts["ke"], kde=opts["kde"])
@@ -108,14 +116,29 @@ def simulate(**opts: Any) -> None:
                 kw["reducer"] = opts["reducer"]
             spec = ControllerSpec(**kw)
         controller = spec.build()
+    except (ValueError, OSError) as exc:
+        source = (f"--controller-file {opts['controller_file']}" if opts["controller_file"]
+                  else f"--controller {opts['controller']}")
+        _fail(f"{source}: {exc}")
+    try:
         trajectory = get_trajectory(opts["trajectory"])
+    except (ValueError, OSError) as exc:
+        _fail(f"--trajectory {opts['trajectory']}: {exc}")
+    try:
         config = LoopConfig(duration=opts["duration"], ts=opts["ts"],
                             noise_rate=opts["noise_rate"], seed=opts["base_seed"])
+    except ValueError as exc:
+        _fail(f"--duration {opts['duration']:g} / --ts {opts['ts']:g} / --noise-rate "
+              f"{opts['noise_rate']:g} / --base-seed {opts['base_seed']}: {exc}")
+    try:
         runs = RunTable(0, 0, sigma, opts["seed"])
+    except ValueError as exc:
+        noise_opt = "--noise-power" if opts["noise_power"] is not None else "--noise-std"
+        _fail(f"--seed {opts['seed']} / {noise_opt}: {exc}")
+    try:
         trace = run([controller], [trajectory], runs, config)
     except ValueError as exc:
-        _fail(str(exc))
-        return
+        _fail(f"the simulation stopped: {exc}")
     metrics = {k: float(v[0]) for k, v in trace.metrics.items()}
     if opts["trace"]:
         import csv
@@ -131,8 +154,9 @@ def simulate(**opts: Any) -> None:
                                                            for n in names])
         try:
             atomic_write_text(Path(opts["trace"]), buf.getvalue())
-        except OSError as exc:
-            _fail(f"cannot write --trace {opts['trace']}: {exc.strerror}")
+        except (OSError, ValueError) as exc:
+            _fail(f"cannot write --trace {opts['trace']}: "
+                  f"{getattr(exc, 'strerror', None) or exc}")
     if opts["as_json"]:
         click.echo(json.dumps(metrics))
         return
@@ -141,6 +165,22 @@ def simulate(**opts: Any) -> None:
     width = max(len(k) for k in metrics)
     for key, value in metrics.items():
         click.echo(f"  {key:<{width}}  {value:.6g}")
+
+
+def _check_output_file(path: str, option: str) -> None:
+    """An output file option must name a file we may create or replace: not empty, in an
+    existing folder, absent or a regular file (never a device, FIFO, folder or link)."""
+    from ..atomicfile import NotRegularFileError, check_replaceable
+
+    if not path:
+        _fail(f"{option} '' is empty: give a file name")
+    try:
+        check_replaceable(path)
+    except NotRegularFileError as exc:
+        _fail(f"{option} {path}: {exc.strerror}")
+    parent = Path(path).parent
+    if not parent.is_dir():
+        _fail(f"{option} {path}: the folder {parent} does not exist")
 
 
 _APPLIES = {
@@ -244,6 +284,7 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
 
     if workers and scheduler:
         _fail("give either --workers or --scheduler, not both")
+    _preflight_study(config, config_path)
     total = study_run_count(config)
     out = Path(out_dir)
     staging = _make_staging(out_dir)
@@ -295,6 +336,77 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
                f"{elapsed:.1f} s -> {out}/")
     for c in claims:
         click.echo(f"  {c.id}: {c.verdict}")
+
+
+def _preflight_study(config: Any, config_path: str | None) -> None:
+    """What would fail only after minutes of simulation, checked before any: the memory the
+    results need, noise levels beyond the allowed range, trajectories whose figures or rows
+    would overwrite each other, and labels matplotlib cannot draw (mathtext)."""
+    from .._limits import ResourceLimitError, check_memory, loop_bytes
+    from ..experiments.study import experiment_sizes
+    from ..plant.noise import MAX_NOISE_STD
+    from ..report.figures import slug
+    from ..tracking import get_trajectory
+
+    source = config_path or "the default study"
+    for key, values in (("noise_std", [config.noise_std]),
+                        ("noise_levels", list(config.noise_levels))):
+        big = [v for v in values if v > MAX_NOISE_STD]
+        if big:
+            _fail(f"{source} [study] {key}: {big[0]!r} exceeds {MAX_NOISE_STD:g} rad, the largest "
+                  "heading-noise standard deviation allowed")
+    sizes = experiment_sizes(config)
+    rows = sum(v for k, v in sizes.items() if k != "pd_tuning")
+    loop = config.loop
+    n_traced = 1 + len(config.fous)
+    try:
+        check_memory(
+            700 * rows + 100 * sizes["pd_tuning"]
+            + loop_bytes(n_steps=loop.n_steps, runs=n_traced, record=True,
+                         noise_samples=int(loop.duration * loop.noise_rate) + 1)
+            + loop_bytes(n_steps=loop.n_steps, runs=config.batch_size,
+                         trajectories=len(config.trajectories),
+                         noise_samples=int(loop.duration * loop.noise_rate) + 1),
+            what=(f"{source}: the study's {rows} result rows (seeds={config.seeds}, "
+                  f"sweep_seeds={config.sweep_seeds}, batch_size={config.batch_size})"),
+            hint="use fewer seeds (--seeds, --sweep-seeds) or a smaller batch_size",
+        )
+    except ResourceLimitError as exc:
+        _fail(str(exc))
+    seen: dict[str, str] = {}
+    for t in config.trajectories:
+        try:
+            name = get_trajectory(t).name
+        except (ValueError, OSError) as exc:
+            _fail(f"{source} [study] trajectories: {exc}")
+        for key in (f"figure {slug(t)!r}", f"name {name!r}"):
+            if key in seen and seen[key] != t:
+                _fail(f"{source} [study] trajectories {seen[key]!r} and {t!r} would share the "
+                      f"{key} (one's figures and rows would overwrite the other's): rename one "
+                      "of the files")
+            seen[key] = t
+    labels = [s.label for s in config.extra_controllers]
+    labels += [get_trajectory(t).name for t in config.trajectories]
+    for label in labels:
+        problem = _undrawable(label)
+        if problem:
+            _fail(f"{source}: the label {label!r} cannot be drawn in the figures ({problem}); "
+                  "escape '$' as '\\$' or fix the mathtext")
+
+
+def _undrawable(text: str) -> str | None:
+    """Why matplotlib cannot draw ``text`` (a mathtext parse error), or None."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(2, 1))
+    FigureCanvasAgg(fig)
+    fig.text(0, 0, text)
+    try:
+        fig.canvas.draw()
+    except Exception as exc:  # any drawing failure means a bad label
+        return " ".join(str(exc).split())[:200] or type(exc).__name__
+    return None
 
 
 #: Results every run writes (figures vary with the config): checked before any work starts.
