@@ -179,7 +179,7 @@ def expand_axes(data: Mapping[str, Any], where: str) -> list[dict[str, Any]]:
 
 
 def parse_seeds(t: Table, key: str, default: Any = ...) -> tuple[int, ...]:
-    """Seed indices: a count ``n`` (``0 ... n-1``), a list, or ``{start = s, count = n}``."""
+    """Seed indices: a count ``n`` (``0, 1, ..., n-1``), a list, or ``{start = s, count = n}``."""
     if key not in t:
         if default is ...:
             raise ConfigError(f"{t.where}: missing key {key!r}")

@@ -74,7 +74,7 @@ def trimf(x: ArrayLike, a: float, b: float, c: float, h: float = 1.0) -> FloatAr
     --------
     >>> trimf([-1.0, -0.5, 0.0, 0.5, 1.0], -1, 0, 1).tolist()
     [0.0, 0.5, 1.0, 0.5, 0.0]
-    >>> trimf([-2.0, -1.0, -0.6], -1, -1, -0.2).tolist()
+    >>> trimf([-2.0, -1.0, -0.5], -1, -1, 0).tolist()
     [1.0, 1.0, 0.5]
     """
     return trapmf(x, a, b, b, c, h)

@@ -86,7 +86,7 @@ class Input:
 
 @dataclass(frozen=True)
 class Rule:
-    """``if x1 is A1 and ... then y = [lo, hi]`` (zero-order Sugeno).
+    """``if x1 is A1 and x2 is A2 then y = [lo, hi]`` (zero-order Sugeno; any number of inputs).
 
     Parameters
     ----------

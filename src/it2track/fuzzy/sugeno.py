@@ -306,7 +306,11 @@ class IT2Sugeno(_SugenoBase):
     >>> fls = IT2Sugeno(inputs=[Input("x", (-1, 1), sets)],
     ...                 rules=[Rule(["N"], -1.0), Rule(["P"], 1.0)])
     >>> fls([-1.0, 0.0, 0.5]).round(6).tolist()
-    [-1.0, 0.0, 0.5]
+    [-0.954545, 0.0, 0.504093]
+
+    At ``x = -1`` the FoU widens P's upper foot to -1.1, so P fires in ``[0, 1/21]`` beside N's
+    ``[1, 1]``: ``yl = -1``, ``yr = (-1 + 1/21) / (1 + 1/21) = -10/11`` and
+    ``u = -21/22 = -0.954545...``.
     """
 
     reducer: TypeReducer = EXHAUSTIVE

@@ -716,7 +716,7 @@ def _input_gains(specs: Iterable[ControllerSpec | None]) -> tuple[float, float] 
 
 
 def surface_limit(result: StudyResult) -> float:
-    """The largest |u| over the stored control surfaces, V (the paper's rules: 12)."""
+    """The largest ``|u|`` over the stored control surfaces, V (the paper's rules: 12)."""
     return max((float(np.max(np.abs(u))) for _, _, u in result.surfaces.values()), default=0.0)
 
 

@@ -13,7 +13,7 @@ IAE        integral of ``|e|`` (``e = wrap(theta_d - theta)``, true heading)   r
 ITAE       integral of ``t |e|``                                              rad s^2
 ISE        integral of ``e^2``                                                rad^2 s
 ITSE       integral of ``t e^2``                                              rad^2 s^2
-*_meas     the same four on the measured error ``wrap(theta_d - theta_hat)``
+``*_meas`` the same four on the measured error ``wrap(theta_d - theta_hat)``
 pos_rms    RMS over the samples of the distance to the reference point        m
 pos_max    largest distance to the reference point                            m
 pos_final  distance at ``t_N``                                                m
