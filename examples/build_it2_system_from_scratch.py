@@ -1,6 +1,10 @@
-"""Build an interval type-2 Sugeno system from scratch and evaluate it on a batch.
+"""
+Build an IT2 Sugeno system from scratch
+=======================================
 
-Run: python examples/build_it2_system_from_scratch.py
+Build an interval type-2 Sugeno system from scratch and evaluate it on a batch.
+
+Run: ``python examples/build_it2_system_from_scratch.py``
 """
 
 import numpy as np

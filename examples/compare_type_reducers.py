@@ -1,6 +1,10 @@
-"""The exact type reducers agree; the closed-form approximations do not. Time them too.
+"""
+Compare the type reducers
+=========================
 
-Run: python examples/compare_type_reducers.py
+The exact type reducers agree; the closed-form approximations do not. Time them too.
+
+Run: ``python examples/compare_type_reducers.py``
 """
 
 import time

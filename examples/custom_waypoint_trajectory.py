@@ -1,7 +1,11 @@
-"""Track your own trajectory, given as timed waypoints in a CSV file, with the paper's IT2FLC
+"""
+Track your own waypoint trajectory
+==================================
+
+Track your own trajectory, given as timed waypoints in a CSV file, with the paper's IT2FLC
 and its type-1 FLC, over 20 noise realisations (common random numbers).
 
-Run: python examples/custom_waypoint_trajectory.py
+Run: ``python examples/custom_waypoint_trajectory.py``
 """
 
 import tempfile
