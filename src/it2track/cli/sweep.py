@@ -93,6 +93,26 @@ def _executor(workers: int, scheduler: str | None, dask: dict[str, Any]) -> Exec
         raise click.ClickException(str(exc)) from None
 
 
+def _check_out_dir(out_dir: str, files: tuple[str, ...] = ()) -> None:
+    """``--out`` must name a folder that exists or can be created, and the result ``files``
+    in it must be absent or regular files -- checked before any work, not after it."""
+    from ..atomicfile import NotRegularFileError, check_replaceable
+
+    if not out_dir:
+        raise click.ClickException("--out '' is empty: give an output folder")
+    out = Path(out_dir)
+    if out.exists() and not out.is_dir():
+        raise click.ClickException(f"--out {out_dir} exists and is not a folder")
+    parent = next((p for p in (out, *out.parents) if p.exists()), Path("."))
+    if not parent.is_dir():
+        raise click.ClickException(f"--out {out_dir}: {parent} is not a folder")
+    for name in files:
+        try:
+            check_replaceable(out / name)
+        except NotRegularFileError as exc:
+            raise click.ClickException(f"--out {out_dir}: {out / name} {exc.strerror}") from None
+
+
 @click.command("sweep")
 @click.option("--config", "config_path", required=True,
               type=click.Path(exists=True, dir_okay=False), help="Sweep TOML file.")
@@ -124,6 +144,7 @@ def sweep(
     from ..experiments.specs import ConfigError
     from ..experiments.sweep import StoreError, load_sweep_config, run_sweep
 
+    _check_out_dir(out_dir)
     try:
         plan = load_sweep_config(config_path)
     except ConfigError as exc:
@@ -193,6 +214,7 @@ def optimize(
     from ..experiments.specs import ConfigError
     from ..report.optimize_plot import plot_convergence
 
+    _check_out_dir(out_dir, files=("optimize.json", "optimize.md", "convergence.png"))
     try:
         cfg = load_optimize_config(config_path)
     except ConfigError as exc:

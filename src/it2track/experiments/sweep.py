@@ -225,9 +225,10 @@ def parse_seeds(t: Table, key: str, default: Any = ...) -> tuple[int, ...]:
 
 
 def _check_seed_count(count: int, what: str) -> None:
-    """The seed list is held in memory (~40 bytes per index): refuse absurd counts."""
+    """The seed indices are held in memory several times (a tuple of ints, sets to compare
+    them, the run tables: ~100 bytes per index): refuse counts that would not fit."""
     try:
-        check_memory(40 * count, what=f"{what}: {count} seed indices",
+        check_memory(100 * count, what=f"{what}: {count} seed indices",
                      hint="give fewer seeds")
     except ResourceLimitError as exc:
         raise ConfigError(str(exc)) from None

@@ -120,7 +120,14 @@ class HeadingNoise:
         ts = _real(sample_time, "sample_time")
         if ts <= 0.0:
             raise ValueError(f"sample_time must be > 0, got {sample_time!r}")
-        return cls(std=math.sqrt(p / ts), rate=1.0 / ts)
+        variance = p / ts
+        if not variance <= MAX_NOISE_STD**2:  # also inf (overflow)
+            raise ValueError(
+                f"power={power!r} with sample_time={sample_time!r} gives a noise std "
+                f"sqrt(power / sample_time) = {math.sqrt(variance):.3g} rad, above the largest "
+                f"allowed, {MAX_NOISE_STD:g} rad"
+            )
+        return cls(std=math.sqrt(variance), rate=1.0 / ts)
 
 
 def run_generator(seed: int, index: int) -> np.random.Generator:
