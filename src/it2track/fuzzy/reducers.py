@@ -127,9 +127,32 @@ def _exhaustive_right(fl: FloatArray, fu: FloatArray, y: FloatArray, max_iter: i
     return _exhaustive_both(fl, fu, y, max_iter)[1]
 
 
+def _sum_rows(a: FloatArray) -> FloatArray:
+    """``a[0] + a[1] + ...`` (rows added in order), shape ``(N,)``.
+
+    ``a.sum(axis=0)`` and ``einsum`` reduce in an order that depends on the batch (a single
+    column is summed pairwise), so a sample's bits would depend on its batch; here every
+    column is summed in the same order, as compiled kernels do.
+    """
+    out = a[0].copy()
+    for r in range(1, a.shape[0]):
+        out += a[r]
+    return out
+
+
+def _dot_rows(a: FloatArray, y: FloatArray) -> FloatArray:
+    """``a[0] y[0] + a[1] y[1] + ...`` (rows added in order), shape ``(N,)``."""
+    out = a[0] * y[0]
+    tmp = np.empty_like(out)
+    for r in range(1, a.shape[0]):
+        np.multiply(a[r], y[r], out=tmp)
+        out += tmp
+    return out
+
+
 def _centroid(theta: FloatArray, y: FloatArray) -> FloatArray:
     with np.errstate(divide="ignore", invalid="ignore"):
-        return np.einsum("rn,r->n", theta, y) / theta.sum(axis=0)
+        return _dot_rows(theta, y) / _sum_rows(theta)
 
 
 def _switch_iterations(
@@ -233,8 +256,8 @@ def _eiasc_left(fl: FloatArray, fu: FloatArray, y: FloatArray, max_iter: int) ->
     # Wu & Nie (2011): start from all-lower firing, raise rules to upper firing from the bottom
     # while the centroid still lies above the next consequent.
     r = fl.shape[0]
-    a = np.einsum("rn,r->n", fl, y)
-    b = fl.sum(axis=0)
+    a = _dot_rows(fl, y)
+    b = _sum_rows(fl)
     c = np.full(fl.shape[1:], np.nan)
     done = np.zeros(fl.shape[1:], dtype=bool)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -254,8 +277,8 @@ def _eiasc_left(fl: FloatArray, fu: FloatArray, y: FloatArray, max_iter: int) ->
 
 def _eiasc_right(fl: FloatArray, fu: FloatArray, y: FloatArray, max_iter: int) -> FloatArray:
     r = fl.shape[0]
-    a = np.einsum("rn,r->n", fl, y)
-    b = fl.sum(axis=0)
+    a = _dot_rows(fl, y)
+    b = _sum_rows(fl)
     c = np.full(fl.shape[1:], np.nan)
     done = np.zeros(fl.shape[1:], dtype=bool)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -291,22 +314,22 @@ def _wu_mendel(
 ) -> tuple[FloatArray, FloatArray]:
     # Wu & Mendel (2002) uncertainty bounds, Mendel (2017) "Uncertain rule-based fuzzy
     # systems", 2nd ed., sec. 9.5. Requires sum(fl) > 0.
-    sl, su = fl.sum(axis=0), fu.sum(axis=0)
+    sl, su = _sum_rows(fl), _sum_rows(fu)
     with np.errstate(divide="ignore", invalid="ignore"):
-        yl0 = np.einsum("rn,r->n", fl, y_lo) / sl
-        ylm = np.einsum("rn,r->n", fu, y_lo) / su
-        yr0 = np.einsum("rn,r->n", fl, y_hi) / sl
-        yrm = np.einsum("rn,r->n", fu, y_hi) / su
+        yl0 = _dot_rows(fl, y_lo) / sl
+        ylm = _dot_rows(fu, y_lo) / su
+        yr0 = _dot_rows(fl, y_hi) / sl
+        yrm = _dot_rows(fu, y_hi) / su
         yl_outer_hi = np.minimum(yl0, ylm)  # upper bound of yl
         yr_outer_lo = np.maximum(yr0, yrm)  # lower bound of yr
         spread = (su - sl) / (su * sl)
         y1l, yml = y_lo.min(), y_lo.max()
         y1r, ymr = y_hi.min(), y_hi.max()
-        pl = np.einsum("rn,r->n", fl, y_lo - y1l)
-        ql = np.einsum("rn,r->n", fu, yml - y_lo)
+        pl = _dot_rows(fl, y_lo - y1l)
+        ql = _dot_rows(fu, yml - y_lo)
         yl_lo = yl_outer_hi - spread * np.where(pl + ql > 0, pl * ql / (pl + ql), 0.0)
-        pr = np.einsum("rn,r->n", fu, y_hi - y1r)
-        qr = np.einsum("rn,r->n", fl, ymr - y_hi)
+        pr = _dot_rows(fu, y_hi - y1r)
+        qr = _dot_rows(fl, ymr - y_hi)
         yr_hi = yr_outer_lo + spread * np.where(pr + qr > 0, pr * qr / (pr + qr), 0.0)
     return 0.5 * (yl_lo + yl_outer_hi), 0.5 * (yr_outer_lo + yr_hi)
 
