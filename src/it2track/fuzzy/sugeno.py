@@ -25,6 +25,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from . import kernels as _kernels
 from .reducers import EXHAUSTIVE, TypeReducer, ZeroFiringError
 from .rules import Input, Rule, TNorm
 from .tables import SystemTables
@@ -251,7 +252,9 @@ class _SugenoBase:
     def interval(self, *xs: ArrayLike) -> tuple[FloatArray, FloatArray]:
         """Type-reduced interval ``(yl, yr)``, each of the broadcast input shape."""
         x, shape = self._prepare(xs)
-        yl, yr = self._interval_blocks(x)
+        fast = _kernels.interval(self, x, crisp=False)  # compiled when supported (same bits)
+        yl, yr = fast if fast is not None else self._interval_blocks(x)
+        assert yr is not None
         return yl.reshape(shape), yr.reshape(shape)
 
     def __call__(self, *xs: ArrayLike) -> Any:
@@ -260,12 +263,18 @@ class _SugenoBase:
         A call with Python/NumPy float scalars returns a Python float through a fast path
         (bit-for-bit equal to the array path) meant for real-time loops.
         """
+        u = _kernels.output(self, xs)  # compiled scalar call when supported (same bits)
+        if u is not None:
+            return u
         scalars = self._scalar_inputs(xs)
         if scalars is not None:
             fast = self._scalar_output(scalars)
             if fast is not None:
                 return fast
         x, shape = self._prepare(xs)
+        compiled = _kernels.interval(self, x, crisp=True)
+        if compiled is not None:
+            return compiled[0].reshape(shape)
         yl, yr = self._interval_blocks(x)
         np.add(yl, yr, out=yl)
         yl *= 0.5

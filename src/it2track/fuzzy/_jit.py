@@ -1,0 +1,453 @@
+"""numba-compiled evaluation of a packed Sugeno system (imported lazily by :mod:`.kernels`).
+
+Every function here mirrors the numpy reference (:mod:`.tables`, :mod:`.sugeno`,
+:mod:`.reducers`) operation for operation, so the results are the same bits: the same IEEE
+operations in the same order, sums over rules in rule order, no fast-math, no contraction of
+multiply-adds. A system is one flat float64 array ``P`` (layout in :mod:`.kernels`), so one
+compilation serves every system and a call passes a single array.
+
+Compiled functions are cached on disk (``cache=True``): the first call of a process loads them
+(tens of ms) instead of compiling them (seconds). numba checks a cached function against its
+own source file only; :mod:`it2track.tracking._jit` calls :func:`sample` from here, so after
+editing this file in a development checkout touch that one too (or clear ``__pycache__``).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+from numba import njit, prange
+
+from .libm import exp_scalar
+
+# Header of a packed system (see kernels.pack); offsets point into the same array.
+N_IN, N_ROWS, N_RULES, REDUCER, TNORM, MAX_ITER, HAS_ZERO, ZERO = 0, 1, 2, 3, 4, 5, 6, 7
+TOL_L, TOL_R, K0_L, K0_R = 8, 9, 10, 11
+O_LO, O_HI, O_KIND, O_PAR, O_INP, O_UR, O_LR, O_YLO, O_YHS, O_OHI = range(12, 22)
+O_WM, O_YM, O_YHI = 22, 23, 24
+HEADER = 25
+
+# Reducer codes (REDUCER); T1 is the T1Sugeno weighted average.
+EXHAUSTIVE, KM, EKM, EIASC, NIE_TAN, WU_MENDEL, T1 = 0, 1, 2, 3, 4, 5, 6
+# Status codes: the reference raises where the status is not OK.
+OK, ZERO_FIRING, WM_ZERO_LOWER, NOT_CONVERGED = 0, 1, 2, 3
+
+def _compiled(*, inline: bool = False, parallel: bool = False) -> Any:
+    """numba's ``njit`` with this package's options: cached on disk, IEEE division semantics
+    (``error_model="numpy"``: x / 0 is inf or NaN, as in numpy), no fast-math, GIL released.
+
+    ``inline``: inline in numba IR. Small helpers called in per-lane loops are inlined: a call
+    of a compiled function with array arguments costs reference-count updates (atomic) that
+    LLVM cannot remove. Larger functions are called once per block: inlining them would
+    multiply the compile time.
+    """
+    return njit(cache=True, error_model="numpy", nogil=True, parallel=parallel,
+                inline="always" if inline else "never")
+
+
+exp = _compiled(inline=True)(exp_scalar)
+
+
+def scratch_rows(P: np.ndarray) -> int:
+    """Rows of the scratch array :func:`eval_block` needs: memberships (``M + 1``), lower and
+    upper firing (``R`` each) and 3 work rows."""
+    return int(P[N_ROWS]) + 1 + 2 * int(P[N_RULES]) + 3
+
+
+@_compiled()
+def _memberships(P, X, L, S):
+    """Rows ``S[0:M]`` = memberships of the points ``X[:, :L]``; ``S[M]`` = 1."""
+    n_rows = int(P[N_ROWS])
+    o_kind, o_par, o_inp = int(P[O_KIND]), int(P[O_PAR]), int(P[O_INP])
+    for k in range(n_rows):
+        kind = int(P[o_kind + k])
+        p = o_par + 5 * k
+        i = int(P[o_inp + k])
+        a, b, c, d, h = P[p], P[p + 1], P[p + 2], P[p + 3], P[p + 4]
+        if kind == 0:  # trapezoid (a, wl, d, wr, h); min/max: branch-free, never NaN here
+            for j in range(L):
+                v = X[i, j]
+                S[k, j] = max(min(min((v - a) / b, (c - v) / d), 1.0), 0.0) * h
+        elif kind == 1:  # Gaussian (mean, sigma, h)
+            for j in range(L):
+                z = (X[i, j] - a) / b
+                S[k, j] = c * exp((-0.5 * z) * z)
+        elif kind == 2:  # uncertain-mean Gaussian, upper (m1, m2, sigma, h)
+            for j in range(L):
+                v = X[i, j]
+                z = ((v - min(max(v, a), b)) - 0.0) / c
+                S[k, j] = d * exp((-0.5 * z) * z)
+        else:  # uncertain-mean Gaussian, lower
+            mid = 0.5 * (a + b)
+            for j in range(L):
+                v = X[i, j]
+                z = ((v - (b if v <= mid else a)) - 0.0) / c
+                S[k, j] = d * exp((-0.5 * z) * z)
+    for j in range(L):
+        S[n_rows, j] = 1.0
+
+
+@_compiled()
+def _firing(P, L, S, flb, fub):
+    n_in, n_rules = int(P[N_IN]), int(P[N_RULES])
+    o_ur, o_lr = int(P[O_UR]), int(P[O_LR])
+    prod = P[TNORM] == 0.0
+    for r in range(n_rules):
+        b = r * n_in
+        u = int(P[o_ur + b])
+        lw = int(P[o_lr + b])
+        for j in range(L):
+            S[fub + r, j] = S[u, j]
+            S[flb + r, j] = S[lw, j]
+        for i in range(1, n_in):
+            u = int(P[o_ur + b + i])
+            lw = int(P[o_lr + b + i])
+            if prod:
+                for j in range(L):
+                    S[fub + r, j] = S[fub + r, j] * S[u, j]
+                    S[flb + r, j] = S[flb + r, j] * S[lw, j]
+            else:
+                for j in range(L):
+                    S[fub + r, j] = min(S[fub + r, j], S[u, j])
+                    S[flb + r, j] = min(S[flb + r, j], S[lw, j])
+
+
+@_compiled(inline=True)
+def _row(P, o_idx, n):
+    """Position of the n-th rule of an ordering (``o_idx < 0``: identity)."""
+    return n if o_idx < 0 else int(P[o_idx + n])
+
+
+@_compiled()
+def _exhaustive(P, L, S, flb, fub, tb, oy, o_idx, left, out):
+    """reducers._exhaustive_both for the lanes: ``yl`` (left) or ``yr`` into ``out``."""
+    n_rules = int(P[N_RULES])
+    num, den, best = tb, tb + 1, tb + 2
+    g = _row(P, o_idx, 0)
+    y = P[oy]
+    for j in range(L):
+        S[num, j] = S[flb + g, j] * y
+        S[den, j] = S[flb + g, j]
+    for n in range(1, n_rules):
+        g = _row(P, o_idx, n)
+        y = P[oy + n]
+        for j in range(L):
+            S[num, j] += S[flb + g, j] * y
+            S[den, j] += S[flb + g, j]
+    for j in range(L):
+        S[best, j] = S[num, j] / S[den, j]
+    for m in range(n_rules):
+        n = m if left else n_rules - 1 - m
+        g = _row(P, o_idx, n)
+        y = P[oy + n]
+        for j in range(L):
+            dd = S[fub + g, j] - S[flb + g, j]
+            S[num, j] += dd * y
+            S[den, j] += dd
+            c = S[num, j] / S[den, j]
+            bj = S[best, j]
+            if left:  # np.fmin / np.fmax: a NaN loses
+                S[best, j] = c if (c < bj or bj != bj) else bj
+            else:
+                S[best, j] = c if (c > bj or bj != bj) else bj
+    for j in range(L):
+        out[j] = S[best, j]
+
+
+@_compiled(inline=True)
+def _theta(S, flb, fub, g, j, n, k, left):
+    if (n < k) == left:
+        return S[fub + g, j]
+    return S[flb + g, j]
+
+
+@_compiled(inline=True)
+def _centroid_k(P, S, j, flb, fub, oy, o_idx, n_rules, k, left):
+    g = _row(P, o_idx, 0)
+    t = _theta(S, flb, fub, g, j, 0, k, left)
+    num = t * P[oy]
+    den = t
+    for n in range(1, n_rules):
+        g = _row(P, o_idx, n)
+        t = _theta(S, flb, fub, g, j, n, k, left)
+        num += t * P[oy + n]
+        den += t
+    return num / den
+
+
+@_compiled(inline=True)
+def _search(P, oy, n_rules, v, right):
+    """numpy.searchsorted on the sorted consequents (NaN sorts last)."""
+    if v != v:
+        return n_rules
+    k = 0
+    for n in range(n_rules):
+        y = P[oy + n]
+        if y < v or (right and y == v):
+            k = n + 1
+        else:
+            break
+    return k
+
+
+@_compiled()
+def _switch(P, S, j, flb, fub, oy, o_idx, left, k0, tol):
+    """KM (``k0 < 0``) / EKM iterations for lane ``j``, as reducers._switch_iterations."""
+    n_rules, max_iter = int(P[N_RULES]), int(P[MAX_ITER])
+    all_upper = n_rules if left else 0
+    if k0 < 0:
+        g = _row(P, o_idx, 0)
+        t = 0.5 * (S[flb + g, j] + S[fub + g, j])
+        num = t * P[oy]
+        den = t
+        for n in range(1, n_rules):
+            g = _row(P, o_idx, n)
+            t = 0.5 * (S[flb + g, j] + S[fub + g, j])
+            num += t * P[oy + n]
+            den += t
+        c = num / den
+        k = _search(P, oy, n_rules, c, True)
+        if not left and c != c:
+            k = all_upper
+    else:
+        k = k0
+    tie_y = math.nan
+    tie_k = -1
+    for _ in range(max_iter):
+        c_new = _centroid_k(P, S, j, flb, fub, oy, o_idx, n_rules, k, left)
+        k_new = _search(P, oy, n_rules, c_new, True)
+        undefined = False
+        if c_new != c_new:
+            undefined = k == all_upper
+            k_new = all_upper
+        below = -math.inf if k_new == 0 else P[oy + k_new - 1]
+        above = math.inf if k_new == n_rules else P[oy + k_new]
+        ga = c_new - below
+        gb = above - c_new
+        gap = ga if ga <= gb else gb
+        if gap <= tol:
+            if k == tie_k and abs(c_new - tie_y) <= tol:
+                k_new = k
+            else:
+                ka = _search(P, oy, n_rules, c_new - tol, False)
+                kb = _search(P, oy, n_rules, c_new + tol, True)
+                ca = _centroid_k(P, S, j, flb, fub, oy, o_idx, n_rules, ka, left)
+                cb = _centroid_k(P, S, j, flb, fub, oy, o_idx, n_rules, kb, left)
+                a_better = ((ca < cb) if left else (ca > cb)) or cb != cb
+                take_a = a_better or (ca == cb and k == ka)
+                k_new = ka if take_a else kb
+                tie_k = k_new
+                tie_y = P[oy + (kb - 1 if kb > 0 else n_rules - 1)]
+        if k_new == k or undefined:
+            return c_new, OK
+        k = k_new
+    return math.nan, NOT_CONVERGED
+
+
+@_compiled()
+def _eiasc(P, S, j, flb, fub, oy, o_idx, left):
+    n_rules, max_iter = int(P[N_RULES]), int(P[MAX_ITER])
+    g = _row(P, o_idx, 0)
+    a = S[flb + g, j] * P[oy]
+    b = S[flb + g, j]
+    for n in range(1, n_rules):
+        g = _row(P, o_idx, n)
+        a += S[flb + g, j] * P[oy + n]
+        b += S[flb + g, j]
+    for it in range(n_rules):
+        if it >= max_iter:
+            return math.nan, NOT_CONVERGED
+        n = it if left else n_rules - 1 - it
+        g = _row(P, o_idx, n)
+        step = S[fub + g, j] - S[flb + g, j]
+        a += P[oy + n] * step
+        b += step
+        c = a / b
+        if left:
+            if n + 1 >= n_rules or c <= P[oy + n + 1]:
+                return c, OK
+        elif n == 0 or c >= P[oy + n - 1]:
+            return c, OK
+    return math.nan, OK  # unreachable: the last rule always stops
+
+
+@_compiled(inline=True)
+def _dot(S, b, j, P, oy, n_rules):
+    s = S[b, j] * P[oy]
+    for n in range(1, n_rules):
+        s += S[b + n, j] * P[oy + n]
+    return s
+
+
+@_compiled(inline=True)
+def _sum(S, b, j, n_rules):
+    s = S[b, j]
+    for n in range(1, n_rules):
+        s += S[b + n, j]
+    return s
+
+
+@_compiled()
+def _wu_mendel(P, S, j, flb, fub):
+    n_rules = int(P[N_RULES])
+    ylo, yhi, wm = int(P[O_YLO]), int(P[O_YHI]), int(P[O_WM])
+    sl = _sum(S, flb, j, n_rules)
+    su = _sum(S, fub, j, n_rules)
+    yl0 = _dot(S, flb, j, P, ylo, n_rules) / sl
+    ylm = _dot(S, fub, j, P, ylo, n_rules) / su
+    yr0 = _dot(S, flb, j, P, yhi, n_rules) / sl
+    yrm = _dot(S, fub, j, P, yhi, n_rules) / su
+    yl_outer_hi = math.nan if yl0 != yl0 or ylm != ylm else (yl0 if yl0 <= ylm else ylm)
+    yr_outer_lo = math.nan if yr0 != yr0 or yrm != yrm else (yr0 if yr0 >= yrm else yrm)
+    spread = (su - sl) / (su * sl)
+    pl = _dot(S, flb, j, P, wm, n_rules)
+    ql = _dot(S, fub, j, P, wm + n_rules, n_rules)
+    yl_lo = yl_outer_hi - spread * (pl * ql / (pl + ql) if pl + ql > 0 else 0.0)
+    pr = _dot(S, fub, j, P, wm + 2 * n_rules, n_rules)
+    qr = _dot(S, flb, j, P, wm + 3 * n_rules, n_rules)
+    yr_hi = yr_outer_lo + spread * (pr * qr / (pr + qr) if pr + qr > 0 else 0.0)
+    return 0.5 * (yl_lo + yl_outer_hi), 0.5 * (yr_outer_lo + yr_hi)
+
+
+@_compiled()
+def eval_block(P, X, L, S, yl, yr, st):
+    """``yl[:L]``, ``yr[:L]`` and ``st[:L]`` (status) of the clipped points ``X[:, :L]``;
+    ``S`` is scratch of :func:`scratch_rows` rows and at least ``L`` columns."""
+    n_rows, n_rules = int(P[N_ROWS]), int(P[N_RULES])
+    flb = n_rows + 1
+    fub = flb + n_rules
+    tb = fub + n_rules
+    _memberships(P, X, L, S)
+    _firing(P, L, S, flb, fub)
+    red = int(P[REDUCER])
+    for j in range(L):
+        st[j] = OK
+    ylo, yhs, ohi = int(P[O_YLO]), int(P[O_YHS]), int(P[O_OHI])
+    if red == T1:  # T1Sugeno: weighted average of the (upper = lower) firing
+        num, den = tb, tb + 1
+        y = P[ylo]
+        for j in range(L):
+            S[num, j] = S[fub, j] * y
+            S[den, j] = S[fub, j]
+        for n in range(1, n_rules):
+            y = P[ylo + n]
+            for j in range(L):
+                S[num, j] += S[fub + n, j] * y
+                S[den, j] += S[fub + n, j]
+        for j in range(L):
+            u = S[num, j] / S[den, j]
+            yl[j] = u
+            yr[j] = u
+    elif red == EXHAUSTIVE:
+        _exhaustive(P, L, S, flb, fub, tb, ylo, -1, True, yl)
+        _exhaustive(P, L, S, flb, fub, tb, yhs, ohi, False, yr)
+    elif red == NIE_TAN:
+        num, den = tb, tb + 1
+        ym = int(P[O_YM])
+        y = P[ym]
+        for j in range(L):
+            w = S[flb, j] + S[fub, j]
+            S[num, j] = w * y
+            S[den, j] = w
+        for n in range(1, n_rules):
+            y = P[ym + n]
+            for j in range(L):
+                w = S[flb + n, j] + S[fub + n, j]
+                S[num, j] += w * y
+                S[den, j] += w
+        for j in range(L):
+            yl[j] = S[num, j] / S[den, j]
+            yr[j] = yl[j]
+    elif red == WU_MENDEL:
+        for j in range(L):
+            yl[j], yr[j] = _wu_mendel(P, S, j, flb, fub)
+    elif red == EIASC:
+        for j in range(L):
+            yl[j], s1 = _eiasc(P, S, j, flb, fub, ylo, -1, True)
+            yr[j], s2 = _eiasc(P, S, j, flb, fub, yhs, ohi, False)
+            st[j] = s1 if s1 != OK else s2
+    else:  # KM, EKM
+        k0l = -1 if red == KM else int(P[K0_L])
+        k0r = -1 if red == KM else int(P[K0_R])
+        tol_l, tol_r = P[TOL_L], P[TOL_R]
+        for j in range(L):
+            yl[j], s1 = _switch(P, S, j, flb, fub, ylo, -1, True, k0l, tol_l)
+            yr[j], s2 = _switch(P, S, j, flb, fub, yhs, ohi, False, k0r, tol_r)
+            st[j] = s1 if s1 != OK else s2
+    # Zero firing (as IT2Sugeno/T1Sugeno._interval_blocks): the reference raises where the
+    # status is not OK.
+    for j in range(L):
+        if st[j] != OK or (yl[j] == yl[j] and yr[j] == yr[j]):
+            continue
+        if red != T1:
+            for n in range(n_rules):
+                if S[fub + n, j] > 0.0:
+                    st[j] = WM_ZERO_LOWER
+        if st[j] == OK:
+            if P[HAS_ZERO] == 0.0:
+                st[j] = ZERO_FIRING
+            else:
+                yl[j] = P[ZERO]
+                yr[j] = P[ZERO]
+
+
+@_compiled(inline=True)
+def clip_input(P, i, v):
+    """Input ``i`` clipped to its universe, as ``np.minimum(np.maximum(v, lo), hi)``."""
+    return min(max(v, P[int(P[O_LO]) + i]), P[int(P[O_HI]) + i])
+
+
+@_compiled()
+def scalar2(P, a, b):
+    """Crisp output of a two-input system at ``(a, b)``; NaN where the reference raises
+    (a non-finite input, zero firing without a value, ...): the caller then asks it."""
+    if not (math.isfinite(a) and math.isfinite(b)):
+        return math.nan
+    rows = int(P[N_ROWS]) + 4 + 2 * int(P[N_RULES])
+    buf = np.empty(rows + 4)  # one allocation: scratch, the point, yl and yr
+    S = buf[:rows].reshape((rows, 1))
+    X = buf[rows : rows + 2].reshape((2, 1))
+    X[0, 0] = clip_input(P, 0, a)
+    X[1, 0] = clip_input(P, 1, b)
+    st = np.empty(1, dtype=np.int8)
+    eval_block(P, X, 1, S, buf[rows + 2 : rows + 3], buf[rows + 3 : rows + 4], st)
+    if st[0] != OK:
+        return math.nan
+    return (buf[rows + 2] + buf[rows + 3]) * 0.5
+
+
+BLOCK = 256  # points per block (the block's scratch stays in the L1/L2 cache)
+
+
+def _batch(P, X, out_a, out_b, status, crisp):
+    """Evaluate the clipped points ``X`` (n_inputs, N): ``crisp`` writes ``(yl + yr) / 2`` to
+    ``out_a``, otherwise ``yl`` and ``yr`` to ``out_a``/``out_b``; ``status`` per point."""
+    n_in = X.shape[0]
+    n = X.shape[1]
+    rows = int(P[N_ROWS]) + 4 + 2 * int(P[N_RULES])
+    n_blocks = (n + BLOCK - 1) // BLOCK
+    for blk in prange(n_blocks):
+        S = np.empty((rows, BLOCK))
+        xb = np.empty((n_in, BLOCK))
+        yl = np.empty(BLOCK)
+        yr = np.empty(BLOCK)
+        st = np.empty(BLOCK, dtype=np.int8)
+        a = blk * BLOCK
+        L = min(n, a + BLOCK) - a
+        for i in range(n_in):
+            for j in range(L):
+                xb[i, j] = X[i, a + j]
+        eval_block(P, xb, L, S, yl, yr, st)
+        for j in range(L):
+            status[a + j] = st[j]
+            if crisp:
+                out_a[a + j] = (yl[j] + yr[j]) * 0.5
+            else:
+                out_a[a + j] = yl[j]
+                out_b[a + j] = yr[j]
+
+
+batch_serial = _compiled()(_batch)
+batch_parallel = _compiled(parallel=True)(_batch)

@@ -1,0 +1,241 @@
+"""Compiled evaluation of Sugeno systems, used by :mod:`.sugeno` when it applies.
+
+:class:`~.sugeno.IT2Sugeno` and :class:`~.sugeno.T1Sugeno` ask this module first
+(:func:`output`, :func:`interval`); it answers with numba-compiled kernels (``._jit``) when
+numba is installed, not disabled, and the system uses only what the kernels implement, and
+returns ``None`` otherwise, so the numpy evaluation runs. The numpy evaluation stays the
+reference: the kernels give the same bits (tests compare them), and wherever the reference
+would raise (NaN input, zero firing without ``on_zero_firing``, no convergence) the kernel
+hands the call back to it, so errors and messages are the reference's.
+
+What the kernels implement (an allow-list; anything else goes to numpy): exactly the classes
+``IT2Sugeno`` and ``T1Sugeno`` (not subclasses), membership rows of the kinds ``TRAPEZOID``,
+``GAUSSIAN``, ``UM_GAUSSIAN_UPPER``, ``UM_GAUSSIAN_LOWER``, tables with no rule-language
+``features``, both t-norms, the six built-in reducers (matched by their kernels, so a custom
+:class:`~.reducers.TypeReducer` goes to numpy) with their ``max_iter``, and both zero-firing
+policies.
+
+Engine choice: the environment variable ``IT2TRACK_ENGINE`` is ``auto`` (default: compiled
+where supported and numba is importable), ``numpy`` (never compile; numba is not even
+imported) or ``compiled`` (like ``auto``, but a missing numba is an error). It is read when a
+system is first evaluated. numba is an optional accelerator here: :mod:`it2track.fuzzy` imports
+numpy only and imports numba lazily, on the first evaluation that can use it.
+
+Threads: the parallel batch kernel runs on numba's thread pool (``numba.set_num_threads``);
+calls from several Python threads at once take turns on it (one lock), since numba's default
+thread pool is not re-entrant. Results never depend on the number of threads: each point is
+computed alone.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import threading
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from . import reducers as _r
+from .rules import TNorm
+from .tables import MFKind
+
+__all__ = ["ENGINE_ENV", "engine", "interval", "output", "pack", "supported"]
+
+FloatArray = NDArray[np.float64]
+
+#: Environment variable choosing the evaluation engine (``auto``, ``numpy``, ``compiled``).
+ENGINE_ENV = "IT2TRACK_ENGINE"
+_ENGINES = ("auto", "numpy", "compiled")
+#: Membership kinds the kernels implement (codes in ``_jit._memberships``).
+_KINDS = frozenset({MFKind.TRAPEZOID, MFKind.GAUSSIAN, MFKind.UM_GAUSSIAN_UPPER,
+                    MFKind.UM_GAUSSIAN_LOWER})  # fmt: skip
+#: Rule-language features (``SystemTables.features``) the kernels implement.
+_FEATURES: frozenset[str] = frozenset()
+#: Built-in reducers by their kernels -> code in ``_jit``.
+_REDUCERS: dict[Any, int] = {
+    _r._exhaustive_left: 0, _r._km_left: 1, _r._ekm_left: 2, _r._eiasc_left: 3,
+    _r._nie_tan: 4, _r._wu_mendel: 5,
+}  # fmt: skip
+_T1 = 6
+_PARALLEL_MIN = 8192  # fewer points than this: the serial kernel (no thread start-up)
+#: Held while a parallel kernel runs: numba's default thread pool is not re-entrant.
+POOL_LOCK = threading.Lock()
+_jit: Any = None
+
+
+def engine() -> str:
+    """The engine ``IT2TRACK_ENGINE`` asks for (``"auto"`` when unset).
+
+    Raises
+    ------
+    ValueError
+        If the variable holds anything but ``auto``, ``numpy`` or ``compiled``.
+    """
+    value = os.environ.get(ENGINE_ENV, "auto").strip().lower() or "auto"
+    if value not in _ENGINES:
+        raise ValueError(f"environment variable {ENGINE_ENV}={value!r} must be one of {_ENGINES}")
+    return value
+
+
+def load_jit() -> Any:
+    """The compiled module (imports numba), or ``None`` if numba is missing or disabled."""
+    global _jit
+    if _jit is None:
+        choice = engine()
+        if choice == "numpy":
+            return None
+        try:
+            from . import _jit as module
+        except ImportError:
+            if choice == "compiled":
+                raise ImportError(f"{ENGINE_ENV}=compiled but numba cannot be imported") from None
+            return None
+        _jit = module
+    return _jit
+
+
+def supported(system: Any) -> str | None:
+    """``None`` if the kernels implement ``system``, else why not (for messages and tests)."""
+    from .sugeno import IT2Sugeno, T1Sugeno
+
+    if type(system) not in (IT2Sugeno, T1Sugeno):
+        return f"{type(system).__name__} is not IT2Sugeno or T1Sugeno"
+    t = system.tables
+    extra = set(t.features) - _FEATURES
+    if extra:
+        return f"rule features {sorted(extra)} are not compiled"
+    kinds = {MFKind(int(k)) for k in t.mf_kind}
+    if not kinds <= _KINDS:
+        return f"membership kinds {sorted(k.name for k in kinds - _KINDS)} are not compiled"
+    if system.tnorm not in (TNorm.PRODUCT, TNorm.MINIMUM):
+        return f"t-norm {system.tnorm!r} is not compiled"
+    if type(system) is IT2Sugeno:
+        red = system.reducer
+        kernel = red._approx if red._approx is not None else red._left
+        if kernel not in _REDUCERS:
+            return f"reducer {red.name!r} is not a built-in one"
+    return None
+
+
+def pack(system: Any) -> FloatArray:
+    """The system as one flat float64 array (layout: the constants at the top of ``_jit``).
+
+    Header (25 values), then the arrays the header's offsets point to: universes, membership
+    kinds, parameters (5 per row) and inputs, the rules' upper and lower rows
+    (``(R, n_inputs)``, rules sorted by ``y_lo``), the sorted consequents, the order of
+    ``y_hi``, and the Wu-Mendel and Nie-Tan constants. Integers are stored exactly (< 2^53).
+    """
+    from .sugeno import IT2Sugeno
+
+    t = system.tables
+    r = t.n_rules
+    y_lo, y_hi, ohi = t.y_lo_s, t.y_hi_s, t.order_hi_s
+    y_hs = y_hi[ohi]
+    if type(system) is IT2Sugeno:
+        red = system.reducer
+        kernel = red._approx if red._approx is not None else red._left
+        code = _REDUCERS[kernel]
+        max_iter = red._cap(r)
+    else:
+        code, max_iter = _T1, 1
+    eps = np.finfo(np.float64).eps
+    tol_l = (8.0 + 2.0 * r) * eps * max(1.0, float(np.abs(y_lo).max()))
+    tol_r = (8.0 + 2.0 * r) * eps * max(1.0, float(np.abs(y_hs).max()))
+    parts = [
+        t.lo, t.hi, t.mf_kind.astype(np.float64), t.mf_params.reshape(-1),
+        t.mf_input.astype(np.float64), t.upper_rows_s.reshape(-1).astype(np.float64),
+        t.lower_rows_s.reshape(-1).astype(np.float64), y_lo, y_hs, ohi.astype(np.float64),
+        np.concatenate([y_lo - y_lo.min(), y_lo.max() - y_lo, y_hi - y_hi.min(),
+                        y_hi.max() - y_hi]),
+        0.5 * (y_lo + y_hi), y_hi,
+    ]  # fmt: skip
+    header = [
+        t.n_inputs, t.n_rows, r, code, 0 if system.tnorm is TNorm.PRODUCT else 1, max_iter,
+        system.on_zero_firing is not None,
+        0.0 if system.on_zero_firing is None else system.on_zero_firing,
+        tol_l, tol_r, round(r / 2.4), round(r / 1.7),
+    ]  # fmt: skip
+    offsets = []
+    pos = 25
+    for p in parts:
+        offsets.append(pos)
+        pos += p.size
+    out = np.concatenate([np.array(header + offsets, dtype=np.float64), *parts])
+    out.setflags(write=False)
+    return out
+
+
+def _entry(system: Any) -> FloatArray | None:
+    """The packed system if the kernels serve it (cached on the system), else None."""
+    try:
+        packed: FloatArray | None = system.__dict__["_kernel_pack"]
+        return packed
+    except KeyError:
+        pass
+    packed = None
+    if supported(system) is None and load_jit() is not None:
+        packed = pack(system)
+    object.__setattr__(system, "_kernel_pack", packed)  # immutable system: a derived cache
+    return packed
+
+
+def _float(x: object) -> float | None:
+    """``x`` as a float if it is a Python/NumPy real scalar (what the scalar path takes)."""
+    if type(x) is float or type(x) is int or isinstance(x, np.floating):
+        return float(x)  # type: ignore[arg-type]
+    return None
+
+
+def output(system: Any, xs: tuple[Any, ...]) -> float | None:
+    """``system(*xs)`` for two scalar inputs by the compiled kernel, or None (numpy answers).
+
+    Kept lean (a real-time loop calls it every period): the packed system is looked up once
+    per system, and only two type checks stand between the call and the kernel.
+    """
+    try:
+        packed = system.__dict__["_kernel_pack"]
+    except KeyError:
+        packed = _entry(system)
+    if packed is None or len(xs) != 2:
+        return None
+    a, b = xs
+    if type(a) is not float:
+        a = _float(a)
+        if a is None:
+            return None
+    if type(b) is not float:
+        b = _float(b)
+        if b is None:
+            return None
+    u: float = _jit.scalar2(packed, a, b)
+    return u if u == u else None  # NaN: the reference raises
+
+
+def interval(
+    system: Any, x: FloatArray, *, crisp: bool
+) -> tuple[FloatArray, FloatArray | None] | None:
+    """Evaluate clipped inputs ``x`` (n_inputs, N) by the compiled kernel, or None.
+
+    ``crisp``: return ``(u, None)`` with ``u = (yl + yr) / 2``; else ``(yl, yr)``. None when
+    the kernels do not serve the system or the reference must raise somewhere.
+    """
+    packed = _entry(system)
+    if packed is None:
+        return None
+    n = x.shape[1]
+    x = np.ascontiguousarray(x, dtype=np.float64)
+    out_a = np.empty(n)
+    out_b = out_a if crisp else np.empty(n)
+    status = np.empty(n, dtype=np.int8)
+    if n >= _PARALLEL_MIN and POOL_LOCK.acquire(blocking=False):
+        try:
+            _jit.batch_parallel(packed, x, out_a, out_b, status, crisp)
+        finally:
+            POOL_LOCK.release()
+    else:
+        _jit.batch_serial(packed, x, out_a, out_b, status, crisp)
+    if status.any():
+        return None
+    return out_a, (None if crisp else out_b)

@@ -1,0 +1,220 @@
+"""The compiled fuzzy evaluation (it2track.fuzzy.kernels) equals the numpy reference bit for bit.
+
+Each test evaluates a system through its public calls (which use the kernels when they apply)
+and through the numpy reference (``_prepare`` + ``_interval_blocks``), and compares the bits.
+Errors (zero firing, no convergence, NaN input) must come from the reference, unchanged.
+"""
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+from it2track.fuzzy import (
+    Input,
+    IT2Set,
+    IT2Sugeno,
+    Reducer,
+    Rule,
+    ScaledLagged,
+    T1Sugeno,
+    TNorm,
+    Trapezoid,
+    Triangle,
+    ZeroFiringError,
+    kernels,
+)
+from it2track.fuzzy.reducers import ConvergenceError, TypeReducer
+from it2track.paper import dead_zone_matched_fls, heading_fls
+
+REDUCERS = [m.value for m in Reducer]
+
+
+def reference(fls, *xs):
+    x, shape = fls._prepare(xs)
+    yl, yr = fls._interval_blocks(x)
+    return yl.reshape(shape), yr.reshape(shape)
+
+
+def same(a, b):
+    a, b = np.asarray(a), np.asarray(b)
+    return a.shape == b.shape and bool(np.all((a == b) | (np.isnan(a) & np.isnan(b))))
+
+
+def points(n, seed, n_inputs=2, spread=1.4):
+    rng = np.random.default_rng(seed)
+    x = rng.uniform(-spread, spread, (n_inputs, n))
+    x[:, :40] = np.round(x[:, :40], 1)  # set corners and shoulders exactly
+    return x
+
+
+def check(fls, x):
+    assert kernels._entry(fls) is not None, kernels.supported(fls)
+    try:
+        rl, rr = reference(fls, *x)
+    except ZeroFiringError as exc:  # (Wu-Mendel with zero lower firing): same error
+        with pytest.raises(ZeroFiringError, match=str(exc)[:30]):
+            fls.interval(*x)
+        keep = np.ones(x.shape[1], dtype=bool)
+        for j in range(x.shape[1]):
+            try:
+                reference(fls, *x[:, j : j + 1])
+            except ZeroFiringError:
+                keep[j] = False
+        x = x[:, keep]
+        rl, rr = reference(fls, *x)
+    yl, yr = fls.interval(*x)
+    assert same(yl, rl) and same(yr, rr)
+    u = fls(*x)
+    assert same(u, (rl + rr) * 0.5)
+    for j in range(0, x.shape[1], max(1, x.shape[1] // 50)):
+        xs = [float(v) for v in x[:, j]]
+        got = fls(*xs)
+        if fls.n_inputs == 2:
+            assert isinstance(got, float)  # the compiled scalar call
+        assert float(got) == float((rl[j] + rr[j]) * 0.5), (xs, got)
+
+
+def gaussian_system(reducer, tnorm=TNorm.PRODUCT, zero=None):
+    sets = [
+        IT2Set.gaussian_uncertain_mean(-1.0, -0.6, 0.3, "N"),
+        IT2Set.gaussian_uncertain_std(0.0, 0.2, 0.35, "Z", h=0.9),
+        IT2Set.gaussian_uncertain_mean(0.5, 0.8, 0.25, "P"),
+    ]
+    inputs = [Input("a", (-1, 1), sets), Input("b", (-2, 2), sets)]
+    rules = [Rule((p, q), (i - j - 0.5, i - j + 0.25 * (i % 2)))
+             for i, p in enumerate("NZP") for j, q in enumerate("NZP")]  # fmt: skip
+    return IT2Sugeno(inputs=inputs, rules=rules, reducer=reducer, tnorm=tnorm,
+                     on_zero_firing=zero)  # fmt: skip
+
+
+@pytest.mark.parametrize("reducer", REDUCERS, ids=lambda r: r.name)
+@pytest.mark.parametrize("tnorm", list(TNorm), ids=lambda t: t.name)
+@pytest.mark.parametrize("fou", [0.0, 0.1, 0.2, 0.3])
+def test_paper_controllers(reducer, tnorm, fou):
+    fls = heading_fls(fou, reducer=reducer, tnorm=tnorm)
+    check(fls, points(3000, 1))
+
+
+@pytest.mark.parametrize("reducer", REDUCERS, ids=lambda r: r.name)
+def test_gaussian_sets_interval_consequents(reducer):
+    check(gaussian_system(reducer), points(3000, 2, spread=2.5))
+    check(gaussian_system(reducer, TNorm.MINIMUM), points(500, 3, spread=2.5))
+
+
+def test_type1_systems():
+    check(dead_zone_matched_fls(0.2), points(2000, 4))
+    check(dead_zone_matched_fls(0.3, tnorm=TNorm.MINIMUM), points(2000, 5))
+    sets = [("L", Trapezoid(-3, -3, -1, 0.5, h=0.8)), ("H", Triangle(-1, 1, 1))]
+    t1 = T1Sugeno(inputs=[Input("x", (-3, 1), sets)], rules=[Rule(["L"], -2.0),
+                  Rule(["H"], 3.0)])  # fmt: skip
+    check(t1, points(2000, 6, n_inputs=1, spread=3.5))
+
+
+@pytest.mark.parametrize("reducer", REDUCERS, ids=lambda r: r.name)
+def test_random_three_input_systems(reducer):
+    """Random triangle/trapezoid IT2 sets, rules missing inputs, tied and interval consequents:
+    the KM tie handling and every reducer's branch get exercised."""
+    rng = np.random.default_rng(7)
+    for trial in range(4):
+        inputs = []
+        for i in range(3):
+            sets = []
+            for s in range(3):
+                c = np.sort(rng.uniform(-1, 1, 3))
+                width = float(rng.uniform(0, 0.3))
+                centre = Triangle(*(float(v) for v in c)) if c[0] < c[2] else Triangle(-1, 0, 1)
+                try:
+                    sets.append(IT2Set.from_fou(centre, width, f"S{s}"))
+                except ValueError:
+                    sets.append(IT2Set.from_fou(Triangle(-1, 0, 1), 0.1, f"S{s}"))
+            sets[0] = IT2Set.from_fou(Trapezoid(-1, -1, -0.4, 0.0), 0.2, "S0")
+            sets[2] = IT2Set.from_fou(Trapezoid(0.0, 0.4, 1, 1), 0.2, "S2")
+            inputs.append(Input(f"x{i}", (-1, 1), sets))
+        rules = []
+        for _ in range(12):
+            ante = [f"S{rng.integers(3)}" if rng.random() < 0.8 else None for _ in range(3)]
+            if all(a is None for a in ante):
+                ante[0] = "S1"
+            lo = float(rng.integers(-3, 4))  # integer consequents: many ties
+            rules.append(Rule(ante, (lo, lo + float(rng.choice([0.0, 0.5, 1.0])))))
+        fls = IT2Sugeno(inputs=inputs, rules=rules, reducer=reducer, on_zero_firing=0.25)
+        check(fls, points(2000, 10 + trial, n_inputs=3, spread=1.2))
+
+
+def test_zero_firing_value_and_errors():
+    sets = [IT2Set.from_fou(Triangle(-1, -0.5, 0), 0.1, "A")]
+    for reducer in REDUCERS:
+        fls = IT2Sugeno(inputs=[Input("x", (-1, 1), sets)], rules=[Rule(["A"], 2.0)],
+                        reducer=reducer, on_zero_firing=-0.75)  # fmt: skip
+        if reducer.name != "wu-mendel":  # (its zero lower firing raises near the feet)
+            check(fls, points(500, 8, n_inputs=1))
+        assert fls(0.6) == -0.75
+        strict = dataclasses.replace(fls, on_zero_firing=None)
+        with pytest.raises(ZeroFiringError, match="no rule"):
+            strict(np.array([-0.5, 0.6]))
+        with pytest.raises(ZeroFiringError, match="no rule"):
+            strict(0.6)
+    t1 = T1Sugeno(inputs=[Input("x", (-1, 1), [("A", Triangle(-1, -0.5, 0))])],
+                  rules=[Rule(["A"], 2.0)])  # fmt: skip
+    with pytest.raises(ZeroFiringError):
+        t1(0.5)
+
+
+def test_wu_mendel_zero_lower_firing_raises_as_reference():
+    # At x = -0.05 the upper MF fires, the lower one does not.
+    sets = [IT2Set(Triangle(-1, -0.5, 0.0), Triangle(-0.9, -0.5, -0.1), "A"),
+            IT2Set(Triangle(0.0, 0.5, 1), Triangle(0.1, 0.5, 0.9), "B")]  # fmt: skip
+    fls = IT2Sugeno(inputs=[Input("x", (-1, 1), sets)],
+                    rules=[Rule(["A"], -1.0), Rule(["B"], 1.0)], reducer=Reducer.WU_MENDEL.value)
+    with pytest.raises(ZeroFiringError, match="total lower firing"):
+        fls(np.array([0.3, -0.05]))
+    with pytest.raises(ZeroFiringError, match="total lower firing"):
+        fls(-0.05)
+
+
+def test_no_convergence_raises_as_reference():
+    fls = heading_fls(0.3, reducer=Reducer.KM.value.with_max_iter(1))
+    with pytest.raises(ConvergenceError):
+        fls(*points(200, 9))
+
+
+def test_nan_input_raises_as_reference():
+    fls = heading_fls(0.2)
+    with pytest.raises(ValueError, match="NaN or inf"):
+        fls(math.nan, 0.0)
+    with pytest.raises(ValueError, match="NaN or inf"):
+        fls(np.array([0.1, math.inf]), 0.0)
+
+
+def test_unsupported_systems_use_numpy():
+    """Anything outside the allow-list is evaluated by numpy, correctly."""
+    lagged = IT2Set(Triangle(-1, 0, 1), ScaledLagged(Triangle(-1, 0, 1), 0.8, 0.1), "Z")
+    other = IT2Sugeno(inputs=[Input("x", (-1, 1), [lagged])], rules=[Rule(["Z"], 1.0)],
+                      on_zero_firing=0.0)
+    assert "OTHER" in kernels.supported(other)
+
+    class Sub(IT2Sugeno):
+        pass
+
+    sub = Sub(inputs=heading_fls(0.2).inputs, rules=heading_fls(0.2).rules)
+    assert "not IT2Sugeno" in kernels.supported(sub)
+    custom = TypeReducer(name="mine", exact=False, _approx=lambda fl, fu, a, b: (fl[0], fu[0]))
+    odd = dataclasses.replace(heading_fls(0.2), reducer=custom)
+    assert "built-in" in kernels.supported(odd)
+    for fls in (other, sub, odd):
+        x = points(100, 11, n_inputs=fls.n_inputs)
+        assert kernels._entry(fls) is None
+        assert same(fls.interval(*x)[0], reference(fls, *x)[0])
+    with_feature = heading_fls(0.2)
+    object.__setattr__(with_feature.tables, "features", frozenset({"or"}))
+    assert "features" in kernels.supported(with_feature)
+
+
+def test_engine_variable(monkeypatch):
+    monkeypatch.setenv(kernels.ENGINE_ENV, "numpy")
+    assert kernels.engine() == "numpy"
+    monkeypatch.setenv(kernels.ENGINE_ENV, "fast")
+    with pytest.raises(ValueError, match="IT2TRACK_ENGINE='fast'"):
+        kernels.engine()
