@@ -46,7 +46,9 @@ from .._limits import ResourceLimitError, check_memory, loop_bytes
 from ..plant import DifferentialDrive, RobotParams, held_sample_index, standard_noise
 from ..plant.drive import MAX_QUADRATURE_NODES
 from ..plant.noise import MAX_NOISE_STD
+from . import compiled as _compiled
 from .controllers import HeadingController
+from .libm import atan2
 from .metrics import MetricAccumulator
 from .trajectories import Trajectory
 
@@ -557,7 +559,7 @@ class _Engine:
         if config.start_pose == ON_PATH:
             # (x, y, tangent heading) of each reference at t = 0: (n_traj, 3)
             self.start = np.stack([ref[:, 0, 0], ref[:, 0, 1],
-                                   np.arctan2(ref[:, 0, 3], ref[:, 0, 2])], axis=1)
+                                   atan2(ref[:, 0, 3], ref[:, 0, 2])], axis=1)
         else:
             self.start = np.tile(np.asarray(config.start_pose, dtype=np.float64),
                                  (len(trajectories), 1))
@@ -631,12 +633,13 @@ class _Engine:
                 np.take(self.v0[k], tidx, out=v0)
             np.subtract(xr, pose[0], out=dx)
             np.subtract(yr, pose[1], out=dy)
+            # atan2 of .libm, not np.arctan2 (SIMD on some CPUs): the compiled engine's bits
             if previous:
                 np.subtract(xr, prev_xy[0], out=dxp)
                 np.subtract(yr, prev_xy[1], out=dyp)
-                np.arctan2(dyp, dxp, out=theta_d)
+                theta_d[:] = atan2(dyp, dxp)
             else:
-                np.arctan2(dy, dx, out=theta_d)
+                theta_d[:] = atan2(dy, dx)
             np.add(pose[2], z[self.hold[k]], out=theta_meas)
             _wrap_inplace(np.subtract(theta_d, pose[2], out=e_true))
             _wrap_inplace(np.subtract(theta_d, theta_meas, out=e_meas))
@@ -682,6 +685,45 @@ class _Engine:
         return metrics, series
 
 
+def _run(
+    engine: _Engine,
+    controllers: Sequence[HeadingController],
+    runs: RunTable,
+    *,
+    record: bool,
+) -> tuple[dict[str, FloatArray], dict[str, FloatArray] | None]:
+    """``engine.run`` with every run the compiled engine supports done by it (same bits)."""
+    jit = _compiled.load() if len(runs) else None
+    if jit is None:
+        return engine.run(controllers, runs, record=record)
+    fast = np.array([_compiled.supported(c) is None for c in controllers], dtype=bool)
+    fast_run = fast[runs.controller]
+    if not fast_run.any():
+        return engine.run(controllers, runs, record=record)
+    idx = np.flatnonzero(fast_run)
+    metrics, series, status = _compiled.run(jit, engine, controllers, runs.take(idx),
+                                            record=record)  # fmt: skip
+    slow = np.flatnonzero(~fast_run)
+    if status.any():  # the fuzzy reference raises on these runs: let it
+        slow = np.sort(np.concatenate([slow, idx[status != 0]]))
+    if slow.size == 0:
+        return metrics, series
+    m_slow, s_slow = engine.run(controllers, runs.take(slow), record=record)
+    n = len(runs)
+    out = {name: np.empty(n) for name in metrics}
+    for name, value in metrics.items():
+        out[name][idx] = value
+        out[name][slow] = m_slow[name]
+    if series is None or s_slow is None:
+        return out, None
+    rec = {name: np.empty((n, config_steps + 1)) for name, config_steps in
+           ((k, engine.config.n_steps) for k in series)}  # fmt: skip
+    for name, value in series.items():
+        rec[name][idx] = value
+        rec[name][slow] = s_slow[name]
+    return out, rec
+
+
 def simulate(
     controllers: Sequence[HeadingController],
     trajectories: Sequence[Trajectory],
@@ -710,7 +752,7 @@ def simulate(
     config = config or LoopConfig()
     _check_inputs(controllers, trajectories, runs, config, record=True)
     engine = _Engine(trajectories, config)
-    metrics, series = engine.run(controllers, runs, record=True)
+    metrics, series = _run(engine, controllers, runs, record=True)
     assert series is not None
     return Trace(t=config.times, runs=runs, series=series, metrics=metrics)
 
@@ -752,7 +794,7 @@ def simulate_metrics(
     out: dict[str, FloatArray] | None = None
     for start in range(0, n, batch_size):
         stop = min(start + batch_size, n)
-        metrics, _ = engine.run(controllers, runs.take(slice(start, stop)), record=False)
+        metrics, _ = _run(engine, controllers, runs.take(slice(start, stop)), record=False)
         if out is None:
             out = {name: np.empty(n) for name in metrics}
         for name, value in metrics.items():
