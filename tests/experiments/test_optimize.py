@@ -327,3 +327,26 @@ def test_example_config_parses() -> None:
     cfg = load_optimize_config(root / "configs" / "optimize.toml")
     assert not set(cfg.train_seeds) & set(cfg.holdout_seeds)
     assert cfg.asymmetric.enabled and cfg.compare == (0.1, 0.2, 0.3)
+
+
+def test_de_progress_bar_ends_at_the_real_count(tmp_path: Path, capsys) -> None:
+    """Differential evolution that converges early: the bar ends at 100 %, count evaluated."""
+    from it2track.experiments.optimize import _optimise_asymmetric
+
+    text = TINY.replace("maxiter = 2\nseed = 4", "maxiter = 60\ntol = 1.0\nseed = 4")
+    cfg = load_optimize_config(write(tmp_path, text))
+
+    class Quadratic:  # stands in for the simulation-backed evaluator
+        history: list = []
+
+        def __call__(self, specs, widths, phase):
+            values = np.array([sum((x - 0.3) ** 2 for x in w) for w in widths])
+            for w, v in zip(widths, values.tolist(), strict=True):
+                self.history.append({"phase": phase, "widths": list(w), "objective": v})
+            return values
+
+    out = _optimise_asymmetric(cfg, Quadratic(), 0.3, True)
+    n = out["n_evaluations"]
+    assert n < 61 * out["de"]["population"]  # ended early
+    last = capsys.readouterr().err.replace("\n", "\r").strip("\r").split("\r")[-1]
+    assert "100%" in last and f"{n}/{n}" in last, last

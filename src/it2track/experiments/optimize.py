@@ -663,6 +663,10 @@ def _optimise_asymmetric(
             vectorized=True,
             x0=np.full(len(WIDTH_NAMES), min(max(start, lo), hi)),
         )
+        # DE stops early once the population converges: the bar ends at the real count
+        # (100 %), not at the budget's fraction.
+        bar.total = bar.n
+        bar.refresh()
     asym = [h for h in ev.history if h["phase"] == "asymmetric"]
     best = min(asym, key=lambda h: h["objective"])
     widths = dict(zip(WIDTH_NAMES, best["widths"], strict=True))
