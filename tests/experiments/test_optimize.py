@@ -337,7 +337,8 @@ def test_de_progress_bar_ends_at_the_real_count(tmp_path: Path, capsys) -> None:
     cfg = load_optimize_config(write(tmp_path, text))
 
     class Quadratic:  # stands in for the simulation-backed evaluator
-        history: list = []
+        def __init__(self):
+            self.history = []
 
         def __call__(self, specs, widths, phase):
             values = np.array([sum((x - 0.3) ** 2 for x in w) for w in widths])

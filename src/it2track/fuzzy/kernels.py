@@ -29,7 +29,6 @@ computed alone.
 
 from __future__ import annotations
 
-import math
 import os
 import threading
 from typing import Any
@@ -184,7 +183,7 @@ def _entry(system: Any) -> FloatArray | None:
 def _float(x: object) -> float | None:
     """``x`` as a float if it is a Python/NumPy real scalar (what the scalar path takes)."""
     if type(x) is float or type(x) is int or isinstance(x, np.floating):
-        return float(x)  # type: ignore[arg-type]
+        return float(x)
     return None
 
 
