@@ -14,9 +14,12 @@ from typing import Any
 import click
 
 from ..fuzzy import (
+    Consequent,
     Gaussian,
     IT2Sugeno,
+    Linear,
     MembershipFunction,
+    Rule,
     ScaledLagged,
     T1Sugeno,
     Trapezoid,
@@ -61,8 +64,10 @@ def _mf_text(mf: MembershipFunction, *, of: MembershipFunction | None = None) ->
 def describe(system: IT2Sugeno | T1Sugeno) -> str:
     """A readable multi-line summary: kind, t-norm, reducer, inputs with their sets, rules."""
     it2 = isinstance(system, IT2Sugeno)
-    zero = ("error (ZeroFiringError)" if system.on_zero_firing is None
-            else f"output {_num(system.on_zero_firing)}")
+    zero_v = system.on_zero_firing
+    zero = ("error (ZeroFiringError)" if zero_v is None
+            else f"output {_num(zero_v)}" if isinstance(zero_v, int | float)
+            else "outputs " + ", ".join(_num(v) for v in zero_v))
     lines = [
         system.name or "(unnamed system)",
         f"  kind         {'interval type-2' if it2 else 'type-1'} zero-order Sugeno "
@@ -90,12 +95,44 @@ def describe(system: IT2Sugeno | T1Sugeno) -> str:
     lines += ["", "rules"]
     digits = len(str(system.n_rules))
     for k, rule in enumerate(system.rules, start=1):
-        terms = [f"{inp.name} is {label}" for inp, label in
-                 zip(system.inputs, rule.antecedent, strict=True) if label is not None]
-        lo, hi = rule.consequent
-        then = _num(lo) if lo == hi else f"[{_num(lo)}, {_num(hi)}]"
-        lines.append(f"  {k:>{digits}}  if {' and '.join(terms)} then {then}")
+        lines.append(f"  {k:>{digits}}  {rule_text(system, rule)}")
     return "\n".join(lines)
+
+
+def _consequent_text(cons: Consequent, inputs: tuple[str, ...]) -> str:
+    if isinstance(cons, str):
+        return cons
+    if isinstance(cons, Linear):
+        def term(lo: float, hi: float) -> str:
+            return _num(lo) if lo == hi else f"[{_num(lo)}, {_num(hi)}]"
+        parts = [f"{term(lo, hi)}*{name}"
+                 for lo, hi, name in zip(cons.lo, cons.hi, inputs, strict=True)]
+        return " + ".join([*parts, term(cons.constant_lo, cons.constant_hi)])
+    assert cons is not None
+    lo, hi = cons
+    return _num(lo) if lo == hi else f"[{_num(lo)}, {_num(hi)}]"
+
+
+def rule_text(system: Any, rule: Rule) -> str:
+    """One rule as text, e.g. ``if e is N or de is not P then u = -4 (weight 0.5)``."""
+    terms = [
+        f"{inp.name} is {'not ' if neg else ''}{label}"
+        for inp, label, neg in zip(system.inputs, rule.antecedent, rule.negated, strict=True)
+        if label is not None
+    ]
+    names = tuple(inp.name for inp in system.inputs)
+    outs = system.output_names
+    mamdani = any(isinstance(c, str) for c in rule.consequents)
+    if len(outs) == 1 and not mamdani:
+        then = _consequent_text(rule.consequent, names)
+    else:
+        then = ", ".join(
+            f"{out} {'is' if mamdani else '='} {_consequent_text(cons, names)}"
+            for out, cons in zip(outs, rule.consequents, strict=True) if cons is not None
+        )
+    weight = "" if rule.weight == 1.0 else f" (weight {_num(rule.weight)})"
+    joiner = f" {rule.connective.value} "
+    return f"if {joiner.join(terms)} then {then}{weight}"
 
 
 def _load(path: str) -> IT2Sugeno | T1Sugeno:

@@ -1,7 +1,11 @@
-"""General interval type-2 and type-1 Sugeno fuzzy logic (knows nothing about robots).
+"""General interval type-2 and type-1 fuzzy logic: Sugeno, TSK and Mamdani (knows nothing
+about robots).
 
-Imports numpy only. See :mod:`.membership`, :mod:`.sets`, :mod:`.reducers`, :mod:`.rules`,
-:mod:`.tables`, :mod:`.sugeno`, :mod:`.surface`.
+Imports numpy only. One concept per module: :mod:`.membership` (type-1 MFs), :mod:`.sets`
+(IT2 sets), :mod:`.norms` (t-norms, s-norms, implication, aggregation, defuzzifiers),
+:mod:`.rules` (variables and rules), :mod:`.tables` (the lowering to arrays and the rule
+firing), :mod:`.reducers` (type reduction), :mod:`.sugeno` (Sugeno/TSK systems),
+:mod:`.surface` (control surfaces).
 """
 
 from .membership import (
@@ -16,6 +20,7 @@ from .membership import (
     trapmf,
     trimf,
 )
+from .norms import Aggregation, Connective, Defuzzifier, Implication, SNorm, TNorm
 from .reducers import (
     EIASC,
     EKM,
@@ -28,30 +33,39 @@ from .reducers import (
     TypeReducer,
     ZeroFiringError,
 )
-from .rules import Input, Rule, TNorm, rules_from_table
+from .rules import Consequent, Input, Linear, Output, Rule, rules_from_table
 from .sets import IT2Set, ScaledLagged
 from .sugeno import FuzzySystem, IT2Sugeno, T1Sugeno
 from .surface import control_surface
-from .tables import MFKind, SystemTables
+from .tables import FEATURES, MFKind, SystemTables
 
 __all__ = [
     "EIASC",
     "EKM",
     "EXHAUSTIVE",
+    "FEATURES",
     "KM",
     "NIE_TAN",
     "WU_MENDEL",
+    "Aggregation",
+    "Connective",
+    "Consequent",
     "ConvergenceError",
+    "Defuzzifier",
     "FuzzySystem",
     "Gaussian",
     "IT2Set",
     "IT2Sugeno",
+    "Implication",
     "Input",
+    "Linear",
     "MFKind",
     "MembershipFunction",
+    "Output",
     "PiecewiseLinear",
     "Reducer",
     "Rule",
+    "SNorm",
     "ScaledLagged",
     "SystemTables",
     "T1Sugeno",

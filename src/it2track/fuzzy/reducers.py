@@ -74,7 +74,18 @@ class ConvergenceError(RuntimeError):
 
 # --------------------------------------------------------------------------------------------
 # Exact kernels. Rows are sorted by their consequent ascending; N is the flattened batch.
+# ``y`` is (R,) -- the same consequents for every sample -- or (R, N), sorted per column (the
+# consequents of first-order rules, which depend on the input). The (R,) branches are the
+# original code, so their results are unchanged.
 # --------------------------------------------------------------------------------------------
+
+
+def _count(y: FloatArray, c: FloatArray, side: str) -> NDArray[np.intp]:
+    """``searchsorted(y, c, side)`` per column (``y`` sorted ascending along axis 0)."""
+    if y.ndim == 1:
+        return np.searchsorted(y, c, side=side)  # type: ignore[call-overload]
+    below = (y <= c) if side == "right" else (y < c)
+    return below.sum(axis=0).astype(np.intp)
 
 
 def _exhaustive_both(
@@ -90,7 +101,7 @@ def _exhaustive_both(
     del max_iter
     r = fl.shape[0]
     d = fu - fl
-    yd = d * y[:, None]
+    yd = d * y[:, None] if y.ndim == 1 else d * y
     num0 = fl[0] * y[0]
     den0 = fl[0].copy()
     tmp = np.empty_like(den0)
@@ -181,8 +192,17 @@ def _switch_iterations(
     all_upper = r if left else 0
     # With k = searchsorted(y, c, side="right"), below[k] <= c < above[k] are the consequents
     # around a centroid c.
-    below = np.concatenate(([-np.inf], y))
-    above = np.concatenate((y, [np.inf]))
+    per_sample = y.ndim == 2
+    if per_sample:
+        cols = np.arange(fl.shape[1])
+        below = np.concatenate((np.full((1, y.shape[1]), -np.inf), y))
+        above = np.concatenate((y, np.full((1, y.shape[1]), np.inf)))
+    else:
+        below = np.concatenate(([-np.inf], y))
+        above = np.concatenate((y, [np.inf]))
+
+    def ycols(j: NDArray[np.intp]) -> FloatArray:
+        return y[:, j] if per_sample else y
 
     def theta(k: NDArray[np.intp], lo: FloatArray, up: FloatArray) -> FloatArray:
         bottom = rows < k  # (R, N): rules below the switch point
@@ -190,7 +210,7 @@ def _switch_iterations(
 
     if initial_k is None:  # KM: start from the centroid of the interval midpoints
         c = _centroid(0.5 * (fl + fu), y)
-        k = np.searchsorted(y, c, side="right")
+        k = _count(y, c, "right")
         if not left:
             k[np.isnan(c)] = all_upper
     else:
@@ -201,28 +221,32 @@ def _switch_iterations(
     tie_k = np.full(fl.shape[1:], -1, dtype=np.intp)
     for _ in range(max_iter):
         c_new = _centroid(theta(k, fl, fu), y)
-        k_new = np.searchsorted(y, c_new, side="right")
+        k_new = _count(y, c_new, "right")
         nan = np.isnan(c_new)
         undefined = None
         if nan.any():
             undefined = nan & (k == all_upper)  # not even the upper firing has a positive sum
             k_new[nan] = all_upper
-        gap = np.minimum(c_new - below[k_new], above[k_new] - c_new)
+        if per_sample:
+            gap = np.minimum(c_new - below[k_new, cols], above[k_new, cols] - c_new)
+        else:
+            gap = np.minimum(c_new - below[k_new], above[k_new] - c_new)
         j = np.flatnonzero(gap <= tol)
         if j.size:
             settled = (k[j] == tie_k[j]) & (np.abs(c_new[j] - tie_y[j]) <= tol)
             k_new[j[settled]] = k[j[settled]]
             j = j[~settled]
         if j.size:
-            ka = np.searchsorted(y, c_new[j] - tol, side="left")
-            kb = np.searchsorted(y, c_new[j] + tol, side="right")
+            yj = ycols(j)
+            ka = _count(yj, c_new[j] - tol, "left")
+            kb = _count(yj, c_new[j] + tol, "right")
             sub_l, sub_u = fl[:, j], fu[:, j]
-            ca = _centroid(theta(ka, sub_l, sub_u), y)
-            cb = _centroid(theta(kb, sub_l, sub_u), y)
+            ca = _centroid(theta(ka, sub_l, sub_u), yj)
+            cb = _centroid(theta(kb, sub_l, sub_u), yj)
             a_better = ((ca < cb) if left else (ca > cb)) | np.isnan(cb)
             take_a = a_better | ((ca == cb) & (k[j] == ka))
             k_new[j] = tie_k[j] = np.where(take_a, ka, kb)
-            tie_y[j] = y[kb - 1]
+            tie_y[j] = y[kb - 1, j] if per_sample else y[kb - 1]
         done = k_new == k
         if undefined is not None:
             done |= undefined
@@ -323,8 +347,8 @@ def _wu_mendel(
         yl_outer_hi = np.minimum(yl0, ylm)  # upper bound of yl
         yr_outer_lo = np.maximum(yr0, yrm)  # lower bound of yr
         spread = (su - sl) / (su * sl)
-        y1l, yml = y_lo.min(), y_lo.max()
-        y1r, ymr = y_hi.min(), y_hi.max()
+        y1l, yml = y_lo.min(axis=0), y_lo.max(axis=0)
+        y1r, ymr = y_hi.min(axis=0), y_hi.max(axis=0)
         pl = _dot_rows(fl, y_lo - y1l)
         ql = _dot_rows(fu, yml - y_lo)
         yl_lo = yl_outer_hi - spread * np.where(pl + ql > 0, pl * ql / (pl + ql), 0.0)
@@ -427,6 +451,26 @@ class TypeReducer:
         yl = self._left(*_sorted_rows(fl, fu, y_lo, order_lo), cap)
         yr = self._right(*_sorted_rows(fl, fu, y_hi, order_hi), cap)
         return yl, yr
+
+    def reduce_per_sample(
+        self, fl: FloatArray, fu: FloatArray, y_lo: FloatArray, y_hi: FloatArray
+    ) -> tuple[FloatArray, FloatArray]:
+        """Like :meth:`reduce_rules_first` for consequents that differ per sample.
+
+        ``fl, fu, y_lo, y_hi`` are all ``(R, N)`` in any rule order (first-order rules: the
+        consequents depend on the input). Each column is sorted by its own ``y_lo`` (for
+        ``yl``) and ``y_hi`` (for ``yr``) and the same kernels run on the sorted columns.
+        """
+        if self._approx is not None:
+            return self._approx(fl, fu, y_lo, y_hi)
+        assert self._left is not None and self._right is not None
+        cap = self._cap(fl.shape[0])
+        out = []
+        for y, kernel in ((y_lo, self._left), (y_hi, self._right)):
+            order = np.argsort(y, axis=0, kind="stable")
+            out.append(kernel(np.take_along_axis(fl, order, 0), np.take_along_axis(fu, order, 0),
+                              np.take_along_axis(y, order, 0), cap))
+        return out[0], out[1]
 
     def __call__(
         self,

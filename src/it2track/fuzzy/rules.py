@@ -1,12 +1,23 @@
-"""Antecedents and rules: input variables with their sets, rules, and the t-norm joining them.
+"""Antecedents and rules: variables with their sets, and rules over them.
 
-Shared by every kind of fuzzy system (the Sugeno systems of :mod:`.sugeno`); a system's
-definition is apart from its evaluation (see :mod:`.tables` for how rules become arrays).
+Shared by every kind of fuzzy system -- the Sugeno and TSK systems of :mod:`.sugeno` and the
+Mamdani systems of :mod:`.mamdani` differ only in what a rule's consequent is:
+
+- a number or an interval ``(lo, hi)``: zero-order Sugeno;
+- a :class:`Linear` function of the inputs: first-order Sugeno (TSK);
+- a set label (a string) of an :class:`Output`: Mamdani.
+
+A rule joins its antecedents with AND (the system's t-norm) or OR (its s-norm, see
+:mod:`.norms`), may negate any of them (NOT ``A``: ``1 - mu_A``; for an interval type-2 set the
+lower and upper bounds swap roles, ``[1 - upper, 1 - lower]``), and carries a weight in
+``[0, 1]`` that multiplies its firing strength (MATLAB's rule weight). A system with several
+outputs gives each rule one consequent per output (``None``: the rule does not act on that
+output). A system's definition is apart from its evaluation (see :mod:`.tables` for how rules
+become arrays).
 """
 
 from __future__ import annotations
 
-import enum
 import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
@@ -14,24 +25,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from .membership import MembershipFunction
+from .norms import Connective, TNorm
 from .sets import IT2Set
 
-__all__ = ["Input", "Rule", "TNorm", "rules_from_table"]
-
-
-class TNorm(enum.Enum):
-    """Conjunction of the antecedents (eqs. 13-14 use the product)."""
-
-    PRODUCT = "product"
-    MINIMUM = "min"
-
-    @classmethod
-    def from_name(cls, name: str) -> TNorm:
-        key = name.strip().lower()
-        for member in cls:
-            if key in (member.value, member.name.lower()):
-                return member
-        raise ValueError(f"unknown t-norm {name!r}; choose 'product' or 'min'")
+__all__ = ["Consequent", "Input", "Linear", "Output", "Rule", "TNorm", "rules_from_table"]
 
 
 @dataclass(frozen=True)
@@ -52,10 +49,11 @@ class Input:
         universe: Sequence[float],
         sets: Iterable[IT2Set | tuple[str, MembershipFunction]],
     ) -> None:
+        kind = type(self).__name__.lower()
         lo, hi = (float(v) for v in universe)
         if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
             raise ValueError(
-                f"input {name!r}: universe={tuple(universe)!r} must be finite, lo < hi"
+                f"{kind} {name!r}: universe={tuple(universe)!r} must be finite, lo < hi"
             )
         converted = []
         for s in sets:
@@ -66,11 +64,11 @@ class Input:
                 converted.append(IT2Set.type1(mf, label))
         names = [s.name for s in converted]
         if not converted:
-            raise ValueError(f"input {name!r}: needs at least one set")
+            raise ValueError(f"{kind} {name!r}: needs at least one set")
         if len(set(names)) != len(names) or any(not n for n in names):
-            raise ValueError(f"input {name!r}: set names {names!r} must be non-empty and unique")
+            raise ValueError(f"{kind} {name!r}: set names {names!r} must be non-empty and unique")
         for s in converted:
-            s.check_on((lo, hi), owner=f"input {name!r}")
+            s.check_on((lo, hi), owner=f"{kind} {name!r}")
         object.__setattr__(self, "name", name)
         object.__setattr__(self, "universe", (lo, hi))
         object.__setattr__(self, "sets", tuple(converted))
@@ -80,42 +78,215 @@ class Input:
             if s.name == label:
                 return i
         raise ValueError(
-            f"input {self.name!r} has no set {label!r}; its sets are {[s.name for s in self.sets]}"
+            f"{type(self).__name__.lower()} {self.name!r} has no set {label!r}; its sets are "
+            f"{[s.name for s in self.sets]}"
         )
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
+class Output(Input):
+    """An output variable of a Mamdani system: a name, a universe ``(lo, hi)`` and its sets.
+
+    The universe is where the output sets are sampled for centroid type reduction.
+    Constructed like :class:`Input`.
+
+    Examples
+    --------
+    >>> from it2track.fuzzy import Triangle
+    >>> out = Output("u", (-12, 12), [("low", Triangle(-12, -12, 0)),
+    ...                               ("high", Triangle(0, 12, 12))])
+    >>> [s.name for s in out.sets]
+    ['low', 'high']
+    """
+
+
+def _float_pair(value: object, what: str) -> tuple[float, float]:
+    if isinstance(value, int | float | np.floating | np.integer) and not isinstance(value, bool):
+        lo = hi = float(value)
+    else:
+        try:
+            values = [float(v) for v in value]  # type: ignore[attr-defined]
+        except (TypeError, ValueError):
+            raise ValueError(f"{what} {value!r} must be a number or an interval (lo, hi)") from None
+        if len(values) != 2:
+            raise ValueError(f"{what} {value!r} must be a number or an interval (lo, hi)")
+        lo, hi = values
+    if not (math.isfinite(lo) and math.isfinite(hi)) or lo > hi:
+        raise ValueError(f"{what} ({lo}, {hi}) must be finite, lo <= hi")
+    return lo, hi
+
+
+@dataclass(frozen=True, init=False)
+class Linear:
+    """First-order (TSK) consequent ``y = c0 + c1 x1 + ... + cn xn``.
+
+    Each coefficient is a number or an interval ``(lo, hi)``. With interval coefficients the
+    consequent is the interval of the linear function by interval arithmetic (on the clipped
+    inputs)::
+
+        y_lo = c0_lo + sum_i min(ci_lo xi, ci_hi xi)
+        y_hi = c0_hi + sum_i max(ci_lo xi, ci_hi xi)
+
+    Parameters
+    ----------
+    coefficients : sequence of (float or (float, float)), length n_inputs
+        ``c1 ... cn``, in input order (MATLAB's ``[c1 ... cn c0]`` without the constant).
+    constant : float or (float, float)
+        ``c0``.
+
+    Attributes
+    ----------
+    lo, hi : tuple of float
+        Lower / upper ends of ``(c1, ..., cn)``.
+    constant_lo, constant_hi : float
+
+    Examples
+    --------
+    >>> f = Linear([2.0, (-1.0, 1.0)], 0.5)
+    >>> f.interval([1.0, -3.0])
+    (-0.5, 5.5)
+    """
+
+    lo: tuple[float, ...]
+    hi: tuple[float, ...]
+    constant_lo: float
+    constant_hi: float
+
+    def __init__(self, coefficients: Sequence[float | Sequence[float]],
+                 constant: float | Sequence[float] = 0.0) -> None:
+        pairs = [_float_pair(c, f"linear coefficient c{i + 1}")
+                 for i, c in enumerate(coefficients)]
+        if not pairs:
+            raise ValueError("a Linear consequent needs one coefficient per input")
+        c0 = _float_pair(constant, "linear constant c0")
+        object.__setattr__(self, "lo", tuple(p[0] for p in pairs))
+        object.__setattr__(self, "hi", tuple(p[1] for p in pairs))
+        object.__setattr__(self, "constant_lo", c0[0])
+        object.__setattr__(self, "constant_hi", c0[1])
+
+    @property
+    def crisp(self) -> bool:
+        """True if every coefficient is a number (no interval)."""
+        return self.lo == self.hi and self.constant_lo == self.constant_hi
+
+    def interval(self, x: Sequence[float]) -> tuple[float, float]:
+        """``(y_lo, y_hi)`` at one input point ``x`` (same operations as the systems)."""
+        y_lo, y_hi = self.constant_lo, self.constant_hi
+        for a, b, xi in zip(self.lo, self.hi, x, strict=True):
+            p, q = a * xi, b * xi
+            y_lo += min(p, q)
+            y_hi += max(p, q)
+        return y_lo, y_hi
+
+
+#: What one output of a rule can be: an interval (zero-order), a :class:`Linear` function
+#: (first-order), a set label (Mamdani), or ``None`` (the rule does not act on this output).
+Consequent = tuple[float, float] | Linear | str | None
+
+
+def _consequent(value: object, what: str) -> Consequent:
+    if value is None or isinstance(value, Linear):
+        return value
+    if isinstance(value, str):
+        if not value:
+            raise ValueError(f"{what}: an output set label must be non-empty")
+        return value
+    return _float_pair(value, what)
+
+
+@dataclass(frozen=True, init=False)
 class Rule:
-    """``if x1 is A1 and x2 is A2 then y = [lo, hi]`` (zero-order Sugeno; any number of inputs).
+    """``if x1 is A1 and/or ... then y1 = ..., y2 = ...`` with an optional weight.
 
     Parameters
     ----------
     antecedent : sequence of str or None
         One set label per input; ``None`` means the input does not appear in the rule.
-    consequent : float or (float, float)
-        Crisp output, or an interval ``(lo, hi)`` with ``lo <= hi``.
+    consequent : float, (float, float), Linear or str
+        The consequent of a one-output system: a crisp number or an interval ``(lo, hi)``
+        (zero-order Sugeno), a :class:`Linear` function (first-order TSK), or an output set
+        label (Mamdani). Give either this or ``consequents``.
+    consequents : sequence, optional
+        One consequent per output (same forms, or ``None`` where the rule does not act on an
+        output), for systems with several outputs.
+    weight : float
+        Multiplies the rule's firing strength; ``0 <= weight <= 1`` (default 1).
+    connective : Connective or str
+        ``"and"`` (default: the system's t-norm joins the antecedents) or ``"or"`` (its s-norm).
+    negated : sequence of bool, optional
+        Per input, True for ``x is not A`` (default: none negated). Only mentioned inputs can
+        be negated.
+
+    Attributes
+    ----------
+    consequents : tuple
+        The normalised consequents, one per output (intervals as ``(lo, hi)`` tuples).
+
+    Examples
+    --------
+    >>> r = Rule(["N", "P"], -4.0)
+    >>> r.consequent, r.weight, r.connective.value
+    ((-4.0, -4.0), 1.0, 'and')
+    >>> Rule(["N", None], "low", negated=[True, False]).negated
+    (True, False)
     """
 
     antecedent: tuple[str | None, ...]
-    consequent: tuple[float, float]
+    consequents: tuple[Consequent, ...]
+    weight: float
+    connective: Connective
+    negated: tuple[bool, ...]
 
     def __init__(
-        self, antecedent: Sequence[str | None], consequent: float | Sequence[float]
+        self,
+        antecedent: Sequence[str | None],
+        consequent: object = None,
+        *,
+        consequents: Sequence[object] | None = None,
+        weight: float = 1.0,
+        connective: Connective | str = Connective.AND,
+        negated: Sequence[bool] | None = None,
     ) -> None:
-        if isinstance(consequent, int | float | np.floating | np.integer):
-            lo = hi = float(consequent)
+        ant = tuple(antecedent)
+        where = f"rule {list(ant)!r}"
+        if (consequent is None) == (consequents is None):
+            raise ValueError(f"{where}: give either consequent= (one output) or consequents= "
+                             "(one per output)")
+        if consequents is None:
+            cons: tuple[Consequent, ...] = (_consequent(consequent, f"{where}: consequent"),)
         else:
-            values = [float(v) for v in consequent]
-            if len(values) != 2:
-                raise ValueError(f"rule {list(antecedent)!r}: consequent {consequent!r} must be a "
-                                 "number or an interval (lo, hi)")
-            lo, hi = values
-        if not (math.isfinite(lo) and math.isfinite(hi)) or lo > hi:
-            raise ValueError(
-                f"rule {list(antecedent)!r}: consequent ({lo}, {hi}) must be finite, lo <= hi"
-            )
-        object.__setattr__(self, "antecedent", tuple(antecedent))
-        object.__setattr__(self, "consequent", (lo, hi))
+            cons = tuple(_consequent(c, f"{where}: consequent {k + 1}")
+                         for k, c in enumerate(consequents))
+            if not cons or all(c is None for c in cons):
+                raise ValueError(f"{where}: needs a consequent for at least one output")
+        if isinstance(weight, bool) or not isinstance(
+            weight, int | float | np.floating | np.integer
+        ) or not 0.0 <= float(weight) <= 1.0:
+            raise ValueError(f"{where}: weight={weight!r} must be a number in [0, 1]")
+        if not isinstance(connective, Connective):
+            connective = Connective.from_name(str(connective))
+        neg = (False,) * len(ant) if negated is None else tuple(negated)
+        if len(neg) != len(ant) or not all(isinstance(v, bool | np.bool_) for v in neg):
+            raise ValueError(f"{where}: negated={negated!r} must hold one bool per antecedent")
+        for label, flag in zip(ant, neg, strict=True):
+            if flag and label is None:
+                raise ValueError(f"{where}: an input the rule does not mention cannot be negated")
+        object.__setattr__(self, "antecedent", ant)
+        object.__setattr__(self, "consequents", cons)
+        object.__setattr__(self, "weight", float(weight))
+        object.__setattr__(self, "connective", connective)
+        object.__setattr__(self, "negated", tuple(bool(v) for v in neg))
+
+    @property
+    def consequent(self) -> Consequent:
+        """The first output's consequent (the only one of a one-output system)."""
+        return self.consequents[0]
+
+    @property
+    def plain(self) -> bool:
+        """True for an AND rule of weight 1 with no negation (the paper's rule form)."""
+        return (self.weight == 1.0 and self.connective is Connective.AND
+                and not any(self.negated))
 
 
 def rules_from_table(

@@ -1,14 +1,21 @@
-"""Zero-order Sugeno fuzzy systems, type-1 and interval type-2, evaluated batch-first.
+"""Sugeno fuzzy systems -- zero-order and first-order (TSK), type-1 and interval type-2 --
+evaluated batch-first.
 
 Definition is apart from evaluation: an :class:`IT2Sugeno` or :class:`T1Sugeno` is an immutable
-description (inputs with their sets, rules, t-norm, type reducer) that lowers itself once into
-arrays (:class:`~it2track.fuzzy.tables.SystemTables`); calling it evaluates any number of input
-points in one vectorised pass.
+description (inputs with their sets, rules, t-norm, s-norm, type reducer) that lowers itself
+once into arrays (:class:`~it2track.fuzzy.tables.SystemTables`); calling it evaluates any number
+of input points in one vectorised pass.
+
+Rules (:class:`~it2track.fuzzy.rules.Rule`) may use AND or OR, NOT, weights, interval or
+:class:`~it2track.fuzzy.rules.Linear` (first-order) consequents, and one consequent per output.
+A first-order rule's consequent depends on the input, so the type reducers sort the rules per
+sample; the paper's rule form (zero-order AND rules of weight 1) pays nothing for this.
 
 Shapes
 ------
 ``system(x1, x2, ..., xn)`` takes one array per input; they broadcast together to a batch shape
-``S`` and the output has shape ``S`` (a scalar call returns a 0-d array / float-like).
+``S`` and the output has shape ``S`` (a scalar call returns a 0-d array / float-like); a system
+with ``m > 1`` outputs returns ``S + (m,)`` (use :meth:`~IT2Sugeno.select_output` for one).
 ``system.evaluate(X)`` takes the inputs stacked on the last axis, ``X.shape == S + (n,)``.
 Firing strengths have the rules on the last axis: ``S + (R,)``.
 
@@ -19,15 +26,16 @@ the input.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import kernels as _kernels
+from .norms import SNorm, TNorm
 from .reducers import EXHAUSTIVE, TypeReducer, ZeroFiringError
-from .rules import Input, Rule, TNorm
+from .rules import Input, Rule
 from .tables import SystemTables
 
 __all__ = ["FuzzySystem", "IT2Sugeno", "T1Sugeno"]
@@ -75,8 +83,10 @@ class _SugenoBase:
     inputs: tuple[Input, ...]
     rules: tuple[Rule, ...]
     tnorm: TNorm = TNorm.PRODUCT
-    on_zero_firing: float | None = None
+    on_zero_firing: float | tuple[float, ...] | None = None
     name: str = ""
+    snorm: SNorm = SNorm.MAXIMUM
+    outputs: tuple[str, ...] = ()
     _c: SystemTables = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -88,6 +98,19 @@ class _SugenoBase:
             raise ValueError("a fuzzy system needs at least one rule")
         if not isinstance(self.tnorm, TNorm):
             raise ValueError(f"tnorm={self.tnorm!r} must be a TNorm member")
+        if not isinstance(self.snorm, SNorm):
+            raise ValueError(f"snorm={self.snorm!r} must be an SNorm member")
+        object.__setattr__(self, "outputs", tuple(self.outputs))
+        n_out = len(self.rules[0].consequents)
+        if self.outputs and len(self.outputs) != n_out:
+            raise ValueError(
+                f"outputs={self.outputs!r} names {len(self.outputs)} outputs, but the rules have "
+                f"{n_out} consequents each"
+            )
+        if len(set(self.outputs)) != len(self.outputs) or not all(
+            isinstance(o, str) and o for o in self.outputs
+        ):
+            raise ValueError(f"outputs={self.outputs!r} must be distinct non-empty names")
         names = [inp.name for inp in self.inputs]
         if len(set(names)) != len(names):
             raise ValueError(f"input names {names!r} must be unique")
@@ -99,9 +122,31 @@ class _SugenoBase:
                 )
             if all(label is None for label in rule.antecedent):
                 raise ValueError(f"rule {k} mentions no input")
-        if self.on_zero_firing is not None and not math.isfinite(self.on_zero_firing):
-            raise ValueError(f"on_zero_firing={self.on_zero_firing!r} must be finite or None")
-        object.__setattr__(self, "_c", SystemTables(self.inputs, self.rules))
+            if len(rule.consequents) != n_out:
+                raise ValueError(
+                    f"rule {k} has {len(rule.consequents)} consequents, rule 0 has {n_out}"
+                )
+            for label, inp in zip(rule.antecedent, self.inputs, strict=True):
+                if label is not None:
+                    inp.set_index(label)
+        zero = self.on_zero_firing
+        if zero is not None:
+            scalar = np.ndim(zero) == 0
+            values: tuple[Any, ...] = (zero,) * n_out if scalar else tuple(zero)  # type: ignore[arg-type]
+            number = int | float | np.floating | np.integer
+            if len(values) != n_out or not all(
+                isinstance(v, number) and not isinstance(v, bool) and math.isfinite(v)
+                for v in values
+            ):
+                raise ValueError(
+                    f"on_zero_firing={zero!r} must be None, a finite number, or one finite "
+                    f"number per output ({n_out})"
+                )
+            if n_out == 1:
+                object.__setattr__(self, "on_zero_firing", float(values[0]))
+            elif not scalar:
+                object.__setattr__(self, "on_zero_firing", tuple(float(v) for v in values))
+        object.__setattr__(self, "_c", SystemTables(self.inputs, self.rules, snorm=self.snorm))
 
     # -- shapes and checks --------------------------------------------------------------------
     @property
@@ -117,6 +162,49 @@ class _SugenoBase:
     @property
     def n_rules(self) -> int:
         return len(self.rules)
+
+    @property
+    def n_outputs(self) -> int:
+        """Number of outputs (one consequent per output in every rule)."""
+        return self._c.n_outputs
+
+    @property
+    def output_names(self) -> tuple[str, ...]:
+        """The outputs' names (``outputs``, or ``("output1", ...)`` where none were given)."""
+        return self.outputs or tuple(f"output{k + 1}" for k in range(self.n_outputs))
+
+    def zero_firing_value(self, k: int = 0) -> float | None:
+        """The output ``k``'s value where no rule fires (``None``: ZeroFiringError)."""
+        zero = self.on_zero_firing
+        if zero is None or isinstance(zero, int | float):
+            return zero
+        return float(zero[k])
+
+    def select_output(self, output: int | str) -> Any:
+        """The same system with one output: ``output`` is its index or name.
+
+        Rules without a consequent for it are left out. Returns the system itself for a
+        one-output system asked for output 0.
+        """
+        names = self.output_names
+        if isinstance(output, str):
+            if output not in names:
+                raise ValueError(f"output={output!r}: the outputs are {list(names)}")
+            k = names.index(output)
+        elif isinstance(output, int) and not isinstance(output, bool) and 0 <= output < len(names):
+            k = output
+        else:
+            raise ValueError(f"output={output!r} must be an output name {list(names)} or an "
+                             f"index 0..{len(names) - 1}")
+        if self.n_outputs == 1:
+            return self
+        rules = tuple(
+            Rule(r.antecedent, r.consequents[k], weight=r.weight, connective=r.connective,
+                 negated=r.negated)
+            for r in self.rules if r.consequents[k] is not None
+        )
+        return replace(self, rules=rules, outputs=(names[k],) if self.outputs else (),
+                       on_zero_firing=self.zero_firing_value(k))
 
     def _prepare(self, xs: tuple[ArrayLike, ...]) -> tuple[FloatArray, tuple[int, ...]]:
         if len(xs) != self.n_inputs:
@@ -178,25 +266,7 @@ class _SugenoBase:
 
         The returned arrays are workspace views, valid until the next block.
         """
-        c = self._c
-        n = x.shape[1]
-        ws = c.workspace(n)
-        m = c.memberships(x, out=ws["m"][:, :n])
-        tmp = ws["tmp"][:, :n]
-        result = []
-        for rows, name in ((c.upper_rows_s, "fu"), (c.lower_rows_s, "fl")):
-            f = np.take(m, rows[:, 0], axis=0, out=ws[name][:, :n])
-            for i in range(1, self.n_inputs):
-                np.take(m, rows[:, i], axis=0, out=tmp)
-                if self.tnorm is TNorm.PRODUCT:
-                    np.multiply(f, tmp, out=f)
-                else:
-                    np.minimum(f, tmp, out=f)
-            result.append(f)
-            if c.type1:
-                return f, f
-        fu, fl = result
-        return fl, fu
+        return self._c.firing_block(x, self.tnorm)
 
     def _firing_scalar(self, x: list[float]) -> tuple[list[float], list[float]]:
         c = self._c
@@ -224,18 +294,25 @@ class _SugenoBase:
         Returns
         -------
         lower, upper : ndarray, shape ``S + (R,)``
-            Lower and upper firing strength of every rule (equal for a type-1 system).
+            Lower and upper firing strength of every rule (equal for a type-1 system), after
+            NOT, AND/OR and the rule weight.
         """
         x, shape = self._prepare(xs)
         n = x.shape[1]
         lower = np.empty((n, self.n_rules))
         upper = np.empty((n, self.n_rules))
-        inv = self._c.inv_perm
-        for start in range(0, n, BLOCK):
-            stop = min(start + BLOCK, n)
-            fl, fu = self._firing_block(x[:, start:stop])
-            lower[start:stop] = fl[inv].T
-            upper[start:stop] = fu[inv].T
+        for c in self._c.outputs:
+            inv = c.inv_perm
+            cols = c.rule_index
+            for start in range(0, n, BLOCK):
+                stop = min(start + BLOCK, n)
+                fl, fu = c.firing_block(x[:, start:stop], self.tnorm)
+                if c.n_rules == self.n_rules:
+                    lower[start:stop] = fl[inv].T
+                    upper[start:stop] = fu[inv].T
+                else:
+                    lower[start:stop, cols] = fl[inv].T
+                    upper[start:stop, cols] = fu[inv].T
         return lower.reshape((*shape, self.n_rules)), upper.reshape((*shape, self.n_rules))
 
     def _zero_firing(self, x: FloatArray, bad: NDArray[np.bool_]) -> None:
@@ -246,19 +323,34 @@ class _SugenoBase:
             "on_zero_firing=<value> to define the output there"
         )
 
-    def _interval_blocks(self, x: FloatArray) -> tuple[FloatArray, FloatArray]:
+    def _interval_of(
+        self, c: SystemTables, x: FloatArray, k: int
+    ) -> tuple[FloatArray, FloatArray]:
         raise NotImplementedError
 
+    def _interval_blocks(self, x: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """``(yl, yr)`` of shape ``(N,)``, or ``(N, m)`` for ``m > 1`` outputs."""
+        if self._c.n_outputs == 1:
+            return self._interval_of(self._c, x, 0)
+        pairs = [self._interval_of(c, x, k) for k, c in enumerate(self._c.outputs)]
+        return (np.stack([p[0] for p in pairs], axis=-1),
+                np.stack([p[1] for p in pairs], axis=-1))
+
+    def _out_shape(self, shape: tuple[int, ...]) -> tuple[int, ...]:
+        return shape if self._c.n_outputs == 1 else (*shape, self._c.n_outputs)
+
     def interval(self, *xs: ArrayLike) -> tuple[FloatArray, FloatArray]:
-        """Type-reduced interval ``(yl, yr)``, each of the broadcast input shape."""
+        """Type-reduced interval ``(yl, yr)``, each of the broadcast input shape ``S``
+        (``S + (m,)`` for ``m > 1`` outputs)."""
         x, shape = self._prepare(xs)
         fast = _kernels.interval(self, x, crisp=False)  # compiled when supported (same bits)
         yl, yr = fast if fast is not None else self._interval_blocks(x)
         assert yr is not None
-        return yl.reshape(shape), yr.reshape(shape)
+        return yl.reshape(self._out_shape(shape)), yr.reshape(self._out_shape(shape))
 
     def __call__(self, *xs: ArrayLike) -> Any:
-        """Crisp output ``u = (yl + yr) / 2`` (eq. 18), shape of the broadcast inputs.
+        """Crisp output ``u = (yl + yr) / 2`` (eq. 18), shape of the broadcast inputs
+        (``S + (m,)`` for ``m > 1`` outputs).
 
         A call with Python/NumPy float scalars returns a Python float through a fast path
         (bit-for-bit equal to the array path) meant for real-time loops.
@@ -278,7 +370,7 @@ class _SugenoBase:
         yl, yr = self._interval_blocks(x)
         np.add(yl, yr, out=yl)
         yl *= 0.5
-        return yl.reshape(shape)
+        return yl.reshape(self._out_shape(shape))
 
     def evaluate(self, x: ArrayLike) -> FloatArray:
         """Crisp output for inputs stacked on the last axis, shape ``(..., n_inputs)``."""
@@ -291,7 +383,7 @@ class _SugenoBase:
 
 @dataclass(frozen=True, kw_only=True)
 class IT2Sugeno(_SugenoBase):
-    """Interval type-2 zero-order Sugeno system.
+    """Interval type-2 Sugeno system: zero-order (interval consequents) or first-order (TSK).
 
     Parameters
     ----------
@@ -301,11 +393,15 @@ class IT2Sugeno(_SugenoBase):
         ``TNorm.PRODUCT`` (eqs. 13-14, default) or ``TNorm.MINIMUM``.
     reducer : TypeReducer
         Type reducer; default :data:`~it2track.fuzzy.reducers.EXHAUSTIVE` (exact).
-    on_zero_firing : float or None
-        Output where no rule fires. ``None`` (default) raises
+    on_zero_firing : float, tuple of float or None
+        Output where no rule fires (one per output, or one for all). ``None`` (default) raises
         :class:`~it2track.fuzzy.reducers.ZeroFiringError` instead. (Wu-Mendel where rules fire
         but their total lower firing is zero always raises ``ZeroFiringError``.)
     name : str
+    snorm : SNorm
+        S-norm of OR rules: ``SNorm.MAXIMUM`` (default) or ``SNorm.PROBOR``.
+    outputs : tuple of str
+        Output names, one per consequent of each rule (default: one unnamed output).
 
     Examples
     --------
@@ -329,23 +425,31 @@ class IT2Sugeno(_SugenoBase):
         if not isinstance(self.reducer, TypeReducer):
             raise ValueError(f"reducer={self.reducer!r} must be a TypeReducer")
 
-    def _interval_blocks(self, x: FloatArray) -> tuple[FloatArray, FloatArray]:
-        c = self._c
+    def _interval_of(
+        self, c: SystemTables, x: FloatArray, k: int
+    ) -> tuple[FloatArray, FloatArray]:
         n = x.shape[1]
         yl = np.empty(n)
         yr = np.empty(n)
+        linear = "linear" in c.features
         for start in range(0, n, BLOCK):
             stop = min(start + BLOCK, n)
-            fl, fu = self._firing_block(x[:, start:stop])
-            yl[start:stop], yr[start:stop] = self.reducer.reduce_rules_first(
-                fl, fu, c.y_lo_s, c.y_hi_s, c.order_ident, c.order_hi_s
-            )
+            fl, fu = c.firing_block(x[:, start:stop], self.tnorm)
+            if linear:
+                y_lo, y_hi = c.consequents_block(x[:, start:stop])
+                yl[start:stop], yr[start:stop] = self.reducer.reduce_per_sample(
+                    fl, fu, y_lo, y_hi
+                )
+            else:
+                yl[start:stop], yr[start:stop] = self.reducer.reduce_rules_first(
+                    fl, fu, c.y_lo_s, c.y_hi_s, c.order_ident, c.order_hi_s
+                )
         if math.isnan(float(np.add.reduce(yl)) + float(np.add.reduce(yr))):
             bad = np.isnan(yl) | np.isnan(yr)
             where = np.flatnonzero(bad)
             for start in range(0, where.size, BLOCK):
                 j = where[start : start + BLOCK]
-                _, fu = self._firing_block(np.ascontiguousarray(x[:, j]))
+                _, fu = c.firing_block(np.ascontiguousarray(x[:, j]), self.tnorm)
                 fires = fu.sum(axis=0) > 0
                 if fires.any():  # undefined although rules fire: Wu-Mendel, zero lower firing
                     i = int(j[np.argmax(fires)])
@@ -357,13 +461,14 @@ class IT2Sugeno(_SugenoBase):
                         f"{self.name!r} has no output at ({point}): rules fire there, but their "
                         "total lower firing strength is zero; use an exact reducer"
                     )
-            if self.on_zero_firing is None:
+            zero = self.zero_firing_value(k)
+            if zero is None:
                 self._zero_firing(x, bad)
-            yl[bad] = yr[bad] = self.on_zero_firing
+            yl[bad] = yr[bad] = zero
         return yl, yr
 
     def _scalar_output(self, x: list[float]) -> float | None:
-        if self.reducer is not EXHAUSTIVE:
+        if self.reducer is not EXHAUSTIVE or self._c.features:
             return None
         c = self._c
         fl, fu = self._firing_scalar(x)
@@ -371,9 +476,10 @@ class IT2Sugeno(_SugenoBase):
         yr = _exhaustive_scalar([fl[k] for k in c.order_hi_s], [fu[k] for k in c.order_hi_s],
                                 c.y_hi_s[c.order_hi_s].tolist(), left=False)
         if yl is None or yr is None:
-            if self.on_zero_firing is None:
+            zero = self.zero_firing_value(0)
+            if zero is None:
                 return None  # the array path raises the descriptive error
-            return float(self.on_zero_firing)
+            return float(zero)
         return (yl + yr) * 0.5
 
 
@@ -400,7 +506,7 @@ def _exhaustive_scalar(fl: list[float], fu: list[float], y: list[float], *, left
 
 @dataclass(frozen=True, kw_only=True)
 class T1Sugeno(_SugenoBase):
-    """Type-1 zero-order Sugeno system: ``u = sum(f y) / sum(f)`` with crisp consequents.
+    """Type-1 Sugeno system: ``u = sum(f y) / sum(f)`` (MATLAB's ``wtaver``).
 
     Every set must be type-1 (an :class:`IT2Set` whose lower MF is its upper MF, or a
     ``(name, mf)`` pair given to :class:`Input`).
@@ -409,13 +515,29 @@ class T1Sugeno(_SugenoBase):
     ----------
     inputs : sequence of Input
     rules : sequence of Rule
-        Crisp consequents only.
+        Crisp consequents only: numbers (zero-order) or :class:`~it2track.fuzzy.rules.Linear`
+        with crisp coefficients (first-order, ``y = c0 + sum ci xi``).
     tnorm : TNorm
         ``TNorm.PRODUCT`` (default) or ``TNorm.MINIMUM``.
-    on_zero_firing : float or None
-        Output where no rule fires; ``None`` (default) raises
+    on_zero_firing : float, tuple of float or None
+        Output where no rule fires (one per output, or one for all); ``None`` (default) raises
         :class:`~it2track.fuzzy.reducers.ZeroFiringError` instead.
     name : str
+    snorm : SNorm
+        S-norm of OR rules: ``SNorm.MAXIMUM`` (default) or ``SNorm.PROBOR``.
+    outputs : tuple of str
+        Output names, one per consequent of each rule (default: one unnamed output).
+
+    Examples
+    --------
+    A first-order rule ``y = 2 x + 1`` and a zero-order one, joined by OR/NOT:
+
+    >>> from it2track.fuzzy import Linear, Triangle
+    >>> x = Input("x", (0, 1), [("lo", Triangle(0, 0, 1)), ("hi", Triangle(0, 1, 1))])
+    >>> fls = T1Sugeno(inputs=[x], rules=[Rule(["lo"], Linear([2.0], 1.0)),
+    ...                                    Rule(["lo"], 0.0, negated=[True])])
+    >>> float(fls(0.25))  # (0.75 * 1.5 + 0.25 * 0) / (0.75 + 0.25)
+    1.125
     """
 
     def __post_init__(self) -> None:
@@ -427,17 +549,24 @@ class T1Sugeno(_SugenoBase):
                         f"T1Sugeno: input {inp.name!r} set {s.name!r} has a footprint of "
                         "uncertainty; use IT2Sugeno"
                     )
-        if not self._c.crisp:
+        if not all(c.crisp for c in self._c.outputs):
             raise ValueError("T1Sugeno: rule consequents must be crisp (lo == hi)")
 
-    def _interval_blocks(self, x: FloatArray) -> tuple[FloatArray, FloatArray]:
-        y = self._c.y_lo_s
+    def _interval_of(
+        self, c: SystemTables, x: FloatArray, k: int
+    ) -> tuple[FloatArray, FloatArray]:
+        y = c.y_lo_s
         n = x.shape[1]
         u = np.empty(n)
+        linear = "linear" in c.features
         with np.errstate(divide="ignore", invalid="ignore"):
             for start in range(0, n, BLOCK):
                 stop = min(start + BLOCK, n)
-                _, f = self._firing_block(x[:, start:stop])
+                _, f = c.firing_block(x[:, start:stop], self.tnorm)
+                if linear:
+                    yb = c.consequents_block(x[:, start:stop])[0]
+                    u[start:stop] = (f * yb).sum(axis=0) / f.sum(axis=0)
+                    continue
                 num = f[0] * y[0]
                 den = f[0].copy()
                 for r in range(1, f.shape[0]):
@@ -446,12 +575,15 @@ class T1Sugeno(_SugenoBase):
                 u[start:stop] = num / den
         if math.isnan(float(np.add.reduce(u))):
             bad = np.isnan(u)
-            if self.on_zero_firing is None:
+            zero = self.zero_firing_value(k)
+            if zero is None:
                 self._zero_firing(x, bad)
-            u[bad] = self.on_zero_firing
+            u[bad] = zero
         return u, u.copy()
 
     def _scalar_output(self, x: list[float]) -> float | None:
+        if self._c.features:
+            return None
         _, f = self._firing_scalar(x)
         y = self._c.y_lo_s
         num = f[0] * float(y[0])
@@ -460,7 +592,8 @@ class T1Sugeno(_SugenoBase):
             num += f[r] * float(y[r])
             den += f[r]
         if den == 0.0:
-            return None if self.on_zero_firing is None else float(self.on_zero_firing)
+            zero = self.zero_firing_value(0)
+            return None if zero is None else float(zero)
         return num / den
 
 

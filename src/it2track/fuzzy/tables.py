@@ -8,6 +8,11 @@ not mention). The numpy evaluation of the rows here is the reference semantics; 
 kernels and code generators read the same arrays and must refuse (or fall back on) what they do
 not implement: a row of kind :attr:`MFKind.OTHER` (an arbitrary Python callable), or a rule
 feature listed in :attr:`SystemTables.features`.
+
+The firing of the rules (:meth:`SystemTables.firing_block`) is here too: it is the antecedent
+machinery every kind of system shares (Sugeno, TSK, and Mamdani through
+:class:`~it2track.fuzzy.mamdani.MamdaniTables`, which holds a ``SystemTables`` for its
+antecedents).
 """
 
 from __future__ import annotations
@@ -28,9 +33,13 @@ from .membership import (
     UncertainMeanGaussianLower,
     UncertainMeanGaussianUpper,
 )
-from .rules import Input, Rule
+from .norms import Connective, SNorm, TNorm
+from .rules import Input, Linear, Rule
 
-__all__ = ["MFKind", "SystemTables"]
+__all__ = ["FEATURES", "MFKind", "SystemTables"]
+
+#: Every name :attr:`SystemTables.features` can hold (see the class docstring).
+FEATURES = frozenset({"not", "or", "weights", "linear", "outputs"})
 
 FloatArray = NDArray[np.float64]
 
@@ -86,6 +95,10 @@ class SystemTables:
     ----------
     inputs : tuple of Input
     rules : tuple of Rule
+        Zero-order (interval) or first-order (:class:`~it2track.fuzzy.rules.Linear`)
+        consequents; one per output.
+    snorm : SNorm
+        The s-norm of OR rules (default max); recorded in :attr:`snorm`.
 
     Attributes
     ----------
@@ -103,27 +116,86 @@ class SystemTables:
         The membership function objects behind the rows.
     upper_rows, lower_rows : ndarray of int, shape (R, n_inputs)
         Row of the upper / lower MF of rule r on input i; ``M`` where the rule does not
-        mention the input (membership 1).
+        mention the input (membership 1). For a negated antecedent these are still the rows of
+        the set's own upper / lower MF (see ``negated``).
     y_lo, y_hi : ndarray, shape (R,)
-        Consequent interval of each rule, in rule order.
+        Consequent interval of each rule, in rule order. For a first-order rule (feature
+        ``"linear"``) the interval of its constant term ``c0``.
     perm : ndarray of int, shape (R,)
         Rules sorted by ``y_lo`` (stable): sorted position -> rule index. The ``*_s`` arrays
-        (``upper_rows_s``, ``lower_rows_s``, ``y_lo_s``, ``y_hi_s``) are in that order, and
-        ``order_hi_s`` sorts ``y_hi_s`` (stable).
+        (``upper_rows_s``, ``lower_rows_s``, ``y_lo_s``, ``y_hi_s``, ``negated_s``,
+        ``is_or_s``, ``weight_s``, ``coef_lo_s``, ``coef_hi_s``) are in that order, and
+        ``order_hi_s`` sorts ``y_hi_s`` (stable). (With ``"linear"`` the consequents depend on
+        the input, so an evaluator must sort them per sample; ``perm`` then only fixes the
+        order of the rows.)
     type1 : bool
         Every rule uses the same rows for upper and lower MFs.
     crisp : bool
-        Every consequent has ``y_lo == y_hi``.
+        Every consequent has ``y_lo == y_hi`` (and, with ``"linear"``, ``coef_lo == coef_hi``).
+    negated : ndarray of bool, shape (R, n_inputs)
+        True where rule r reads ``x_i is not A``: its lower / upper membership is
+        ``1 - m[upper_rows]`` / ``1 - m[lower_rows]`` (the bounds of an interval swap under
+        complement). All False unless ``"not"`` is a feature.
+    is_or : ndarray of bool, shape (R,)
+        True for an OR rule that mentions two or more inputs: its firing is the s-norm
+        :attr:`snorm` of its (possibly negated) antecedent memberships, and inputs it does not
+        mention (row ``M``) are left out (the s-norm's identity is 0). An OR rule with one
+        antecedent equals an AND rule and is lowered as one. All False unless ``"or"``.
+    snorm : SNorm
+        ``SNorm.MAXIMUM`` (``max(a, b)``) or ``SNorm.PROBOR`` (``a + b - a b``), folded over
+        the antecedents left to right.
+    weight : ndarray, shape (R,)
+        Rule weights in [0, 1]; both firing bounds are multiplied by them after the t-norm /
+        s-norm. All 1 unless ``"weights"``.
+    coef_lo, coef_hi : ndarray, shape (R, n_inputs)
+        Interval coefficients of first-order consequents (zero for zero-order rules): the
+        consequent at the clipped input ``x`` is
+        ``[y_lo + sum_i min(coef_lo x_i, coef_hi x_i), y_hi + sum_i max(coef_lo x_i,
+        coef_hi x_i)]``, summed over ``i`` in input order. All 0 unless ``"linear"``.
+    n_outputs : int
+        Outputs of the system. With ``"outputs"`` (``n_outputs > 1``) the attributes above
+        describe output 1 and ``outputs[k]`` describes output ``k + 1``.
+    outputs : tuple of SystemTables
+        One single-output lowering per output, each holding only the rules with a consequent
+        for that output; ``(self,)`` for a one-output system.
+    rule_index : ndarray of int, shape (R,)
+        The system's rule number of each rule here (``arange(R)`` unless rules were left out
+        of an output).
     features : frozenset of str
-        Rule-language features beyond zero-order AND rules with weight 1 that these tables
-        use (empty for now). An evaluator that does not implement one of them must refuse the
-        tables or fall back on the numpy evaluation.
+        Rule-language features beyond zero-order AND rules of weight 1 with one output that
+        these tables use, from :data:`FEATURES`: ``"not"`` (a negated antecedent),
+        ``"or"`` (an OR rule over two or more inputs), ``"weights"`` (a weight other than 1),
+        ``"linear"`` (a first-order consequent), ``"outputs"`` (more than one output). An
+        evaluator that does not implement one of them must refuse the tables or fall back on
+        the numpy evaluation. The empty set is exactly the paper's rule form.
     """
 
-    def __init__(self, inputs: tuple[Input, ...], rules: tuple[Rule, ...]) -> None:
+    def __init__(
+        self,
+        inputs: tuple[Input, ...],
+        rules: tuple[Rule, ...],
+        *,
+        snorm: SNorm = SNorm.MAXIMUM,
+        _output: int | None = None,
+    ) -> None:
+        n_outputs = len(rules[0].consequents) if rules else 1
+        for k, rule in enumerate(rules):
+            if len(rule.consequents) != n_outputs:
+                raise ValueError(
+                    f"rule {k} has {len(rule.consequents)} consequents, rule 0 has {n_outputs}: "
+                    "every rule needs one per output"
+                )
+        self.n_outputs = n_outputs
+        self.snorm = snorm
+        output = 0 if _output is None else _output
+        rules_all = rules
+        index = [r for r, rule in enumerate(rules) if rule.consequents[output] is not None]
+        if not index:
+            raise ValueError(f"no rule has a consequent for output {output + 1}")
+        self.rule_index = np.array(index, dtype=np.intp)
+        rules = tuple(rules[r] for r in index)
         self.n_inputs = len(inputs)
         self.n_rules = len(rules)
-        self.features: frozenset[str] = frozenset()
         self.lo = np.array([inp.universe[0] for inp in inputs])
         self.hi = np.array([inp.universe[1] for inp in inputs])
         mfs: list[MembershipFunction] = []
@@ -171,10 +243,52 @@ class SystemTables:
         self.other = [(k, mfs[k], mf_input[k]) for k in range(n_rows) if k not in set(pl)]
         self.all_pl = not self.other
         self.identity_pl = self.all_pl and np.array_equal(self.pl_rows, np.arange(n_rows))
-        y_lo = np.array([rule.consequent[0] for rule in rules])
-        y_hi = np.array([rule.consequent[1] for rule in rules])
+        y_lo = np.empty(len(rules))
+        y_hi = np.empty(len(rules))
+        coef_lo = np.zeros((len(rules), n_in))
+        coef_hi = np.zeros((len(rules), n_in))
+        for r, rule in enumerate(rules):
+            cons = rule.consequents[output]
+            if isinstance(cons, Linear):
+                if len(cons.lo) != n_in:
+                    raise ValueError(
+                        f"rule {int(self.rule_index[r])}: linear consequent has "
+                        f"{len(cons.lo)} coefficients for {n_in} inputs"
+                    )
+                y_lo[r], y_hi[r] = cons.constant_lo, cons.constant_hi
+                coef_lo[r], coef_hi[r] = cons.lo, cons.hi
+            elif isinstance(cons, tuple):
+                y_lo[r], y_hi[r] = cons
+            else:
+                raise ValueError(
+                    f"rule {int(self.rule_index[r])}: consequent {cons!r} is not a number, "
+                    "interval or Linear (a Mamdani output set label needs a Mamdani system)"
+                )
         self.y_lo, self.y_hi = y_lo, y_hi
-        self.crisp = bool(np.array_equal(y_lo, y_hi))
+        self.coef_lo, self.coef_hi = coef_lo, coef_hi
+        linear = any(isinstance(rule.consequents[output], Linear) for rule in rules)
+        self.crisp = bool(np.array_equal(y_lo, y_hi)) and bool(np.array_equal(coef_lo, coef_hi))
+        self.negated = np.array([rule.negated for rule in rules], dtype=bool).reshape(
+            len(rules), n_in
+        )
+        self.is_or = np.array(
+            [rule.connective is Connective.OR and sum(a is not None for a in rule.antecedent) > 1
+             for rule in rules],
+            dtype=bool,
+        )
+        self.weight = np.array([rule.weight for rule in rules], dtype=np.float64)
+        features = set()
+        if self.negated.any():
+            features.add("not")
+        if self.is_or.any():
+            features.add("or")
+        if np.any(self.weight != 1.0):
+            features.add("weights")
+        if linear:
+            features.add("linear")
+        if n_outputs > 1:
+            features.add("outputs")
+        self.features: frozenset[str] = frozenset(features)
         # Rules are evaluated sorted by their lower consequent, so the type reducers need no
         # gather; `perm` maps sorted position -> original rule index.
         self.perm = np.argsort(y_lo, kind="stable")
@@ -188,7 +302,30 @@ class SystemTables:
         self.upper_rows_s_list = self.upper_rows_s.tolist()
         self.lower_rows_s_list = self.lower_rows_s.tolist()
         self.all_h1 = all(v == 1.0 for v in h)
+        self.negated_s = np.ascontiguousarray(self.negated[self.perm])
+        self.is_or_s = self.is_or[self.perm]
+        self.weight_s = self.weight[self.perm]
+        self.coef_lo_s = np.ascontiguousarray(coef_lo[self.perm])
+        self.coef_hi_s = np.ascontiguousarray(coef_hi[self.perm])
+        # The firing features: rows of an extended membership array [m, 1, 0, 1 - m] that each
+        # (possibly negated) antecedent reads; unmentioned inputs of OR rules read the 0 row.
+        self.general_firing = bool(self.features & {"not", "or", "weights"})
+        one, zero, comp = n_rows, n_rows + 1, n_rows + 2
+        up_ext = np.where(self.negated_s, comp + self.lower_rows_s, self.upper_rows_s)
+        lo_ext = np.where(self.negated_s, comp + self.upper_rows_s, self.lower_rows_s)
+        unused = self.upper_rows_s == n_rows
+        up_ext[unused] = one
+        lo_ext[unused] = one
+        up_ext[unused & self.is_or_s[:, None]] = zero
+        lo_ext[unused & self.is_or_s[:, None]] = zero
+        self.up_ext_s, self.lo_ext_s = up_ext, lo_ext
+        self.type1_firing = bool(np.array_equal(up_ext, lo_ext))
         self._local = threading.local()
+        self.outputs: tuple[SystemTables, ...] = (self,)
+        if _output is None and n_outputs > 1:
+            others = [SystemTables(inputs, tuple(rules_all), snorm=snorm, _output=k)
+                      for k in range(1, n_outputs)]
+            self.outputs = (self, *others)
 
     def __getstate__(self) -> dict[str, Any]:
         state = self.__dict__.copy()
@@ -259,3 +396,79 @@ class SystemTables:
         for k, mf, i in self.other:
             out[k] = float(mf(np.float64(x[i])))
         return out
+
+    # -- firing (the antecedent machinery shared by every kind of system) ---------------------
+    def firing_block(self, x: FloatArray, tnorm: TNorm) -> tuple[FloatArray, FloatArray]:
+        """Firing of a block ``x`` (n_inputs, N) -> ``(fl, fu)`` (R, N), rules in sorted order.
+
+        The returned arrays are workspace views, valid until the next block (per thread).
+        """
+        n = x.shape[1]
+        ws = self.workspace(n)
+        m = self.memberships(x, out=ws["m"][:, :n])
+        if self.general_firing:
+            return self._firing_general(m, tnorm, n)
+        tmp = ws["tmp"][:, :n]
+        result = []
+        for rows, name in ((self.upper_rows_s, "fu"), (self.lower_rows_s, "fl")):
+            f = np.take(m, rows[:, 0], axis=0, out=ws[name][:, :n])
+            for i in range(1, self.n_inputs):
+                np.take(m, rows[:, i], axis=0, out=tmp)
+                if tnorm is TNorm.PRODUCT:
+                    np.multiply(f, tmp, out=f)
+                else:
+                    np.minimum(f, tmp, out=f)
+            result.append(f)
+            if self.type1:
+                return f, f
+        fu, fl = result
+        return fl, fu
+
+    def _firing_general(
+        self, m: FloatArray, tnorm: TNorm, n: int
+    ) -> tuple[FloatArray, FloatArray]:
+        """Firing with NOT, OR rules and weights (the meaning documented on the class)."""
+        rows = self.n_rows
+        ext = np.empty((2 * rows + 2, n))
+        ext[:rows] = m[:rows]
+        ext[rows] = 1.0
+        ext[rows + 1] = 0.0
+        np.subtract(1.0, m[:rows], out=ext[rows + 2 :])
+        ws = self.workspace(n)
+        result = []
+        any_or = bool(self.is_or_s.any())
+        for idx, name in ((self.up_ext_s, "fu"), (self.lo_ext_s, "fl")):
+            f = np.take(ext, idx[:, 0], axis=0, out=ws[name][:, :n])
+            g = f.copy() if any_or else f
+            for i in range(1, self.n_inputs):
+                col = ext[idx[:, i]]
+                if tnorm is TNorm.PRODUCT:
+                    np.multiply(f, col, out=f)
+                else:
+                    np.minimum(f, col, out=f)
+                if any_or:
+                    if self.snorm is SNorm.MAXIMUM:
+                        np.maximum(g, col, out=g)
+                    else:
+                        g = g + col - g * col
+            if any_or:
+                np.copyto(f, g, where=self.is_or_s[:, None])
+            if "weights" in self.features:
+                f *= self.weight_s[:, None]
+            result.append(f)
+            if self.type1_firing:
+                return f, f
+        fu, fl = result
+        return fl, fu
+
+    def consequents_block(self, x: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """First-order consequents at a block ``x`` (n_inputs, N): ``(y_lo, y_hi)`` (R, N),
+        rules in sorted order (the formula of :attr:`coef_lo`)."""
+        y_lo = np.repeat(self.y_lo_s[:, None], x.shape[1], axis=1)
+        y_hi = np.repeat(self.y_hi_s[:, None], x.shape[1], axis=1)
+        for i in range(self.n_inputs):
+            p = self.coef_lo_s[:, i : i + 1] * x[i]
+            q = self.coef_hi_s[:, i : i + 1] * x[i]
+            y_lo += np.minimum(p, q)
+            y_hi += np.maximum(p, q)
+        return y_lo, y_hi

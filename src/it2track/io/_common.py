@@ -291,7 +291,12 @@ def consequent_table(
     index: dict[tuple[tuple[float, bool], tuple[float, bool]], int] = {}
     which = []
     for rule in rules:
-        lo, hi = (float(v) for v in rule.consequent)
+        cons = rule.consequent
+        if not isinstance(cons, tuple) or not rule.plain or len(rule.consequents) != 1:
+            raise UnsupportedFeatureError(
+                f"rule {rule!r} uses a rule feature this writer cannot carry; save as .toml"
+            )
+        lo, hi = (float(v) for v in cons)
         key = (_key(lo), _key(hi))
         if key not in index:
             table.append((lo, hi))

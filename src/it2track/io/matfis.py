@@ -390,7 +390,7 @@ def dumps(system: IT2Sugeno | T1Sugeno) -> str:
             elif not s.is_type1:
                 raise UnsupportedFeatureError(f"{what} has a footprint in a T1Sugeno")
             lines.append(line)
-    lo, hi = output_range(table, system.on_zero_firing)
+    lo, hi = output_range(table, system.zero_firing_value(0))
     lines += [
         "",
         "[Output1]",

@@ -234,7 +234,7 @@ def loads(text: str, path: str = "<string>") -> IT2Sugeno | T1Sugeno:
 
     parsed = doc.counted_rules(counts)
     rules = build_rules(doc, parsed, inputs, consequents)
-    type1 = all_type1 and all(r.consequent[0] == r.consequent[1] for r in rules)
+    type1 = all_type1 and all(lo == hi for lo, hi in consequents)
     return system_of(
         doc, system.line, type1=type1, inputs=inputs, rules=rules, tnorm=tnorm,
         reducer=reducer, name=name,

@@ -196,7 +196,7 @@ def dumps(system: IT2Sugeno | T1Sugeno) -> str:
         if system.reducer.max_iter != known.max_iter:
             lines.append(f"reducer_max_iter = {int(system.reducer.max_iter)}")  # type: ignore[arg-type]
     if system.on_zero_firing is not None:
-        lines.append(f"on_zero_firing = {_toml_value(float(system.on_zero_firing))}")
+        lines.append(f"on_zero_firing = {_toml_value(system.zero_firing_value(0))}")
     for inp in system.inputs:
         lines += [
             "",
@@ -220,7 +220,12 @@ def dumps(system: IT2Sugeno | T1Sugeno) -> str:
             for inp, label in zip(system.inputs, rule.antecedent, strict=True)
             if label is not None
         }
-        lo, hi = (float(v) for v in rule.consequent)
+        cons = rule.consequent
+        if not isinstance(cons, tuple) or not rule.plain or len(rule.consequents) != 1:
+            raise UnsupportedFeatureError(
+                f"rule {rule!r} uses a rule feature this writer cannot carry"
+            )
+        lo, hi = (float(v) for v in cons)
         then = _toml_value(lo) if _same(lo, hi) else _toml_value([lo, hi])
         lines += ["", "[[rules]]", f"if = {_toml_value(antecedent)}", f"then = {then}"]
     return "\n".join(lines) + "\n"
