@@ -4,10 +4,20 @@ about robots).
 Imports numpy only. One concept per module: :mod:`.membership` (type-1 MFs), :mod:`.sets`
 (IT2 sets), :mod:`.norms` (t-norms, s-norms, implication, aggregation, defuzzifiers),
 :mod:`.rules` (variables and rules), :mod:`.tables` (the lowering to arrays and the rule
-firing), :mod:`.reducers` (type reduction), :mod:`.sugeno` (Sugeno/TSK systems),
+firing), :mod:`.reducers` (type reduction), :mod:`.sugeno` (Sugeno/TSK
+systems), :mod:`.mamdani` (Mamdani systems, centroid and centre-of-sets type reduction),
 :mod:`.surface` (control surfaces).
 """
 
+from .mamdani import (
+    IT2Mamdani,
+    MamdaniSystem,
+    MamdaniTables,
+    T1Mamdani,
+    TypeReduction,
+    defuzzify,
+    set_centroid,
+)
 from .membership import (
     Gaussian,
     MembershipFunction,
@@ -54,12 +64,15 @@ __all__ = [
     "Defuzzifier",
     "FuzzySystem",
     "Gaussian",
+    "IT2Mamdani",
     "IT2Set",
     "IT2Sugeno",
     "Implication",
     "Input",
     "Linear",
     "MFKind",
+    "MamdaniSystem",
+    "MamdaniTables",
     "MembershipFunction",
     "Output",
     "PiecewiseLinear",
@@ -68,17 +81,21 @@ __all__ = [
     "SNorm",
     "ScaledLagged",
     "SystemTables",
+    "T1Mamdani",
     "T1Sugeno",
     "TNorm",
     "Trapezoid",
     "Triangle",
     "TypeReducer",
+    "TypeReduction",
     "UncertainMeanGaussianLower",
     "UncertainMeanGaussianUpper",
     "ZeroFiringError",
     "control_surface",
+    "defuzzify",
     "gaussmf",
     "rules_from_table",
+    "set_centroid",
     "trapmf",
     "trimf",
 ]

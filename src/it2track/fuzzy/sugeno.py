@@ -79,14 +79,14 @@ BLOCK = 4096
 
 
 @dataclass(frozen=True, kw_only=True)
-class _SugenoBase:
+class _SystemBase:
     inputs: tuple[Input, ...]
     rules: tuple[Rule, ...]
     tnorm: TNorm = TNorm.PRODUCT
     on_zero_firing: float | tuple[float, ...] | None = None
     name: str = ""
     snorm: SNorm = SNorm.MAXIMUM
-    outputs: tuple[str, ...] = ()
+    outputs: tuple[Any, ...] = ()
     _c: SystemTables = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -107,10 +107,7 @@ class _SugenoBase:
                 f"outputs={self.outputs!r} names {len(self.outputs)} outputs, but the rules have "
                 f"{n_out} consequents each"
             )
-        if len(set(self.outputs)) != len(self.outputs) or not all(
-            isinstance(o, str) and o for o in self.outputs
-        ):
-            raise ValueError(f"outputs={self.outputs!r} must be distinct non-empty names")
+        self._check_outputs()
         names = [inp.name for inp in self.inputs]
         if len(set(names)) != len(names):
             raise ValueError(f"input names {names!r} must be unique")
@@ -146,7 +143,16 @@ class _SugenoBase:
                 object.__setattr__(self, "on_zero_firing", float(values[0]))
             elif not scalar:
                 object.__setattr__(self, "on_zero_firing", tuple(float(v) for v in values))
-        object.__setattr__(self, "_c", SystemTables(self.inputs, self.rules, snorm=self.snorm))
+        object.__setattr__(self, "_c", self._lower())
+
+    def _check_outputs(self) -> None:
+        if len(set(self.outputs)) != len(self.outputs) or not all(
+            isinstance(o, str) and o for o in self.outputs
+        ):
+            raise ValueError(f"outputs={self.outputs!r} must be distinct non-empty names")
+
+    def _lower(self) -> SystemTables:
+        return SystemTables(self.inputs, self.rules, snorm=self.snorm)
 
     # -- shapes and checks --------------------------------------------------------------------
     @property
@@ -171,7 +177,9 @@ class _SugenoBase:
     @property
     def output_names(self) -> tuple[str, ...]:
         """The outputs' names (``outputs``, or ``("output1", ...)`` where none were given)."""
-        return self.outputs or tuple(f"output{k + 1}" for k in range(self.n_outputs))
+        if self.outputs:
+            return tuple(o if isinstance(o, str) else o.name for o in self.outputs)
+        return tuple(f"output{k + 1}" for k in range(self.n_outputs))
 
     def zero_firing_value(self, k: int = 0) -> float | None:
         """The output ``k``'s value where no rule fires (``None``: ZeroFiringError)."""
@@ -339,6 +347,32 @@ class _SugenoBase:
     def _out_shape(self, shape: tuple[int, ...]) -> tuple[int, ...]:
         return shape if self._c.n_outputs == 1 else (*shape, self._c.n_outputs)
 
+    def _undefined(
+        self, c: SystemTables, x: FloatArray, k: int, yl: FloatArray, yr: FloatArray
+    ) -> tuple[FloatArray, FloatArray]:
+        """Replace NaN (no output) by ``on_zero_firing`` or raise the error that explains it."""
+        if math.isnan(float(np.add.reduce(yl)) + float(np.add.reduce(yr))):
+            bad = np.isnan(yl) | np.isnan(yr)
+            where = np.flatnonzero(bad)
+            for start in range(0, where.size, BLOCK):
+                j = where[start : start + BLOCK]
+                _, fu = c.firing_block(np.ascontiguousarray(x[:, j]), self.tnorm)
+                fires = fu.sum(axis=0) > 0
+                if fires.any():
+                    i = int(j[np.argmax(fires)])
+                    point = ", ".join(
+                        f"{inp.name}={x[n, i]:.6g}" for n, inp in enumerate(self.inputs)
+                    )
+                    raise ZeroFiringError(self._no_output_message(point))
+            zero = self.zero_firing_value(k)
+            if zero is None:
+                self._zero_firing(x, bad)
+            yl[bad] = yr[bad] = zero
+        return yl, yr
+
+    def _no_output_message(self, point: str) -> str:
+        return f"{type(self).__name__} {self.name!r} has no output at ({point})"
+
     def interval(self, *xs: ArrayLike) -> tuple[FloatArray, FloatArray]:
         """Type-reduced interval ``(yl, yr)``, each of the broadcast input shape ``S``
         (``S + (m,)`` for ``m > 1`` outputs)."""
@@ -382,7 +416,7 @@ class _SugenoBase:
 
 
 @dataclass(frozen=True, kw_only=True)
-class IT2Sugeno(_SugenoBase):
+class IT2Sugeno(_SystemBase):
     """Interval type-2 Sugeno system: zero-order (interval consequents) or first-order (TSK).
 
     Parameters
@@ -444,28 +478,14 @@ class IT2Sugeno(_SugenoBase):
                 yl[start:stop], yr[start:stop] = self.reducer.reduce_rules_first(
                     fl, fu, c.y_lo_s, c.y_hi_s, c.order_ident, c.order_hi_s
                 )
-        if math.isnan(float(np.add.reduce(yl)) + float(np.add.reduce(yr))):
-            bad = np.isnan(yl) | np.isnan(yr)
-            where = np.flatnonzero(bad)
-            for start in range(0, where.size, BLOCK):
-                j = where[start : start + BLOCK]
-                _, fu = c.firing_block(np.ascontiguousarray(x[:, j]), self.tnorm)
-                fires = fu.sum(axis=0) > 0
-                if fires.any():  # undefined although rules fire: Wu-Mendel, zero lower firing
-                    i = int(j[np.argmax(fires)])
-                    point = ", ".join(
-                        f"{inp.name}={x[n, i]:.6g}" for n, inp in enumerate(self.inputs)
-                    )
-                    raise ZeroFiringError(
-                        f"type reducer {self.reducer.name!r} of {type(self).__name__} "
-                        f"{self.name!r} has no output at ({point}): rules fire there, but their "
-                        "total lower firing strength is zero; use an exact reducer"
-                    )
-            zero = self.zero_firing_value(k)
-            if zero is None:
-                self._zero_firing(x, bad)
-            yl[bad] = yr[bad] = zero
-        return yl, yr
+        return self._undefined(c, x, k, yl, yr)
+
+    def _no_output_message(self, point: str) -> str:
+        return (
+            f"type reducer {self.reducer.name!r} of {type(self).__name__} {self.name!r} has no "
+            f"output at ({point}): rules fire there, but their total lower firing strength is "
+            "zero; use an exact reducer"
+        )
 
     def _scalar_output(self, x: list[float]) -> float | None:
         if self.reducer is not EXHAUSTIVE or self._c.features:
@@ -505,7 +525,7 @@ def _exhaustive_scalar(fl: list[float], fu: list[float], y: list[float], *, left
 
 
 @dataclass(frozen=True, kw_only=True)
-class T1Sugeno(_SugenoBase):
+class T1Sugeno(_SystemBase):
     """Type-1 Sugeno system: ``u = sum(f y) / sum(f)`` (MATLAB's ``wtaver``).
 
     Every set must be type-1 (an :class:`IT2Set` whose lower MF is its upper MF, or a
