@@ -14,7 +14,7 @@ import pytest
 from io_systems import random_system
 
 from it2track import heading_fls
-from it2track.fuzzy import IT2Sugeno, T1Sugeno
+from it2track.fuzzy import IT2Mamdani, IT2Sugeno, T1Mamdani, T1Sugeno
 from it2track.io import FORMATS, FisFormatError, dumps, load
 
 DATA = Path(__file__).parent / "data"
@@ -89,7 +89,7 @@ def test_mutations_raise_only_fis_format_error(name: str, data: bytes, tmp_path)
         except Exception as exc:  # pragma: no cover - the failure we look for
             pytest.fail(f"{name} mutation {k}: {type(exc).__name__}: {exc}\n{mutant!r}")
         loaded += 1
-        assert isinstance(system, IT2Sugeno | T1Sugeno)
+        assert isinstance(system, IT2Sugeno | T1Sugeno | IT2Mamdani | T1Mamdani)
         points = [np.linspace(*inp.universe, 7) for inp in system.inputs]
         try:
             system(*points)

@@ -128,8 +128,9 @@ MF2='mf2':'constant',[1 1]
 
 MALFORMED = [
     # (old, new, line needle (in the edited text), message fragment)
-    ("1, 1 (1) : 1", "-1, 1 (1) : 1", "-1, 1", "negated antecedent"),
-    ("1, 1 (1) : 1", "1, 1 (0.5) : 1", "(0.5)", "rule weight 0.5 is not supported"),
+    ("1, 1 (1) : 1", "-3, 1 (1) : 1", "-3, 1", "MF -3 of input 'x', which has only 2"),
+    ("1, 1 (1) : 1", "1, -1 (1) : 1", "1, -1", "negated consequent"),
+    ("1, 1 (1) : 1", "1, 1 (1.5) : 1", "(1.5)", "rule weight 1.5 must be in [0, 1]"),
     ("1, 1 (1) : 1", "1, 1 (1) : 3", "(1) : 3", "must be 1 (AND) or 2 (OR)"),
     ("1, 1 (1) : 1", "1, 0 (1) : 1", "1, 0 (1)", "no consequent"),
     ("1, 1 (1) : 1", "1, 3 (1) : 1", "1, 3 (1)", "output MF 3"),
@@ -137,11 +138,12 @@ MALFORMED = [
     ("1, 1 (1) : 1", "0, 1 (1) : 1", "0, 1 (1)", "mentions no input"),
     ("1, 1 (1) : 1", "1; 1 (1) : 1", "1; 1", "bad rule"),
     ("1, 1 (1) : 1", "1, 1 (x) : 1", "(x)", "bad rule weight"),
-    ("Type='sugeno'", "Type='mamdani'", "Type=", "'mamdani' is not supported"),
+    ("Type='sugeno'", "Type='tsukamoto'", "Type=", "'tsukamoto' is not supported"),
+    ("OrMethod='probor'", "OrMethod='bsum'", "OrMethod", "'bsum' is not supported"),
     ("AndMethod='prod'", "AndMethod='lukasiewicz'", "AndMethod", "not supported"),
     ("'Karnik-Mendel'", "'BMM(0.5,0.5)'", "TypeRedMethod", "BMM reducer is not supported"),
     ("'Karnik-Mendel'", "'myReducer'", "TypeRedMethod", "unknown TypeRedMethod"),
-    ("NumOutputs=1", "NumOutputs=2", "NumOutputs", "only one output"),
+    ("NumOutputs=1", "NumOutputs=2", "NumOutputs", "missing section [Output2]"),
     ("NumRules=2", "NumRules=3", "NumRules", "NumRules=3 but [Rules] has 2"),
     ("NumRules=2", "NumRules=two", "NumRules", "must be an integer"),
     ("NumInputs=1", "NumInputs=0", "NumInputs", "must be at least 1"),
@@ -159,7 +161,8 @@ MALFORMED = [
      "MF2U=", "duplicate MF name 'low'"),
     ("Range=[0 1]\nNumMFs=2", "Range=[1 0]\nNumMFs=2", "Range=[1 0]", "lo < hi"),
     ("Range=[0 1]\nNumMFs=2", "Range=[0 1 2]\nNumMFs=2", "Range=[0 1 2]", "2 numbers"),
-    ("'constant',[1 1]", "'linear',[1 1]", "'linear'", "'linear' (first-order)"),
+    ("'constant',[1 1]", "'linear',[1 1 1]", "'linear'", "'linear' needs 2 numbers"),
+    ("'constant',[1 1]", "'linear',[1 1 0 0]", "'linear'", "must satisfy lower <= upper"),
     ("'constant',[1 1]", "'constant',[2 1]", "'constant',[2 1]", "lower <= upper"),
     ("Name='x'", "Name='x'\nColour='red'", "Colour", "unknown key 'Colour'"),
     ("Name='x'", "Name='x'\nName='y'", "Name='y'", "duplicate key 'Name'"),
@@ -197,13 +200,16 @@ def test_text_before_system_and_missing_system() -> None:
     assert err.line is None and "missing section [System]" in err.message
 
 
-def test_or_rule_is_rejected_only_with_two_antecedents() -> None:
-    text = edit(TWO, "1 1, 1 (1) : 1", "1 1, 1 (1) : 2")
-    err = error_of(text)
-    assert "OR rules" in err.message and err.line == line_with(text, "(1) : 2")
-    # one antecedent: OR and AND agree
+def test_or_not_and_weights_are_read() -> None:
+    text = edit(TWO, "1 1, 1 (1) : 1", "1 -1, 1 (0.5) : 2")
+    fls = loads(text, "t2fis")
+    rule = fls.rules[0]
+    assert (rule.connective.value, rule.negated, rule.weight) == ("or", (False, True), 0.5)
+    assert fls.tables.features == {"or", "not", "weights"}
+    # one antecedent: OR and AND agree, and the lowering says so
     fls = loads(edit(TWO, "2 0, 3 (1) : 1", "2 0, 3 (1) : 2"), "t2fis")
     assert fls.rules[2].antecedent == ("B", None)
+    assert fls.tables.features == frozenset()
 
 
 def test_gauss2mf_reads_as_uncertain_mean_gaussian() -> None:

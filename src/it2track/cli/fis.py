@@ -12,16 +12,21 @@ from pathlib import Path
 from typing import Any
 
 import click
+import numpy as np
 
 from ..fuzzy import (
+    AnySystem,
+    Connective,
     Consequent,
     Gaussian,
+    Input,
+    IT2Mamdani,
     IT2Sugeno,
     Linear,
     MembershipFunction,
     Rule,
     ScaledLagged,
-    T1Sugeno,
+    T1Mamdani,
     Trapezoid,
     Triangle,
     UncertainMeanGaussianLower,
@@ -61,37 +66,65 @@ def _mf_text(mf: MembershipFunction, *, of: MembershipFunction | None = None) ->
     return repr(mf)
 
 
-def describe(system: IT2Sugeno | T1Sugeno) -> str:
-    """A readable multi-line summary: kind, t-norm, reducer, inputs with their sets, rules."""
-    it2 = isinstance(system, IT2Sugeno)
+def _kind_text(system: AnySystem) -> str:
+    it2 = isinstance(system, IT2Sugeno | IT2Mamdani)
+    level = "interval type-2" if it2 else "type-1"
+    if isinstance(system, IT2Mamdani | T1Mamdani):
+        return f"{level} Mamdani ({type(system).__name__})"
+    linear = "linear" in system.tables.features
+    order = "first-order (TSK)" if linear else "zero-order"
+    return f"{level} {order} Sugeno ({type(system).__name__})"
+
+
+def _sets_lines(var: Input, what: str) -> list[str]:
+    lo, hi = var.universe
+    lines = ["", f"{what} {var.name!r}  universe [{_num(lo)}, {_num(hi)}]"]
+    width = max(len(s.name) for s in var.sets)
+    for s in var.sets:
+        if s.is_type1:
+            lines.append(f"  {s.name:<{width}}  {_mf_text(s.upper)}")
+        else:
+            lines.append(f"  {s.name:<{width}}  upper {_mf_text(s.upper)}")
+            lines.append(f"  {'':<{width}}  lower {_mf_text(s.lower, of=s.upper)}")
+    return lines
+
+
+def describe(system: AnySystem) -> str:
+    """A readable multi-line summary: kind, operators, reducer, inputs (and Mamdani outputs)
+    with their sets, rules."""
     zero_v = system.on_zero_firing
     zero = ("error (ZeroFiringError)" if zero_v is None
             else f"output {_num(zero_v)}" if isinstance(zero_v, int | float)
             else "outputs " + ", ".join(_num(v) for v in zero_v))
     lines = [
         system.name or "(unnamed system)",
-        f"  kind         {'interval type-2' if it2 else 'type-1'} zero-order Sugeno "
-        f"({type(system).__name__})",
+        f"  kind         {_kind_text(system)}",
         f"  t-norm       {system.tnorm.value}",
     ]
-    if isinstance(system, IT2Sugeno):
+    if any(r.connective is Connective.OR for r in system.rules):
+        lines.append(f"  s-norm       {system.snorm.value}")
+    if isinstance(system, IT2Mamdani | T1Mamdani):
+        lines.append(f"  implication  {system.implication.value}")
+        lines.append(f"  aggregation  {system.aggregation.value}")
+        lines.append(f"  resolution   {system.resolution} points")
+    if isinstance(system, IT2Sugeno | IT2Mamdani):
         reducer = system.reducer
         exact = "exact" if reducer.exact else "approximation"
         lines.append(f"  reducer      {reducer.name} ({exact})")
+    if isinstance(system, IT2Mamdani):
+        lines.append(f"  reduction    {system.type_reduction.value}")
+    if isinstance(system, T1Mamdani):
+        lines.append(f"  defuzzifier  {system.defuzzifier.value}")
     lines += [
         f"  no firing    {zero}",
-        f"  size         {system.n_inputs} input(s), {system.n_rules} rule(s)",
+        f"  size         {system.n_inputs} input(s), {system.n_outputs} output(s), "
+        f"{system.n_rules} rule(s)",
     ]
     for inp in system.inputs:
-        lo, hi = inp.universe
-        lines += ["", f"input {inp.name!r}  universe [{_num(lo)}, {_num(hi)}]"]
-        width = max(len(s.name) for s in inp.sets)
-        for s in inp.sets:
-            if s.is_type1:
-                lines.append(f"  {s.name:<{width}}  {_mf_text(s.upper)}")
-            else:
-                lines.append(f"  {s.name:<{width}}  upper {_mf_text(s.upper)}")
-                lines.append(f"  {'':<{width}}  lower {_mf_text(s.lower, of=s.upper)}")
+        lines += _sets_lines(inp, "input")
+    if isinstance(system, IT2Mamdani | T1Mamdani):
+        for out in system.outputs:
+            lines += _sets_lines(out, "output")
     lines += ["", "rules"]
     digits = len(str(system.n_rules))
     for k, rule in enumerate(system.rules, start=1):
@@ -135,7 +168,7 @@ def rule_text(system: Any, rule: Rule) -> str:
     return f"if {joiner.join(terms)} then {then}{weight}"
 
 
-def _load(path: str) -> IT2Sugeno | T1Sugeno:
+def _load(path: str) -> AnySystem:
     from ..io import load
 
     try:
@@ -149,7 +182,8 @@ _FILE = click.Path(exists=True, dir_okay=False, path_type=str)
 
 @click.group()
 def fis() -> None:
-    """Fuzzy-system files: .toml (it2track), .t2fis (IT2FLS toolbox), .fis (MATLAB)."""
+    """Fuzzy-system files: .toml (it2track), .t2fis (IT2FLS toolbox), .fis (MATLAB), .fcl
+(IEC 61131-7, read only)."""
 
 
 @fis.command()
@@ -187,12 +221,15 @@ def evaluate(file: str, values: tuple[float, ...]) -> None:
     if not all(math.isfinite(v) for v in values):
         raise click.ClickException("values must be finite")
     try:
-        yl, yr = (float(v) for v in system.interval(*values))
+        yls, yrs = (np.atleast_1d(np.asarray(v, dtype=float)) for v in system.interval(*values))
     except ValueError as exc:
         raise click.ClickException(str(exc)) from None
-    click.echo(f"u = {(yl + yr) / 2:.10g}")
-    if isinstance(system, IT2Sugeno):
-        click.echo(f"[yl, yr] = [{yl:.10g}, {yr:.10g}]")
+    several = system.n_outputs > 1
+    for name, yl, yr in zip(system.output_names, yls.tolist(), yrs.tolist(), strict=True):
+        label = name if several else "u"
+        click.echo(f"{label} = {(yl + yr) / 2:.10g}")
+        if isinstance(system, IT2Sugeno | IT2Mamdani):
+            click.echo(f"[yl, yr] = [{yl:.10g}, {yr:.10g}]")
 
 
 def _parse_fixed(items: tuple[str, ...]) -> dict[str, float]:
@@ -221,12 +258,23 @@ def _parse_fixed(items: tuple[str, ...]) -> dict[str, float]:
 @click.option("--y", "y_input", default=None, help="Input on the y axis (default: the second).")
 @click.option("--fix", "fix", multiple=True, metavar="NAME=VALUE",
               help="Value of an input not on the axes (default: middle of its universe).")
+@click.option("--output", "output", default=None,
+              help="Output to plot, for a system with several outputs.")
 def surface(file: str, out: str, points: int, style: str, x_input: str | None,
-            y_input: str | None, fix: tuple[str, ...]) -> None:
+            y_input: str | None, fix: tuple[str, ...], output: str | None) -> None:
     """Plot the control surface of FILE and each input's sets (FoUs for IT2) to --out."""
     from ..report.surface import plot_system
 
     system = _load(file)
+    if system.n_outputs > 1 or output is not None:
+        if output is None:
+            raise click.BadParameter(
+                f"{file} has {system.n_outputs} outputs ({', '.join(system.output_names)}); "
+                "choose one", param_hint="--output")
+        try:
+            system = system.select_output(output)
+        except ValueError as exc:
+            raise click.BadParameter(str(exc), param_hint="--output") from None
     inputs: Any = None
     if system.n_inputs >= 2:
         names = [inp.name for inp in system.inputs]

@@ -10,6 +10,7 @@ systems), :mod:`.mamdani` (Mamdani systems, centroid and centre-of-sets type red
 """
 
 from .mamdani import (
+    AnySystem,
     IT2Mamdani,
     MamdaniSystem,
     MamdaniTables,
@@ -58,6 +59,7 @@ __all__ = [
     "NIE_TAN",
     "WU_MENDEL",
     "Aggregation",
+    "AnySystem",
     "Connective",
     "Consequent",
     "ConvergenceError",

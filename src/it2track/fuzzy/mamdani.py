@@ -50,10 +50,11 @@ from numpy.typing import NDArray
 from .norms import Aggregation, Defuzzifier, Implication, TNorm
 from .reducers import EXHAUSTIVE, TypeReducer
 from .rules import Output, Rule
-from .sugeno import BLOCK, _SystemBase
+from .sugeno import BLOCK, IT2Sugeno, T1Sugeno, _SystemBase
 from .tables import SystemTables
 
 __all__ = [
+    "AnySystem",
     "IT2Mamdani",
     "MamdaniSystem",
     "MamdaniTables",
@@ -499,3 +500,6 @@ def defuzzify(mu: FloatArray, y: FloatArray, method: Defuzzifier) -> FloatArray:
 
 
 MamdaniSystem = IT2Mamdani | T1Mamdani
+
+#: Every kind of system: Sugeno/TSK and Mamdani, type-1 and interval type-2.
+AnySystem = IT2Sugeno | T1Sugeno | IT2Mamdani | T1Mamdani

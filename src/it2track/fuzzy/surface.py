@@ -4,11 +4,10 @@
 from __future__ import annotations
 
 from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
-
-from .sugeno import FuzzySystem
 
 __all__ = ["control_surface"]
 
@@ -16,7 +15,7 @@ FloatArray = NDArray[np.float64]
 
 
 def control_surface(
-    system: FuzzySystem,
+    system: Any,
     *,
     points: int = 101,
     ranges: Mapping[str, tuple[float, float]] | None = None,
@@ -25,8 +24,8 @@ def control_surface(
 
     Parameters
     ----------
-    system : IT2Sugeno or T1Sugeno
-        A system with exactly two inputs.
+    system : IT2Sugeno, T1Sugeno, IT2Mamdani or T1Mamdani
+        A system with exactly two inputs and one output.
     points : int
         Grid points per axis.
     ranges : mapping, optional

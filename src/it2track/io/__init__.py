@@ -32,7 +32,7 @@ from pathlib import Path
 
 from .._files import InputFileError, decode_text, read_bytes, refuse_binary
 from ..atomicfile import atomic_write_text
-from ..fuzzy import IT2Sugeno, T1Sugeno
+from ..fuzzy import AnySystem
 from . import matfis, t2fis, tomlfmt
 from ._matlab import decode
 from .errors import FisFormatError, UnsupportedFeatureError
@@ -48,8 +48,8 @@ __all__ = [
     "save",
 ]
 
-_Loader = Callable[[str, str], IT2Sugeno | T1Sugeno]
-_Dumper = Callable[[IT2Sugeno | T1Sugeno], str]
+_Loader = Callable[[str, str], AnySystem]
+_Dumper = Callable[[AnySystem], str]
 
 #: format name -> (file suffix, loads, dumps)
 FORMATS: dict[str, tuple[str, _Loader, _Dumper]] = {
@@ -82,7 +82,7 @@ def _format(fmt: str) -> tuple[str, _Loader, _Dumper]:
         raise ValueError(f"unknown format {fmt!r}; choose one of {sorted(FORMATS)}") from None
 
 
-def loads(text: str, fmt: str, *, path: str = "<string>") -> IT2Sugeno | T1Sugeno:
+def loads(text: str, fmt: str, *, path: str = "<string>") -> AnySystem:
     """Parse ``text`` in format ``fmt`` (``"toml"``, ``"t2fis"`` or ``"fis"``).
 
     ``path`` only labels error messages.
@@ -90,7 +90,7 @@ def loads(text: str, fmt: str, *, path: str = "<string>") -> IT2Sugeno | T1Sugen
     return _format(fmt)[1](text, path)
 
 
-def dumps(system: IT2Sugeno | T1Sugeno, fmt: str) -> str:
+def dumps(system: AnySystem, fmt: str) -> str:
     """Text of ``system`` in format ``fmt`` (``"toml"``, ``"t2fis"`` or ``"fis"``).
 
     Raises
@@ -101,7 +101,7 @@ def dumps(system: IT2Sugeno | T1Sugeno, fmt: str) -> str:
     return _format(fmt)[2](system)
 
 
-def load(path: str | os.PathLike[str]) -> IT2Sugeno | T1Sugeno:
+def load(path: str | os.PathLike[str]) -> AnySystem:
     """Read a fuzzy system from ``path``; the format follows the suffix.
 
     Returns
@@ -135,7 +135,7 @@ def load(path: str | os.PathLike[str]) -> IT2Sugeno | T1Sugeno:
     return FORMATS[name][1](text, label)
 
 
-def save(system: IT2Sugeno | T1Sugeno, path: str | os.PathLike[str]) -> None:
+def save(system: AnySystem, path: str | os.PathLike[str]) -> None:
     """Write ``system`` to ``path`` atomically; the format follows the suffix.
 
     Raises

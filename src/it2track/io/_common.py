@@ -14,20 +14,24 @@ from collections.abc import Iterator, Sequence
 import numpy as np
 
 from ..fuzzy import (
+    AnySystem,
+    Connective,
+    Consequent,
     Gaussian,
     Input,
+    IT2Mamdani,
     IT2Set,
     IT2Sugeno,
+    Linear,
     MembershipFunction,
     Rule,
+    T1Mamdani,
     T1Sugeno,
-    TNorm,
     Trapezoid,
     Triangle,
-    TypeReducer,
     UncertainMeanGaussianUpper,
 )
-from ._matlab import Document, MFValue, ParsedRule, fmt_string, fmt_vector
+from ._matlab import Document, MFValue, ParsedRule, fmt_number, fmt_string, fmt_vector
 from .errors import FisFormatError, UnsupportedFeatureError
 
 __all__ = [
@@ -35,14 +39,17 @@ __all__ = [
     "build_input",
     "build_rules",
     "check_writable",
-    "consequent_table",
+    "consequent_tables",
     "fmt_rule",
     "guard",
+    "linear_from",
+    "mamdani_indices",
     "mf_from_matlab",
     "mf_line",
     "mf_to_matlab",
     "output_range",
     "set_name",
+    "sugeno_span",
     "system_of",
 ]
 
@@ -207,71 +214,86 @@ def build_rules(
     doc: Document,
     parsed: Sequence[ParsedRule],
     inputs: Sequence[Input],
-    consequents: Sequence[tuple[float, float]],
+    consequents: Sequence[Sequence[Consequent]],
 ) -> list[Rule]:
-    """Our rules from indexed rules; consequent ``k`` (1-based) is ``consequents[k - 1]``."""
+    """Our rules from indexed rules.
+
+    ``consequents[k][j - 1]`` is what output ``k``'s index ``j`` means (an interval, a
+    :class:`Linear` or an output set label). Index 0 leaves an output out of the rule; a
+    negative antecedent index ``-j`` is ``NOT`` set ``j``; connection 1 is AND, 2 is OR; the
+    weight must be in ``[0, 1]``.
+    """
     rules = []
     for pr in parsed:
         antecedent: list[str | None] = []
+        negated: list[bool] = []
         for inp, index in zip(inputs, pr.antecedent, strict=True):
-            if index < 0:
-                raise doc.error(
-                    pr.line,
-                    f"negated antecedent ({index}: NOT) on input {inp.name!r} is not supported",
-                )
-            if index > len(inp.sets):
+            if abs(index) > len(inp.sets):
                 raise doc.error(
                     pr.line,
                     f"rule names MF {index} of input {inp.name!r}, which has only "
                     f"{len(inp.sets)}",
                 )
-            antecedent.append(None if index == 0 else inp.sets[index - 1].name)
+            antecedent.append(None if index == 0 else inp.sets[abs(index) - 1].name)
+            negated.append(index < 0)
         if all(a is None for a in antecedent):
             raise doc.error(pr.line, "rule mentions no input (all antecedent indices are 0)")
-        (out,) = pr.consequent
-        if out < 0:
-            raise doc.error(pr.line, f"negated consequent ({out}) is not supported")
-        if out == 0:
-            raise doc.error(pr.line, "rule has no consequent (output index 0)")
-        if out > len(consequents):
-            raise doc.error(
-                pr.line, f"rule names output MF {out}, but the output has only {len(consequents)}"
-            )
-        if pr.weight != 1.0:
-            raise doc.error(
-                pr.line, f"rule weight {pr.weight:g} is not supported (only weight 1)"
-            )
-        used = sum(a is not None for a in antecedent)
-        if pr.connection == 2 and used > 1:
-            raise doc.error(pr.line, "OR rules (connection 2) are not supported, only AND (1)")
+        cons: list[Consequent] = []
+        for k, (out, table) in enumerate(zip(pr.consequent, consequents, strict=True)):
+            if out < 0:
+                raise doc.error(pr.line, f"negated consequent ({out}) is not supported")
+            if out > len(table):
+                raise doc.error(
+                    pr.line, f"rule names output MF {out}, but output {k + 1} has only "
+                    f"{len(table)}"
+                )
+            cons.append(None if out == 0 else table[out - 1])
+        if all(c is None for c in cons):
+            raise doc.error(pr.line, "rule has no consequent (every output index is 0)")
+        if not 0.0 <= pr.weight <= 1.0:
+            raise doc.error(pr.line, f"rule weight {pr.weight:g} must be in [0, 1]")
         if pr.connection not in (1, 2):
             raise doc.error(
                 pr.line, f"rule connection {pr.connection} must be 1 (AND) or 2 (OR)"
             )
         with guard(doc, pr.line, "rule"):
-            rules.append(Rule(antecedent, consequents[out - 1]))
+            rules.append(Rule(antecedent, consequents=cons, weight=pr.weight,
+                              connective="or" if pr.connection == 2 else "and",
+                              negated=negated))
     return rules
+
+
+def linear_from(doc: Document, mfv: MFValue, n_inputs: int, *, interval: bool) -> Linear:
+    """A ``'linear',[c1 ... cn c0]`` output MF (with ``interval``, also
+    ``[c1_lo ... cn_lo c0_lo c1_hi ... cn_hi c0_hi]``)."""
+    n = n_inputs + 1
+    p = list(mfv.params)
+    if len(p) == n:
+        lo = hi = p
+    elif interval and len(p) == 2 * n:
+        lo, hi = p[:n], p[n:]
+    else:
+        form = f"{n} numbers [c1 ... c{n_inputs} c0]" + (
+            f" or {2 * n} (lower then upper coefficients)" if interval else "")
+        raise doc.error(mfv.line, f"'linear' needs {form}, got {len(p)}")
+    for a, b in zip(lo, hi, strict=True):
+        if a > b:
+            raise doc.error(mfv.line, f"linear coefficient interval [{a:g} {b:g}] must "
+                            "satisfy lower <= upper")
+    with guard(doc, mfv.line, f"MF {mfv.name!r}"):
+        return Linear(list(zip(lo[:-1], hi[:-1], strict=True)), (lo[-1], hi[-1]))
 
 
 def system_of(
     doc: Document,
     line: int | None,
-    *,
-    type1: bool,
-    inputs: Sequence[Input],
-    rules: Sequence[Rule],
-    tnorm: TNorm,
-    reducer: TypeReducer,
-    name: str,
-    on_zero_firing: float | None = None,
-) -> IT2Sugeno | T1Sugeno:
+    cls: type,
+    **options: object,
+) -> AnySystem:
     """Construct the system, turning the core's ``ValueError`` into ``FisFormatError``."""
     with guard(doc, line):
-        if type1:
-            return T1Sugeno(inputs=tuple(inputs), rules=tuple(rules), tnorm=tnorm,
-                            on_zero_firing=on_zero_firing, name=name)
-        return IT2Sugeno(inputs=tuple(inputs), rules=tuple(rules), tnorm=tnorm,
-                         reducer=reducer, on_zero_firing=on_zero_firing, name=name)
+        system: AnySystem = cls(**options)
+        return system
 
 
 # ---------------------------------------------------------------------------------------------
@@ -283,40 +305,75 @@ def _key(value: float) -> tuple[float, bool]:
     return (value, math.copysign(1.0, value) < 0)
 
 
-def consequent_table(
-    rules: Sequence[Rule],
-) -> tuple[list[tuple[float, float]], list[int]]:
-    """Distinct consequents in order of first use, and each rule's 1-based index into them."""
-    table: list[tuple[float, float]] = []
-    index: dict[tuple[tuple[float, bool], tuple[float, bool]], int] = {}
-    which = []
-    for rule in rules:
-        cons = rule.consequent
-        if not isinstance(cons, tuple) or not rule.plain or len(rule.consequents) != 1:
-            raise UnsupportedFeatureError(
-                f"rule {rule!r} uses a rule feature this writer cannot carry; save as .toml"
-            )
-        lo, hi = (float(v) for v in cons)
-        key = (_key(lo), _key(hi))
-        if key not in index:
-            table.append((lo, hi))
-            index[key] = len(table)
-        which.append(index[key])
-    return table, which
+def _cons_key(cons: Consequent) -> object:
+    if isinstance(cons, Linear):
+        return ("linear", tuple(_key(v) for v in (*cons.lo, cons.constant_lo, *cons.hi,
+                                                   cons.constant_hi)))
+    assert isinstance(cons, tuple)
+    return (_key(float(cons[0])), _key(float(cons[1])))
 
 
-def fmt_rule(system: IT2Sugeno | T1Sugeno, rule: Rule, out_index: int) -> str:
-    """``a1 a2 ..., c (1) : 1`` for one of our rules."""
+def consequent_tables(
+    system: AnySystem,
+) -> tuple[list[list[Consequent]], list[list[int]]]:
+    """Per output: the distinct Sugeno consequents in order of first use, and each rule's
+    1-based index into them (0 where the rule does not act on the output)."""
+    tables: list[list[Consequent]] = []
+    which: list[list[int]] = [[] for _ in system.rules]
+    for k in range(system.n_outputs):
+        table: list[Consequent] = []
+        index: dict[object, int] = {}
+        for r, rule in enumerate(system.rules):
+            cons = rule.consequents[k]
+            if cons is None:
+                which[r].append(0)
+                continue
+            key = _cons_key(cons)
+            if key not in index:
+                table.append(cons)
+                index[key] = len(table)
+            which[r].append(index[key])
+        tables.append(table)
+    return tables, which
+
+
+def mamdani_indices(system: IT2Mamdani | T1Mamdani) -> list[list[int]]:
+    """Each rule's 1-based output set index per output (0: not acting on it)."""
+    return [
+        [0 if c is None else out.set_index(str(c)) + 1
+         for out, c in zip(system.outputs, rule.consequents, strict=True)]
+        for rule in system.rules
+    ]
+
+
+def fmt_rule(system: AnySystem, rule: Rule, out_indices: Sequence[int]) -> str:
+    """``a1 a2 ..., c1 c2 (w) : k`` for one of our rules (``-j`` for NOT set ``j``)."""
     indices = []
-    for inp, label in zip(system.inputs, rule.antecedent, strict=True):
-        indices.append(0 if label is None else inp.set_index(label) + 1)
-    return f"{' '.join(str(i) for i in indices)}, {out_index} (1) : 1"
+    for inp, label, neg in zip(system.inputs, rule.antecedent, rule.negated, strict=True):
+        j = 0 if label is None else inp.set_index(label) + 1
+        indices.append(-j if neg else j)
+    conn = 2 if rule.connective is Connective.OR else 1
+    outs = " ".join(str(i) for i in out_indices)
+    return f"{' '.join(str(i) for i in indices)}, {outs} ({fmt_number(rule.weight)}) : {conn}"
 
 
 def check_writable(system: object, fmt: str) -> None:
-    if not isinstance(system, IT2Sugeno | T1Sugeno):
-        raise TypeError(f"can only write IT2Sugeno or T1Sugeno systems to {fmt}, got "
-                        f"{type(system).__name__}")
+    if not isinstance(system, IT2Sugeno | T1Sugeno | IT2Mamdani | T1Mamdani):
+        raise TypeError(f"can only write IT2Sugeno, T1Sugeno, IT2Mamdani or T1Mamdani systems "
+                        f"to {fmt}, got {type(system).__name__}")
+
+
+def sugeno_span(table: Sequence[Consequent]) -> list[tuple[float, float]]:
+    """The intervals an output range must cover: each constant consequent, and each linear
+    consequent's constant term (its value at the origin)."""
+    spans = []
+    for cons in table:
+        if isinstance(cons, Linear):
+            spans.append((cons.constant_lo, cons.constant_hi))
+        else:
+            assert isinstance(cons, tuple)
+            spans.append((float(cons[0]), float(cons[1])))
+    return spans
 
 
 def output_range(

@@ -159,6 +159,7 @@ class Counts:
     n_out_entry: Entry
     n_rules: int
     n_rules_entry: Entry
+    n_outputs: int = 1
 
 
 class Document:
@@ -230,33 +231,41 @@ class Document:
                 ) from None
             raise self.error(None, f"missing section [{title}]") from None
 
-    def sugeno_name(self, system: Section) -> str:
-        """The ``Name`` of a ``[System]`` (``""`` if absent), after checking ``Type='sugeno'``."""
+    def system_type(self, system: Section) -> tuple[str, str]:
+        """``(Name, Type)`` of a ``[System]`` (Name ``""`` if absent; Type ``'sugeno'`` or
+        ``'mamdani'``, lower case)."""
         name = self.string(system.entries["Name"]) if "Name" in system.entries else ""
         type_entry = self.entry(system, "Type")
         fis_type = self.string(type_entry)
-        if fis_type.lower() != "sugeno":
+        if fis_type.lower() not in ("sugeno", "mamdani"):
             raise self.error(
-                type_entry.line, f"Type={fis_type!r} is not supported (zero-order 'sugeno' only)"
+                type_entry.line, f"Type={fis_type!r} is not supported ('sugeno' or 'mamdani')"
             )
-        return name
+        return name, fis_type.lower()
+
+    def method(self, system: Section, key: str, allowed: Sequence[str], default: str) -> str:
+        """A ``...Method`` string of ``[System]``, lower case, one of ``allowed``."""
+        if key not in system.entries:
+            return default
+        entry = system.entries[key]
+        value = self.string(entry)
+        if value.lower() not in allowed:
+            choices = ", ".join(repr(a) for a in allowed)
+            raise self.error(entry.line, f"{key}={value!r} is not supported ({choices})")
+        return value.lower()
 
     def counts(self, system: Section) -> Counts:
-        """``NumInputs``, ``NumOutputs`` (must be 1) and ``NumRules`` of a ``[System]``, with no
+        """``NumInputs``, ``NumOutputs`` and ``NumRules`` of a ``[System]``, with no
         ``[InputN]``/``[OutputN]`` sections beyond them."""
         n_in_entry = self.entry(system, "NumInputs")
         n_inputs = self.integer(n_in_entry, minimum=1)
         n_out_entry = self.entry(system, "NumOutputs")
         n_outputs = self.integer(n_out_entry, minimum=1)
-        if n_outputs != 1:
-            raise self.error(
-                n_out_entry.line, f"NumOutputs={n_outputs}: only one output is supported"
-            )
         n_rules_entry = self.entry(system, "NumRules")
         n_rules = self.integer(n_rules_entry, minimum=1)
         self.check_no_extra_sections("Input", n_inputs, n_in_entry)
         self.check_no_extra_sections("Output", n_outputs, n_out_entry)
-        return Counts(n_inputs, n_in_entry, n_out_entry, n_rules, n_rules_entry)
+        return Counts(n_inputs, n_in_entry, n_out_entry, n_rules, n_rules_entry, n_outputs)
 
     def check_mf_keys(
         self, section: Section, n: int, count_entry: Entry, *, suffixes: tuple[str, ...] = ("",)
@@ -275,9 +284,9 @@ class Document:
                     )
 
     def counted_rules(self, counts: Counts) -> list[ParsedRule]:
-        """The ``[Rules]`` of a one-output system, as many as ``NumRules`` promised."""
+        """The ``[Rules]``, as many as ``NumRules`` promised."""
         section = self.section("Rules", promised_by=counts.n_rules_entry)
-        parsed = self.rules(section, counts.n_inputs, 1)
+        parsed = self.rules(section, counts.n_inputs, counts.n_outputs)
         if len(parsed) != counts.n_rules:
             raise self.error(
                 counts.n_rules_entry.line,

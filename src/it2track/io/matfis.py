@@ -1,4 +1,5 @@
-"""MATLAB Fuzzy Logic Toolbox ``.fis`` files: type-1 Sugeno, and type-2 Sugeno as far as known.
+"""MATLAB Fuzzy Logic Toolbox ``.fis`` files: Sugeno and Mamdani, type-1, and type-2 as far as
+known.
 
 Type-1 (``sugfis``), as written by MATLAB's ``writeFIS``::
 
@@ -33,14 +34,27 @@ Type-1 (``sugfis``), as written by MATLAB's ``writeFIS``::
     1 1, 1 (1) : 1
 
 Read: ``trimf [a b c]``, ``trapmf [a b c d]``, ``gaussmf [sigma c]``, ``gauss2mf [sigma c1 sigma
-c2]`` (equal sigmas, ``c1 <= c2`` only); ``'constant'`` outputs; ``AndMethod`` ``'prod'`` or
-``'min'``; ``DefuzzMethod='wtaver'`` (``'wtsum'`` is rejected); rules as in ``.t2fis`` (no NOT,
-weights other than 1 or OR rules); a missing ``AndMethod``/``DefuzzMethod`` means MATLAB's Sugeno
-defaults ``'prod'``/``'wtaver'``. Where no rule fires MATLAB returns the middle of the output
-``Range``: the loaded system's ``on_zero_firing`` is that midpoint, and the writer chooses the
-output ``Range`` so that its midpoint is the system's ``on_zero_firing`` (covering the
-consequents where floating point allows, else ``[0, 2 c]``); with ``on_zero_firing=None`` the
-range spans the consequents, so the file loads back with its midpoint as ``on_zero_firing``.
+c2]`` (equal sigmas, ``c1 <= c2`` only); ``AndMethod`` ``'prod'`` or ``'min'``, ``OrMethod``
+``'max'`` or ``'probor'``; several outputs; rules ``a1 ... an, c1 ... cm (w) : k`` with NOT
+(``-j``), weights in ``[0, 1]``, AND (``k = 1``) and OR (``k = 2``), output index 0 for an
+output a rule leaves out.
+
+- ``Type='sugeno'``: ``'constant',[c]`` and ``'linear',[c1 ... cn c0]`` outputs;
+  ``DefuzzMethod='wtaver'`` (``'wtsum'`` is rejected); missing ``AndMethod``/``DefuzzMethod``
+  mean MATLAB's Sugeno defaults ``'prod'``/``'wtaver'``.
+- ``Type='mamdani'``: output sets like the input sets (evaluated on MATLAB's 101 points);
+  ``ImpMethod`` ``'min'``/``'prod'``, ``AggMethod`` ``'max'``/``'sum'``/``'probor'``,
+  ``DefuzzMethod`` ``'centroid'``, ``'bisector'``, ``'mom'``, ``'som'``, ``'lom'`` (type-2:
+  ``'centroid'``, reduced by ``TypeReductionMethod``); defaults are ``mamfis``'s (min, max,
+  min, max, centroid).
+
+Where no rule fires MATLAB returns the middle of the output ``Range``: the loaded system's
+``on_zero_firing`` is that midpoint (one per output), and for Sugeno systems the writer chooses
+the output ``Range`` so that its midpoint is the system's ``on_zero_firing`` (covering the
+constant consequents where floating point allows, else ``[0, 2 c]``); with
+``on_zero_firing=None`` the range spans the consequents, so the file loads back with its
+midpoint as ``on_zero_firing``. A Mamdani output's ``Range`` is its universe, so its
+``on_zero_firing`` must be ``None`` or that midpoint.
 
 MATLAB's ``trimf``/``trapmf`` are 0 outside ``[a, d]``, even next to a shoulder (``a == b``),
 while our shoulders (DESIGN.md sec. 2) keep their height beyond the peak side. The two agree
@@ -79,11 +93,14 @@ reproduce our lower MF's feet exactly, so a lag may carry up to ~20 significant 
 MATLAB lacks -- ``'exhaustive'``, ``'nietan'``, ``'wumendel'``. Consequents are crisp (MATLAB's
 type-2 Sugeno outputs are type-1).
 
-Written: a :class:`T1Sugeno` as a type-1 file, an :class:`IT2Sugeno` as a type-2 file. Cannot
-be written (:class:`UnsupportedFeatureError`): heights other than 1 (type-1 MATLAB MFs have
-none; a type-2 lower MF's height is its ``LowerScale``), lower MFs that are not a
-``LowerScale``/``LowerLag`` image of their upper MF (e.g. uncertain-std or uncertain-mean
-Gaussians), interval consequents, MF classes without a MATLAB type, and reducer ``max_iter``.
+Written: a :class:`T1Sugeno`/:class:`T1Mamdani` as a type-1 file, an
+:class:`IT2Sugeno`/:class:`IT2Mamdani` as a type-2 file. Cannot be written
+(:class:`UnsupportedFeatureError`): heights other than 1 (type-1 MATLAB MFs have none; a type-2
+lower MF's height is its ``LowerScale``), lower MFs that are not a ``LowerScale``/``LowerLag``
+image of their upper MF (e.g. uncertain-std or uncertain-mean Gaussians), interval consequents
+and interval linear coefficients, MF classes without a MATLAB type, reducer ``max_iter``, a
+Mamdani ``resolution`` other than 101, centre-of-sets type reduction, and a Mamdani
+``on_zero_firing`` other than the middle of the output range.
 """
 
 from __future__ import annotations
@@ -99,33 +116,50 @@ from ..fuzzy import (
     KM,
     NIE_TAN,
     WU_MENDEL,
+    Aggregation,
+    AnySystem,
+    Consequent,
+    Defuzzifier,
     Gaussian,
+    Implication,
+    Input,
+    IT2Mamdani,
     IT2Set,
     IT2Sugeno,
+    Linear,
     MembershipFunction,
+    Output,
     PiecewiseLinear,
     ScaledLagged,
+    SNorm,
+    T1Mamdani,
     T1Sugeno,
     TNorm,
     Trapezoid,
     Triangle,
     TypeReducer,
+    TypeReduction,
 )
+from ..fuzzy.mamdani import RESOLUTION
 from ._common import (
     build_input,
     build_rules,
     check_writable,
-    consequent_table,
+    consequent_tables,
     fmt_rule,
     guard,
+    linear_from,
+    mamdani_indices,
     mf_from_matlab,
     mf_to_matlab,
     output_range,
+    sugeno_span,
     system_of,
 )
 from ._matlab import (
     Document,
     MFValue,
+    Section,
     fmt_number,
     fmt_string,
     fmt_vector,
@@ -156,11 +190,34 @@ _SYSTEM_KEYS = {
     "ImpMethod", "AggMethod", "DefuzzMethod", "TypeReductionMethod",
 }
 _TNORMS = {"prod": TNorm.PRODUCT, "min": TNorm.MINIMUM}
+_SNORMS = {"max": SNorm.MAXIMUM, "probor": SNorm.PROBOR}
+_IMPLICATIONS = {"min": Implication.MINIMUM, "prod": Implication.PRODUCT}
 _LOWER_KEYS = ("LowerScale", "LowerLag")
 
 
-def loads(text: str, path: str = "<string>") -> IT2Sugeno | T1Sugeno:
-    """Parse ``.fis`` text (type-1 or type-2 Sugeno) into a system.
+def _variable(doc: Document, section: Section, *, type2: bool, cls: type) -> Input:
+    doc.check_keys(section, {"Name", "Range", "NumMFs"}, r"MF[1-9]\d{0,8}")
+    name_entry = doc.entry(section, "Name")
+    universe = doc.universe(doc.entry(section, "Range"))
+    n_mfs_entry = doc.entry(section, "NumMFs")
+    n_mfs = doc.integer(n_mfs_entry, minimum=1)
+    doc.check_mf_keys(section, n_mfs, n_mfs_entry)
+    sets = []
+    for j in range(1, n_mfs + 1):
+        mfv = doc.mf(doc.entry(section, f"MF{j}"), extras=_LOWER_KEYS if type2 else ())
+        upper = mf_from_matlab(doc, mfv, with_height=False)
+        _check_shoulders(doc, mfv, upper, universe)
+        lower = _lower_from(doc, mfv, upper) if type2 else upper
+        sets.append((IT2Set(upper, lower, mfv.name), mfv.line, mfv.line))
+    var = build_input(doc, doc.string(name_entry), universe, sets, name_entry.line)
+    if cls is Output:
+        with guard(doc, name_entry.line):
+            return Output(var.name, var.universe, var.sets)
+    return var
+
+
+def loads(text: str, path: str = "<string>") -> AnySystem:
+    """Parse ``.fis`` text (type-1 or type-2, Sugeno or Mamdani) into a system.
 
     Raises
     ------
@@ -170,30 +227,31 @@ def loads(text: str, path: str = "<string>") -> IT2Sugeno | T1Sugeno:
     doc = Document(text, path)
     system = doc.section("System")
     doc.check_keys(system, _SYSTEM_KEYS)
-    name = doc.sugeno_name(system)
+    name, fis_type = doc.system_type(system)
+    mamdani = fis_type == "mamdani"
     if "Version" in system.entries:
         doc.number(system.entries["Version"])
-    for key in ("OrMethod", "ImpMethod", "AggMethod"):
-        if key in system.entries:
-            doc.string(system.entries[key])
-    if "DefuzzMethod" in system.entries:
-        entry = system.entries["DefuzzMethod"]
-        defuzz = doc.string(entry)
-        if defuzz.lower() != "wtaver":
-            raise doc.error(
-                entry.line, f"DefuzzMethod={defuzz!r} is not supported (only 'wtaver')"
-            )
-    tnorm = TNorm.PRODUCT
-    if "AndMethod" in system.entries:
-        entry = system.entries["AndMethod"]
-        and_method = doc.string(entry)
-        if and_method.lower() not in _TNORMS:
-            raise doc.error(
-                entry.line, f"AndMethod={and_method!r} is not supported ('prod' or 'min')"
-            )
-        tnorm = _TNORMS[and_method.lower()]
     type2 = "TypeReductionMethod" in system.entries
-    reducer = KM
+    options: dict[str, object] = {
+        "name": name,
+        "tnorm": _TNORMS[doc.method(system, "AndMethod", tuple(_TNORMS),
+                                    "min" if mamdani else "prod")],
+        "snorm": _SNORMS[doc.method(system, "OrMethod", tuple(_SNORMS), "max")],
+    }
+    if mamdani:
+        options["implication"] = _IMPLICATIONS[
+            doc.method(system, "ImpMethod", tuple(_IMPLICATIONS), "min")]
+        options["aggregation"] = Aggregation.from_name(
+            doc.method(system, "AggMethod", ("max", "sum", "probor"), "max"))
+        allowed = ("centroid",) if type2 else tuple(d.value for d in Defuzzifier)
+        defuzz = doc.method(system, "DefuzzMethod", allowed, "centroid")
+        if not type2:
+            options["defuzzifier"] = Defuzzifier.from_name(defuzz)
+    else:
+        for key in ("ImpMethod", "AggMethod"):
+            if key in system.entries:
+                doc.string(system.entries[key])
+        doc.method(system, "DefuzzMethod", ("wtaver",), "wtaver")
     if type2:
         entry = system.entries["TypeReductionMethod"]
         method = doc.string(entry)
@@ -202,58 +260,65 @@ def loads(text: str, path: str = "<string>") -> IT2Sugeno | T1Sugeno:
             raise doc.error(
                 entry.line, f"unknown TypeReductionMethod {method!r} (known: {known})"
             )
-        reducer = _READ_REDUCERS[method.strip().lower()]
+        options["reducer"] = _READ_REDUCERS[method.strip().lower()]
     counts = doc.counts(system)
-    n_inputs, n_in_entry, n_out_entry = counts.n_inputs, counts.n_in_entry, counts.n_out_entry
-
-    inputs = []
-    for k in range(1, n_inputs + 1):
-        section = doc.section(f"Input{k}", promised_by=n_in_entry)
-        doc.check_keys(section, {"Name", "Range", "NumMFs"}, r"MF[1-9]\d{0,8}")
-        name_entry = doc.entry(section, "Name")
-        inp_name = doc.string(name_entry)
-        universe = doc.universe(doc.entry(section, "Range"))
-        n_mfs_entry = doc.entry(section, "NumMFs")
-        n_mfs = doc.integer(n_mfs_entry, minimum=1)
-        doc.check_mf_keys(section, n_mfs, n_mfs_entry)
-        sets = []
-        for j in range(1, n_mfs + 1):
-            mfv = doc.mf(doc.entry(section, f"MF{j}"), extras=_LOWER_KEYS if type2 else ())
-            upper = mf_from_matlab(doc, mfv, with_height=False)
-            _check_shoulders(doc, mfv, upper, universe)
-            lower = _lower_from(doc, mfv, upper) if type2 else upper
-            sets.append((IT2Set(upper, lower, mfv.name), mfv.line, mfv.line))
-        inputs.append(build_input(doc, inp_name, universe, sets, name_entry.line))
-
-    output = doc.section("Output1", promised_by=n_out_entry)
-    doc.check_keys(output, {"Name", "Range", "NumMFs"}, r"MF[1-9]\d{0,8}")
-    doc.string(doc.entry(output, "Name"))
-    out_lo, out_hi = doc.universe(doc.entry(output, "Range"))
-    n_out_mfs_entry = doc.entry(output, "NumMFs")
-    n_out_mfs = doc.integer(n_out_mfs_entry, minimum=1)
-    doc.check_mf_keys(output, n_out_mfs, n_out_mfs_entry)
-    consequents = []
-    for j in range(1, n_out_mfs + 1):
-        mfv = doc.mf(doc.entry(output, f"MF{j}"))
-        if mfv.type != "constant":
+    inputs = [
+        _variable(doc, doc.section(f"Input{k}", promised_by=counts.n_in_entry), type2=type2,
+                  cls=Input)
+        for k in range(1, counts.n_inputs + 1)
+    ]
+    outputs: list[Output] = []
+    names: list[str] = []
+    midpoints: list[float] = []
+    consequents: list[list[Consequent]] = []
+    for k in range(1, counts.n_outputs + 1):
+        output = doc.section(f"Output{k}", promised_by=counts.n_out_entry)
+        range_entry = doc.entry(output, "Range")
+        out_lo, out_hi = doc.universe(range_entry)
+        midpoint = (out_lo + out_hi) / 2
+        if not math.isfinite(midpoint):
+            raise doc.error(range_entry.line, "output Range is too wide")
+        midpoints.append(midpoint)
+        if mamdani:
+            out = _variable(doc, output, type2=type2, cls=Output)
+            assert isinstance(out, Output)
+            outputs.append(out)
+            consequents.append([s.name for s in out.sets])
+            continue
+        doc.check_keys(output, {"Name", "Range", "NumMFs"}, r"MF[1-9]\d{0,8}")
+        names.append(doc.string(doc.entry(output, "Name")))
+        n_out_mfs_entry = doc.entry(output, "NumMFs")
+        n_out_mfs = doc.integer(n_out_mfs_entry, minimum=1)
+        doc.check_mf_keys(output, n_out_mfs, n_out_mfs_entry)
+        table: list[Consequent] = []
+        for j in range(1, n_out_mfs + 1):
+            mfv = doc.mf(doc.entry(output, f"MF{j}"))
             if mfv.type == "linear":
-                raise doc.error(mfv.line, "'linear' (first-order) consequents are not supported")
-            raise doc.error(mfv.line, f"unknown output MF type {mfv.type!r} (expected 'constant')")
-        if len(mfv.params) != 1:
-            raise doc.error(
-                mfv.line, f"'constant' needs one number, got {len(mfv.params)}"
-            )
-        consequents.append((mfv.params[0], mfv.params[0]))
+                table.append(linear_from(doc, mfv, counts.n_inputs, interval=False))
+                continue
+            if mfv.type != "constant":
+                raise doc.error(
+                    mfv.line, f"unknown output MF type {mfv.type!r} (expected 'constant' or "
+                    "'linear')"
+                )
+            if len(mfv.params) != 1:
+                raise doc.error(
+                    mfv.line, f"'constant' needs one number, got {len(mfv.params)}"
+                )
+            table.append((mfv.params[0], mfv.params[0]))
+        consequents.append(table)
 
     parsed = doc.counted_rules(counts)
     rules = build_rules(doc, parsed, inputs, consequents)
-    midpoint = (out_lo + out_hi) / 2
-    if not math.isfinite(midpoint):
-        raise doc.error(output.entries["Range"].line, "output Range is too wide")
-    return system_of(
-        doc, system.line, type1=not type2, inputs=inputs, rules=rules, tnorm=tnorm,
-        reducer=reducer, name=name, on_zero_firing=midpoint,
-    )
+    options["on_zero_firing"] = midpoints[0] if len(midpoints) == 1 else tuple(midpoints)
+    if mamdani:
+        options["outputs"] = tuple(outputs)
+        cls: type = IT2Mamdani if type2 else T1Mamdani
+    else:
+        cls = IT2Sugeno if type2 else T1Sugeno
+        if len(names) > 1 or names != ["output1"]:
+            options["outputs"] = tuple(names)
+    return system_of(doc, system.line, cls, inputs=tuple(inputs), rules=tuple(rules), **options)
 
 
 def _check_shoulders(
@@ -330,8 +395,26 @@ def lag_foot(foot: float, peak: float, lag: Fraction) -> float:
 # ---------------------------------------------------------------------------------------------
 
 
-def dumps(system: IT2Sugeno | T1Sugeno) -> str:
-    """``.fis`` text for ``system`` (type-1 for :class:`T1Sugeno`, type-2 for :class:`IT2Sugeno`).
+def _mf_lines(var: Input, *, type2: bool, what_kind: str) -> list[str]:
+    lines = []
+    for j, s in enumerate(var.sets, start=1):
+        what = f"{what_kind} {var.name!r} set {s.name!r}"
+        kind, params = mf_to_matlab(s.upper, with_height=False, what=f"{what} upper MF")
+        kind, params = _widen_shoulders(kind, params, var.universe)
+        line = f"MF{j}={fmt_string(s.name, 'set name')}:'{kind}',{fmt_vector(params)}"
+        if type2:
+            scale, lags = _scale_lag(s, what)
+            lag_text = f"[{lags[0]} {lags[1]}]" if len(lags) == 2 else lags[0]
+            line += f",'LowerScale',{fmt_number(scale)},'LowerLag',{lag_text}"
+        elif not s.is_type1:
+            raise UnsupportedFeatureError(f"{what} has a footprint in a type-1 system")
+        lines.append(line)
+    return lines
+
+
+def dumps(system: AnySystem) -> str:
+    """``.fis`` text for ``system`` (type-1 for :class:`T1Sugeno`/:class:`T1Mamdani`, type-2
+    for :class:`IT2Sugeno`/:class:`IT2Mamdani`).
 
     Raises
     ------
@@ -339,28 +422,67 @@ def dumps(system: IT2Sugeno | T1Sugeno) -> str:
         If the system uses something the format cannot carry (see the module docstring).
     """
     check_writable(system, ".fis")
-    type2 = isinstance(system, IT2Sugeno)
-    table, which = consequent_table(system.rules)
-    if any(lo != hi for lo, hi in table):
-        raise UnsupportedFeatureError(
-            "MATLAB's Sugeno systems have crisp consequents; this system has interval "
-            "consequents (save as .t2fis or .toml)"
-        )
+    type2 = isinstance(system, IT2Sugeno | IT2Mamdani)
+    mamdani = isinstance(system, IT2Mamdani | T1Mamdani)
+    extra: list[str] = []
+    if isinstance(system, IT2Mamdani | T1Mamdani):
+        if system.resolution != RESOLUTION:
+            raise UnsupportedFeatureError(
+                f"the .fis format cannot carry resolution={system.resolution} (MATLAB "
+                f"evaluates {RESOLUTION} points); save as .toml"
+            )
+        if isinstance(system, IT2Mamdani) and (
+            system.type_reduction is not TypeReduction.CENTROID
+        ):
+            raise UnsupportedFeatureError(
+                "MATLAB's type-2 Mamdani systems use centroid type reduction; this system uses "
+                "centre-of-sets (save as .t2fis or .toml)"
+            )
+        for k, out in enumerate(system.outputs):
+            zero = system.zero_firing_value(k)
+            middle = (out.universe[0] + out.universe[1]) / 2
+            if zero is not None and zero != middle:
+                raise UnsupportedFeatureError(
+                    f"in a .fis Mamdani system the output where no rule fires is the middle of "
+                    f"the output range ({middle!r} for {out.name!r}), not on_zero_firing="
+                    f"{zero!r}; save as .toml"
+                )
+        imp = "min" if system.implication is Implication.MINIMUM else "prod"
+        agg = system.aggregation.value
+        defuzz = (system.defuzzifier.value if isinstance(system, T1Mamdani) else "centroid")
+        which = mamdani_indices(system)
+    else:
+        imp, agg, defuzz = "prod", "sum", "wtaver"
+        tables, which = consequent_tables(system)
+        for table in tables:
+            for cons in table:
+                if isinstance(cons, Linear):
+                    if not cons.crisp:
+                        raise UnsupportedFeatureError(
+                            "MATLAB's linear Sugeno outputs have crisp coefficients; this system "
+                            "has interval coefficients (save as .t2fis or .toml)"
+                        )
+                elif isinstance(cons, tuple) and cons[0] != cons[1]:
+                    raise UnsupportedFeatureError(
+                        "MATLAB's Sugeno systems have crisp consequents; this system has "
+                        "interval consequents (save as .t2fis or .toml)"
+                    )
     lines = [
         "[System]",
         f"Name={fmt_string(system.name, 'system name')}",
-        "Type='sugeno'",
+        f"Type='{'mamdani' if mamdani else 'sugeno'}'",
         "Version=2.0",
         f"NumInputs={system.n_inputs}",
-        "NumOutputs=1",
+        f"NumOutputs={system.n_outputs}",
         f"NumRules={system.n_rules}",
         f"AndMethod='{'prod' if system.tnorm is TNorm.PRODUCT else 'min'}'",
-        "OrMethod='probor'",
-        "ImpMethod='prod'",
-        "AggMethod='sum'",
-        "DefuzzMethod='wtaver'",
+        f"OrMethod='{system.snorm.value}'",
+        f"ImpMethod='{imp}'",
+        f"AggMethod='{agg}'",
+        f"DefuzzMethod='{defuzz}'",
+        *extra,
     ]
-    if isinstance(system, IT2Sugeno):
+    if isinstance(system, IT2Sugeno | IT2Mamdani):
         reducer = system.reducer
         if reducer.name not in _WRITE_REDUCERS:
             raise UnsupportedFeatureError(f"reducer {reducer.name!r} has no .fis name")
@@ -378,31 +500,37 @@ def dumps(system: IT2Sugeno | T1Sugeno) -> str:
             f"Range={fmt_vector(inp.universe)}",
             f"NumMFs={len(inp.sets)}",
         ]
-        for j, s in enumerate(inp.sets, start=1):
-            what = f"input {inp.name!r} set {s.name!r}"
-            kind, params = mf_to_matlab(s.upper, with_height=False, what=f"{what} upper MF")
-            kind, params = _widen_shoulders(kind, params, inp.universe)
-            line = f"MF{j}={fmt_string(s.name, 'set name')}:'{kind}',{fmt_vector(params)}"
-            if type2:
-                scale, lags = _scale_lag(s, what)
-                lag_text = f"[{lags[0]} {lags[1]}]" if len(lags) == 2 else lags[0]
-                line += f",'LowerScale',{fmt_number(scale)},'LowerLag',{lag_text}"
-            elif not s.is_type1:
-                raise UnsupportedFeatureError(f"{what} has a footprint in a T1Sugeno")
-            lines.append(line)
-    lo, hi = output_range(table, system.zero_firing_value(0))
-    lines += [
-        "",
-        "[Output1]",
-        "Name='output1'",
-        f"Range={fmt_vector((lo, hi))}",
-        f"NumMFs={len(table)}",
-    ]
-    for j, (y, _) in enumerate(table, start=1):
-        lines.append(f"MF{j}='mf{j}':'constant',[{fmt_number(y)}]")
+        lines += _mf_lines(inp, type2=type2, what_kind="input")
+    if isinstance(system, IT2Mamdani | T1Mamdani):
+        for k, out in enumerate(system.outputs, start=1):
+            lines += [
+                "",
+                f"[Output{k}]",
+                f"Name={fmt_string(out.name, 'output name')}",
+                f"Range={fmt_vector(out.universe)}",
+                f"NumMFs={len(out.sets)}",
+            ]
+            lines += _mf_lines(out, type2=type2, what_kind="output")
+    else:
+        for k, (out_name, table) in enumerate(zip(system.output_names, tables, strict=True)):
+            lo, hi = output_range(sugeno_span(table), system.zero_firing_value(k))
+            lines += [
+                "",
+                f"[Output{k + 1}]",
+                f"Name={fmt_string(out_name, 'output name')}",
+                f"Range={fmt_vector((lo, hi))}",
+                f"NumMFs={len(table)}",
+            ]
+            for j, cons in enumerate(table, start=1):
+                if isinstance(cons, Linear):
+                    params = fmt_vector([*cons.lo, cons.constant_lo])
+                    lines.append(f"MF{j}='mf{j}':'linear',{params}")
+                else:
+                    assert isinstance(cons, tuple)
+                    lines.append(f"MF{j}='mf{j}':'constant',[{fmt_number(cons[0])}]")
     lines += ["", "[Rules]"]
-    for rule, out in zip(system.rules, which, strict=True):
-        lines.append(fmt_rule(system, rule, out))
+    for rule, outs in zip(system.rules, which, strict=True):
+        lines.append(fmt_rule(system, rule, outs))
     return "\n".join(lines) + "\n"
 
 

@@ -45,14 +45,22 @@ What is read
   ``sigmf`` ...) are rejected by name. Shoulders (``a == b`` or ``b == c``) follow DESIGN.md
   sec. 2: value ``h`` at and beyond the peak side.
 - A set's name is the common stem of ``'NU'``/``'NL'`` (else the upper MF's name).
-- Outputs: ``'constant',[y_lower y_upper]`` interval consequents (one number: crisp). One output
-  only. ``'linear'`` (first-order) consequents are rejected.
-- Rules ``a1 ... an, c (w) : k``: index 0 skips an input; negative indices (NOT), weights other
-  than 1 and OR rules (``k = 2``, more than one antecedent) are rejected with the line.
-- ``AndMethod`` (required) ``'prod'`` or ``'min'`` selects our t-norm. (The toolbox's own
-  ``evalt2`` always multiplies, whatever this says.) ``OrMethod``, ``ImpMethod``, ``AggMethod``,
-  ``DefuzzMethod``, ``Version``, ``outputType`` and ``CrispInterval`` are checked for form and
-  otherwise ignored, as ``evalt2`` ignores them.
+- ``Type='sugeno'`` outputs: ``'constant',[y_lower y_upper]`` interval consequents (one
+  number: crisp) and ``'linear',[c1 ... cn c0]`` first-order consequents (crisp), or
+  ``'linear',[c1_lo ... cn_lo c0_lo c1_hi ... cn_hi c0_hi]`` with interval coefficients (our
+  layout: the toolbox's own text for interval linear outputs is not published).
+- ``Type='mamdani'`` outputs: ``MF1U``/``MF1L`` pairs like the inputs; ``ImpMethod``
+  ``'min'``/``'prod'``, ``AggMethod`` ``'max'``/``'sum'``/``'probor'``, and ``DefuzzMethod``
+  ``'centroid'`` (centroid type reduction on 101 points) or ``'cos'`` (centre of sets; our
+  name).
+- Several outputs (``NumOutputs``, ``[Output2]`` ...).
+- Rules ``a1 ... an, c1 ... cm (w) : k``: index 0 skips an input (or an output); ``-j`` is
+  NOT set ``j``; ``w`` in ``[0, 1]`` is the rule weight; ``k = 1`` AND, ``k = 2`` OR.
+- ``AndMethod`` (required) ``'prod'`` or ``'min'`` selects our t-norm, ``OrMethod`` ``'max'``
+  (default) or ``'probor'`` our s-norm. (The toolbox's own ``evalt2`` always multiplies,
+  whatever ``AndMethod`` says.) For Sugeno files ``ImpMethod``, ``AggMethod``,
+  ``DefuzzMethod``, and everywhere ``Version``, ``outputType`` and ``CrispInterval`` are checked
+  for form and otherwise ignored, as ``evalt2`` ignores them.
 - ``TypeRedMethod``: ``'Karnik-Mendel'``/``'KM'`` -> :data:`KM`, ``'EKM'`` -> :data:`EKM`,
   ``'IASC'`` and ``'EIASC'`` -> :data:`EIASC` (both exact), ``'EODS'`` -> :data:`EXHAUSTIVE`
   (both exact, non-iterative), ``'NT'`` -> :data:`NIE_TAN`, ``'WM'`` -> :data:`WU_MENDEL`
@@ -60,15 +68,18 @@ What is read
   ``t2f_TR_WM`` departs from the published Wu-Mendel bounds (it takes ``min`` for the lower
   bound of ``yr`` and divides by ``sum(f_upper)`` only), so its 'WM' outputs differ from ours.
 - A file whose every lower MF equals its upper MF and whose consequents are all crisp is loaded
-  as a :class:`T1Sugeno` (the outputs are the same; the reducer is then irrelevant).
+  as a :class:`T1Sugeno` (or :class:`T1Mamdani`; the outputs are the same, the reducer is then
+  irrelevant).
 
 What is written
 ---------------
-The same layout (the toolbox writer's key order). Reducers map back as above, with
-:data:`EXHAUSTIVE` written as ``'EODS'`` (exact in the toolbox too). Cannot be written (raise
-:class:`UnsupportedFeatureError`): MFs other than Triangle, Trapezoid, Gaussian and
-UncertainMeanGaussianUpper (e.g. the uncertain-mean Gaussian *lower* MF, ``ScaledLagged``),
-``on_zero_firing``, and reducer ``max_iter`` other than the default.
+The same layout (the toolbox writer's key order), with every rule feature and system kind
+above. Reducers map back as above, with :data:`EXHAUSTIVE` written as ``'EODS'`` (exact in
+the toolbox too). Cannot be written (raise :class:`UnsupportedFeatureError`): MFs other than
+Triangle, Trapezoid, Gaussian and UncertainMeanGaussianUpper (e.g. the uncertain-mean Gaussian
+*lower* MF, ``ScaledLagged``), ``on_zero_firing``, reducer ``max_iter`` other than the
+default, a Mamdani ``resolution`` other than 101, and a type-1 Mamdani defuzzifier other than
+the centroid.
 """
 
 from __future__ import annotations
@@ -80,29 +91,46 @@ from ..fuzzy import (
     KM,
     NIE_TAN,
     WU_MENDEL,
+    Aggregation,
+    AnySystem,
+    Consequent,
+    Defuzzifier,
     Gaussian,
+    Implication,
+    Input,
+    IT2Mamdani,
     IT2Set,
     IT2Sugeno,
+    Linear,
     MembershipFunction,
+    Output,
     ScaledLagged,
+    SNorm,
+    T1Mamdani,
     T1Sugeno,
     TNorm,
     TypeReducer,
+    TypeReduction,
 )
+from ..fuzzy.mamdani import RESOLUTION
 from ._common import (
     build_input,
     build_rules,
     check_writable,
-    consequent_table,
+    consequent_tables,
     fmt_rule,
+    guard,
+    linear_from,
+    mamdani_indices,
     mf_from_matlab,
     mf_line,
     mf_to_matlab,
     output_range,
     set_name,
+    sugeno_span,
     system_of,
 )
-from ._matlab import Document, fmt_number, fmt_string, fmt_vector
+from ._matlab import Document, Entry, Section, fmt_number, fmt_string, fmt_vector
 from .errors import UnsupportedFeatureError
 
 __all__ = ["dumps", "loads"]
@@ -130,9 +158,32 @@ _SYSTEM_KEYS = {
     "ImpMethod", "AggMethod", "DefuzzMethod", "TypeRedMethod", "outputType",
 }
 _TNORMS = {"prod": TNorm.PRODUCT, "min": TNorm.MINIMUM}
+_SNORMS = {"max": SNorm.MAXIMUM, "probor": SNorm.PROBOR}
+_IMPLICATIONS = {"min": Implication.MINIMUM, "prod": Implication.PRODUCT}
+_TYPE_REDUCTIONS = {"centroid": TypeReduction.CENTROID, "cos": TypeReduction.CENTRE_OF_SETS}
 
 
-def loads(text: str, path: str = "<string>") -> IT2Sugeno | T1Sugeno:
+def _variable(doc: Document, section: Section, n_mfs_entry: Entry, n_mfs: int,
+              universe: tuple[float, float], name_entry: Entry, cls: type) -> Input:
+    doc.check_mf_keys(section, n_mfs, n_mfs_entry, suffixes=("U", "L"))
+    sets = []
+    for j in range(1, n_mfs + 1):
+        up_v = doc.mf(doc.entry(section, f"MF{j}U"))
+        low_v = doc.mf(doc.entry(section, f"MF{j}L"))
+        upper = mf_from_matlab(doc, up_v, with_height=True)
+        lower = mf_from_matlab(doc, low_v, with_height=True)
+        if lower == upper:
+            lower = upper
+        label = set_name(up_v.name, low_v.name)
+        sets.append((IT2Set(upper, lower, label), up_v.line, low_v.line))
+    var = build_input(doc, doc.string(name_entry), universe, sets, name_entry.line)
+    if cls is Output:
+        with guard(doc, name_entry.line):
+            return Output(var.name, var.universe, var.sets)
+    return var
+
+
+def loads(text: str, path: str = "<string>") -> AnySystem:
     """Parse ``.t2fis`` text into a system.
 
     Parameters
@@ -150,8 +201,9 @@ def loads(text: str, path: str = "<string>") -> IT2Sugeno | T1Sugeno:
     doc = Document(text, path)
     system = doc.section("System")
     doc.check_keys(system, _SYSTEM_KEYS)
-    name = doc.sugeno_name(system)
-    for key in ("OrMethod", "ImpMethod", "AggMethod", "DefuzzMethod", "outputType"):
+    name, fis_type = doc.system_type(system)
+    mamdani = fis_type == "mamdani"
+    for key in ("ImpMethod", "AggMethod", "DefuzzMethod", "outputType"):
         if key in system.entries:
             doc.string(system.entries[key])
     if "Version" in system.entries:
@@ -162,7 +214,18 @@ def loads(text: str, path: str = "<string>") -> IT2Sugeno | T1Sugeno:
         raise doc.error(
             and_entry.line, f"AndMethod={and_method!r} is not supported ('prod' or 'min')"
         )
-    tnorm = _TNORMS[and_method.lower()]
+    options: dict[str, object] = {
+        "name": name,
+        "tnorm": _TNORMS[and_method.lower()],
+        "snorm": _SNORMS[doc.method(system, "OrMethod", tuple(_SNORMS), "max")],
+    }
+    if mamdani:
+        options["implication"] = _IMPLICATIONS[doc.method(system, "ImpMethod", ("min", "prod"),
+                                                          "min")]
+        options["aggregation"] = Aggregation.from_name(
+            doc.method(system, "AggMethod", ("max", "sum", "probor"), "max"))
+        options["type_reduction"] = _TYPE_REDUCTIONS[
+            doc.method(system, "DefuzzMethod", tuple(_TYPE_REDUCTIONS), "centroid")]
     reducer = KM
     if "TypeRedMethod" in system.entries:
         entry = system.entries["TypeRedMethod"]
@@ -182,66 +245,103 @@ def loads(text: str, path: str = "<string>") -> IT2Sugeno | T1Sugeno:
     n_inputs, n_in_entry, n_out_entry = counts.n_inputs, counts.n_in_entry, counts.n_out_entry
 
     inputs = []
-    all_type1 = True
     for k in range(1, n_inputs + 1):
         section = doc.section(f"Input{k}", promised_by=n_in_entry)
         doc.check_keys(section, {"Name", "Range", "NumMFs"}, r"MF[1-9]\d{0,8}[UL]")
-        name_entry = doc.entry(section, "Name")
-        inp_name = doc.string(name_entry)
-        universe = doc.universe(doc.entry(section, "Range"))
         n_mfs_entry = doc.entry(section, "NumMFs")
-        n_mfs = doc.integer(n_mfs_entry, minimum=1)
-        doc.check_mf_keys(section, n_mfs, n_mfs_entry, suffixes=("U", "L"))
-        sets = []
-        for j in range(1, n_mfs + 1):
-            up_v = doc.mf(doc.entry(section, f"MF{j}U"))
-            low_v = doc.mf(doc.entry(section, f"MF{j}L"))
-            upper = mf_from_matlab(doc, up_v, with_height=True)
-            lower = mf_from_matlab(doc, low_v, with_height=True)
-            if lower == upper:
-                lower = upper
-            else:
-                all_type1 = False
-            label = set_name(up_v.name, low_v.name)
-            sets.append((IT2Set(upper, lower, label), up_v.line, low_v.line))
-        inputs.append(build_input(doc, inp_name, universe, sets, name_entry.line))
+        inputs.append(_variable(
+            doc, section, n_mfs_entry, doc.integer(n_mfs_entry, minimum=1),
+            doc.universe(doc.entry(section, "Range")), doc.entry(section, "Name"), Input))
 
-    output = doc.section("Output1", promised_by=n_out_entry)
-    doc.check_keys(output, {"Name", "Range", "NumMFs", "CrispInterval"}, r"MF[1-9]\d{0,8}")
-    doc.string(doc.entry(output, "Name"))
-    if "CrispInterval" in output.entries:
-        doc.string(output.entries["CrispInterval"])
-    doc.universe(doc.entry(output, "Range"))
-    n_out_mfs_entry = doc.entry(output, "NumMFs")
-    n_out_mfs = doc.integer(n_out_mfs_entry, minimum=1)
-    doc.check_mf_keys(output, n_out_mfs, n_out_mfs_entry, suffixes=("",))
-    consequents = []
-    for j in range(1, n_out_mfs + 1):
-        mfv = doc.mf(doc.entry(output, f"MF{j}"))
-        if mfv.type != "constant":
+    outputs: list[Output] = []
+    names: list[str] = []
+    consequents: list[list[Consequent]] = []
+    for k in range(1, counts.n_outputs + 1):
+        output = doc.section(f"Output{k}", promised_by=n_out_entry)
+        n_out_mfs_entry = doc.entry(output, "NumMFs")
+        n_out_mfs = doc.integer(n_out_mfs_entry, minimum=1)
+        universe = doc.universe(doc.entry(output, "Range"))
+        if mamdani:
+            doc.check_keys(output, {"Name", "Range", "NumMFs"}, r"MF[1-9]\d{0,8}[UL]")
+            out = _variable(doc, output, n_out_mfs_entry, n_out_mfs, universe,
+                            doc.entry(output, "Name"), Output)
+            assert isinstance(out, Output)
+            outputs.append(out)
+            consequents.append([s.name for s in out.sets])
+            continue
+        doc.check_keys(output, {"Name", "Range", "NumMFs", "CrispInterval"}, r"MF[1-9]\d{0,8}")
+        names.append(doc.string(doc.entry(output, "Name")))
+        if "CrispInterval" in output.entries:
+            doc.string(output.entries["CrispInterval"])
+        doc.check_mf_keys(output, n_out_mfs, n_out_mfs_entry, suffixes=("",))
+        table: list[Consequent] = []
+        for j in range(1, n_out_mfs + 1):
+            mfv = doc.mf(doc.entry(output, f"MF{j}"))
             if mfv.type == "linear":
-                raise doc.error(mfv.line, "'linear' (first-order) consequents are not supported")
-            raise doc.error(mfv.line, f"unknown output MF type {mfv.type!r} (expected 'constant')")
-        if len(mfv.params) not in (1, 2):
-            raise doc.error(
-                mfv.line, f"'constant' needs [y_lower y_upper] (or one number), got "
-                f"{len(mfv.params)} numbers"
-            )
-        lo, hi = mfv.params[0], mfv.params[-1]
-        if lo > hi:
-            raise doc.error(mfv.line, f"consequent [{lo:g} {hi:g}] must satisfy lower <= upper")
-        consequents.append((lo, hi))
+                table.append(linear_from(doc, mfv, n_inputs, interval=True))
+                continue
+            if mfv.type != "constant":
+                raise doc.error(
+                    mfv.line, f"unknown output MF type {mfv.type!r} (expected 'constant' or "
+                    "'linear')"
+                )
+            if len(mfv.params) not in (1, 2):
+                raise doc.error(
+                    mfv.line, f"'constant' needs [y_lower y_upper] (or one number), got "
+                    f"{len(mfv.params)} numbers"
+                )
+            lo, hi = mfv.params[0], mfv.params[-1]
+            if lo > hi:
+                raise doc.error(mfv.line,
+                                f"consequent [{lo:g} {hi:g}] must satisfy lower <= upper")
+            table.append((lo, hi))
+        consequents.append(table)
 
     parsed = doc.counted_rules(counts)
     rules = build_rules(doc, parsed, inputs, consequents)
-    type1 = all_type1 and all(lo == hi for lo, hi in consequents)
-    return system_of(
-        doc, system.line, type1=type1, inputs=inputs, rules=rules, tnorm=tnorm,
-        reducer=reducer, name=name,
-    )
+    all_type1 = all(s.is_type1 for var in (*inputs, *outputs) for s in var.sets)
+    if mamdani:
+        options["outputs"] = tuple(outputs)
+        cls: type = T1Mamdani if all_type1 else IT2Mamdani
+        if cls is T1Mamdani:
+            del options["type_reduction"]
+        else:
+            options["reducer"] = reducer
+    else:
+        crisp = all(
+            (c[0] == c[1]) if isinstance(c, tuple) else (not isinstance(c, Linear) or c.crisp)
+            for table in consequents for c in table
+        )
+        cls = T1Sugeno if all_type1 and crisp else IT2Sugeno
+        if cls is IT2Sugeno:
+            options["reducer"] = reducer
+        if len(names) > 1 or names != ["output1"]:
+            options["outputs"] = tuple(names)
+    return system_of(doc, system.line, cls, inputs=tuple(inputs), rules=tuple(rules), **options)
 
 
-def dumps(system: IT2Sugeno | T1Sugeno) -> str:
+def _mf_lines(var: Input, key_what: str) -> list[str]:
+    lines = []
+    for j, s in enumerate(var.sets, start=1):
+        for suffix, mf in (("U", s.upper), ("L", s.lower)):
+            side = "upper" if suffix == "U" else "lower"
+            what = f"{key_what} {var.name!r} set {s.name!r} {side} MF"
+            kind, params = mf_to_matlab(_plain(mf), with_height=True, what=what)
+            lines.append(mf_line(f"MF{j}{suffix}", s.name + suffix, kind, params, what))
+    return lines
+
+
+def _consequent_mf(j: int, cons: Consequent) -> str:
+    if isinstance(cons, Linear):
+        lo = [*cons.lo, cons.constant_lo]
+        hi = [*cons.hi, cons.constant_hi]
+        params = lo if cons.crisp else lo + hi
+        return f"MF{j}='mf{j}':'linear',{fmt_vector(params)}"
+    assert isinstance(cons, tuple)
+    return f"MF{j}='mf{j}':'constant',[{fmt_number(cons[0])} {fmt_number(cons[1])}]"
+
+
+def dumps(system: AnySystem) -> str:
     """``.t2fis`` text for ``system``.
 
     Raises
@@ -255,7 +355,18 @@ def dumps(system: IT2Sugeno | T1Sugeno) -> str:
             f"the .t2fis format cannot carry on_zero_firing={system.on_zero_firing!r}; save as "
             ".toml or use dataclasses.replace(system, on_zero_firing=None)"
         )
-    if isinstance(system, IT2Sugeno):
+    mamdani = isinstance(system, IT2Mamdani | T1Mamdani)
+    if isinstance(system, IT2Mamdani | T1Mamdani) and system.resolution != RESOLUTION:
+        raise UnsupportedFeatureError(
+            f"the .t2fis format cannot carry resolution={system.resolution} (it means "
+            f"{RESOLUTION} points); save as .toml"
+        )
+    if isinstance(system, T1Mamdani) and system.defuzzifier is not Defuzzifier.CENTROID:
+        raise UnsupportedFeatureError(
+            f"the .t2fis format cannot carry defuzzifier={system.defuzzifier.value!r} (only "
+            "centroid type reduction); save as .fis or .toml"
+        )
+    if isinstance(system, IT2Sugeno | IT2Mamdani):
         reducer = system.reducer
         if reducer.name not in _WRITE_REDUCERS:
             raise UnsupportedFeatureError(f"reducer {reducer.name!r} has no .t2fis name")
@@ -267,21 +378,26 @@ def dumps(system: IT2Sugeno | T1Sugeno) -> str:
         method = _WRITE_REDUCERS[reducer.name]
     else:
         method = "KM"
-    table, which = consequent_table(system.rules)
-    interval = any(lo != hi for lo, hi in table)
+    if isinstance(system, IT2Mamdani | T1Mamdani):
+        imp = "min" if system.implication is Implication.MINIMUM else "prod"
+        agg = system.aggregation.value
+        defuzz = ("cos" if isinstance(system, IT2Mamdani)
+                  and system.type_reduction is TypeReduction.CENTRE_OF_SETS else "centroid")
+    else:
+        imp, agg, defuzz = "prod", "sum", "wtaver"
     lines = [
         "[System]",
         f"Name={fmt_string(system.name, 'system name')}",
-        "Type='sugeno'",
+        f"Type='{'mamdani' if mamdani else 'sugeno'}'",
         "Version=2.0",
         f"NumInputs={system.n_inputs}",
-        "NumOutputs=1",
+        f"NumOutputs={system.n_outputs}",
         f"NumRules={system.n_rules}",
         f"AndMethod='{'prod' if system.tnorm is TNorm.PRODUCT else 'min'}'",
-        "OrMethod='probor'",
-        "ImpMethod='prod'",
-        "AggMethod='sum'",
-        "DefuzzMethod='wtaver'",
+        f"OrMethod='{system.snorm.value}'",
+        f"ImpMethod='{imp}'",
+        f"AggMethod='{agg}'",
+        f"DefuzzMethod='{defuzz}'",
         f"TypeRedMethod='{method}'",
     ]
     for k, inp in enumerate(system.inputs, start=1):
@@ -292,26 +408,38 @@ def dumps(system: IT2Sugeno | T1Sugeno) -> str:
             f"Range={fmt_vector(inp.universe)}",
             f"NumMFs={len(inp.sets)}",
         ]
-        for j, s in enumerate(inp.sets, start=1):
-            for suffix, mf in (("U", s.upper), ("L", s.lower)):
-                side = "upper" if suffix == "U" else "lower"
-                what = f"input {inp.name!r} set {s.name!r} {side} MF"
-                kind, params = mf_to_matlab(_plain(mf), with_height=True, what=what)
-                lines.append(mf_line(f"MF{j}{suffix}", s.name + suffix, kind, params, what))
-    lo, hi = output_range(table, None)
-    lines += [
-        "",
-        "[Output1]",
-        "Name='output1'",
-        f"CrispInterval='{'interval' if interval else 'crisp'}'",
-        f"Range={fmt_vector((lo, hi))}",
-        f"NumMFs={len(table)}",
-    ]
-    for j, (y_lo, y_hi) in enumerate(table, start=1):
-        lines.append(f"MF{j}='mf{j}':'constant',[{fmt_number(y_lo)} {fmt_number(y_hi)}]")
+        lines += _mf_lines(inp, "input")
+    if isinstance(system, IT2Mamdani | T1Mamdani):
+        which = mamdani_indices(system)
+        for k, out in enumerate(system.outputs, start=1):
+            lines += [
+                "",
+                f"[Output{k}]",
+                f"Name={fmt_string(out.name, 'output name')}",
+                f"Range={fmt_vector(out.universe)}",
+                f"NumMFs={len(out.sets)}",
+            ]
+            lines += _mf_lines(out, "output")
+    else:
+        tables, which = consequent_tables(system)
+        for k, (out_name, table) in enumerate(zip(system.output_names, tables, strict=True),
+                                              start=1):
+            spans = sugeno_span(table)
+            interval = any(lo != hi for lo, hi in spans) or any(
+                isinstance(c, Linear) and not c.crisp for c in table)
+            lo, hi = output_range(spans, None)
+            lines += [
+                "",
+                f"[Output{k}]",
+                f"Name={fmt_string(out_name, 'output name')}",
+                f"CrispInterval='{'interval' if interval else 'crisp'}'",
+                f"Range={fmt_vector((lo, hi))}",
+                f"NumMFs={len(table)}",
+            ]
+            lines += [_consequent_mf(j, c) for j, c in enumerate(table, start=1)]
     lines += ["", "[Rules]"]
-    for rule, out in zip(system.rules, which, strict=True):
-        lines.append(fmt_rule(system, rule, out))
+    for rule, outs in zip(system.rules, which, strict=True):
+        lines.append(fmt_rule(system, rule, outs))
     return "\n".join(lines) + "\n"
 
 

@@ -6,12 +6,19 @@ the one written. Layout (the paper's IT2 controller, abridged)::
     # it2track fuzzy system; load with it2track.io.load(path)
     format = "it2track-fuzzy-system"
     version = 1
-    kind = "it2"                  # "it2" (IT2Sugeno) or "t1" (T1Sugeno)
+    kind = "it2"                  # "it2" / "t1" (IT2Sugeno / T1Sugeno),
+                                  # "it2-mamdani" / "t1-mamdani" (IT2Mamdani / T1Mamdani)
     name = "paper FLC (FoU 0.2)"
     tnorm = "product"             # or "min"
+    # snorm = "probor"            # optional, OR rules: "max" (default) or "probor"
     reducer = "exhaustive"        # it2 only: km, ekm, eiasc, exhaustive, nie-tan, wu-mendel
     # reducer_max_iter = 50       # optional, it2 only
-    # on_zero_firing = 0.0        # optional: output where no rule fires (default: error)
+    # on_zero_firing = 0.0        # optional: output where no rule fires (default: error);
+                                  # one number per output for several outputs
+    # outputs = ["u", "v"]        # Sugeno: output names (several outputs)
+    # Mamdani only: implication = "min" | "product", aggregation = "max" | "sum" | "probor",
+    # resolution = 101, type_reduction = "centroid" | "centre-of-sets" (it2),
+    # defuzzifier = "centroid" | "bisector" | "mom" | "som" | "lom" (t1)
 
     [[inputs]]
     name = "e"
@@ -26,6 +33,16 @@ the one written. Layout (the paper's IT2 controller, abridged)::
     [[rules]]
     if = { e = "N", de = "N" }    # inputs not named are not used by the rule
     then = -12.0                  # or an interval [lo, hi]
+    # not = ["de"]                # optional: negated antecedents (x is not A)
+    # connective = "or"           # optional: "and" (default) or "or"
+    # weight = 0.5                # optional, in [0, 1] (default 1)
+
+A first-order consequent is ``then = { linear = [c1, ..., cn], constant = c0 }`` (each
+coefficient a number or an interval ``[lo, hi]``); a Mamdani consequent is an output set name,
+``then = "NB"``. With several outputs ``then`` is a table by output name,
+``then = { u = -12.0, v = "low" }`` (an output left out: the rule does not act on it).
+A Mamdani system lists its outputs like its inputs, ``[[outputs]]`` with ``name``,
+``universe`` and ``[[outputs.sets]]``.
 
 Membership functions (``h``, the height, may be omitted when 1)::
 
@@ -52,23 +69,33 @@ from typing import Any
 import numpy as np
 
 from ..fuzzy import (
-    EXHAUSTIVE,
+    Aggregation,
+    Connective,
+    Defuzzifier,
     Gaussian,
+    Implication,
     Input,
+    IT2Mamdani,
     IT2Set,
     IT2Sugeno,
+    Linear,
     MembershipFunction,
+    Output,
     Reducer,
     Rule,
     ScaledLagged,
+    SNorm,
+    T1Mamdani,
     T1Sugeno,
     TNorm,
     Trapezoid,
     Triangle,
     TypeReducer,
+    TypeReduction,
     UncertainMeanGaussianLower,
     UncertainMeanGaussianUpper,
 )
+from ..fuzzy import AnySystem as System
 from .errors import FisFormatError, UnsupportedFeatureError
 
 __all__ = ["FORMAT", "VERSION", "dumps", "loads"]
@@ -87,8 +114,10 @@ _MF_TYPES: dict[str, tuple[type, tuple[str, ...]]] = {
 _MAX_DEPTH = 8
 _TOP_KEYS = {
     "format", "version", "kind", "name", "tnorm", "reducer", "reducer_max_iter",
-    "on_zero_firing", "inputs", "rules",
+    "on_zero_firing", "inputs", "rules", "snorm", "outputs", "implication", "aggregation",
+    "resolution", "type_reduction", "defuzzifier",
 }
+_KINDS = {"it2": IT2Sugeno, "t1": T1Sugeno, "it2-mamdani": IT2Mamdani, "t1-mamdani": T1Mamdani}
 
 
 # ---------------------------------------------------------------------------------------------
@@ -171,7 +200,39 @@ def _known_reducer(reducer: TypeReducer) -> TypeReducer:
     return known
 
 
-def dumps(system: IT2Sugeno | T1Sugeno) -> str:
+def _sets_lines(var: Input, header: str) -> list[str]:
+    lines = []
+    kind = type(var).__name__.lower()
+    for s in var.sets:
+        what = f"{kind} {var.name!r} set {s.name!r}"
+        lines += ["", f"[[{header}.sets]]", f"name = {_toml_string(s.name)}"]
+        if s.lower is s.upper or s.lower == s.upper:
+            table = _mf_table(s.upper, of=None, what=f"{what} MF")
+            lines.append(f"mf = {_toml_value(table)}")
+        else:
+            upper = _mf_table(s.upper, of=None, what=f"{what} upper MF")
+            lower = _mf_table(s.lower, of=s.upper, what=f"{what} lower MF")
+            lines += [f"upper = {_toml_value(upper)}", f"lower = {_toml_value(lower)}"]
+    return lines
+
+
+def _pair(lo: float, hi: float) -> object:
+    return float(lo) if _same(lo, hi) else [float(lo), float(hi)]
+
+
+def _then_value(cons: object) -> object:
+    if isinstance(cons, str):
+        return cons
+    if isinstance(cons, Linear):
+        return {
+            "linear": [_pair(a, b) for a, b in zip(cons.lo, cons.hi, strict=True)],
+            "constant": _pair(cons.constant_lo, cons.constant_hi),
+        }
+    assert isinstance(cons, tuple)
+    return _pair(*cons)
+
+
+def dumps(system: System) -> str:
     """TOML text for ``system`` (see the module docstring for the layout).
 
     Raises
@@ -179,24 +240,42 @@ def dumps(system: IT2Sugeno | T1Sugeno) -> str:
     UnsupportedFeatureError
         For membership functions of classes the format does not know, or an unknown reducer.
     """
-    if not isinstance(system, IT2Sugeno | T1Sugeno):
-        raise TypeError(f"can only write IT2Sugeno or T1Sugeno systems, got {type(system)}")
-    it2 = isinstance(system, IT2Sugeno)
+    kind = next((k for k, cls in _KINDS.items() if type(system) is cls), None)
+    if kind is None:
+        raise TypeError(f"can only write IT2Sugeno, T1Sugeno, IT2Mamdani or T1Mamdani systems, "
+                        f"got {type(system)}")
+    mamdani = isinstance(system, IT2Mamdani | T1Mamdani)
     lines = [
         "# it2track fuzzy system; load with it2track.io.load(path)",
         f"format = {_toml_string(FORMAT)}",
         f"version = {VERSION}",
-        f'kind = "{"it2" if it2 else "t1"}"',
+        f'kind = "{kind}"',
         f"name = {_toml_string(system.name)}",
         f"tnorm = {_toml_string(system.tnorm.value)}",
     ]
-    if isinstance(system, IT2Sugeno):
+    if system.snorm is not SNorm.MAXIMUM:
+        lines.append(f"snorm = {_toml_string(system.snorm.value)}")
+    if isinstance(system, IT2Sugeno | IT2Mamdani):
         known = _known_reducer(system.reducer)
         lines.append(f"reducer = {_toml_string(known.name)}")
         if system.reducer.max_iter != known.max_iter:
             lines.append(f"reducer_max_iter = {int(system.reducer.max_iter)}")  # type: ignore[arg-type]
+    if isinstance(system, IT2Mamdani | T1Mamdani):
+        lines += [
+            f"implication = {_toml_string(system.implication.value)}",
+            f"aggregation = {_toml_string(system.aggregation.value)}",
+            f"resolution = {int(system.resolution)}",
+        ]
+    if isinstance(system, IT2Mamdani):
+        lines.append(f"type_reduction = {_toml_string(system.type_reduction.value)}")
+    if isinstance(system, T1Mamdani):
+        lines.append(f"defuzzifier = {_toml_string(system.defuzzifier.value)}")
     if system.on_zero_firing is not None:
-        lines.append(f"on_zero_firing = {_toml_value(system.zero_firing_value(0))}")
+        zero = system.on_zero_firing
+        value = float(zero) if isinstance(zero, int | float) else [float(v) for v in zero]
+        lines.append(f"on_zero_firing = {_toml_value(value)}")
+    if not mamdani and system.outputs:
+        lines.append(f"outputs = {_toml_value(list(system.outputs))}")
     for inp in system.inputs:
         lines += [
             "",
@@ -204,30 +283,39 @@ def dumps(system: IT2Sugeno | T1Sugeno) -> str:
             f"name = {_toml_string(inp.name)}",
             f"universe = {_toml_value([float(v) for v in inp.universe])}",
         ]
-        for s in inp.sets:
-            what = f"input {inp.name!r} set {s.name!r}"
-            lines += ["", "[[inputs.sets]]", f"name = {_toml_string(s.name)}"]
-            if s.lower is s.upper or s.lower == s.upper:
-                table = _mf_table(s.upper, of=None, what=f"{what} MF")
-                lines.append(f"mf = {_toml_value(table)}")
-            else:
-                upper = _mf_table(s.upper, of=None, what=f"{what} upper MF")
-                lower = _mf_table(s.lower, of=s.upper, what=f"{what} lower MF")
-                lines += [f"upper = {_toml_value(upper)}", f"lower = {_toml_value(lower)}"]
+        lines += _sets_lines(inp, "inputs")
+    if isinstance(system, IT2Mamdani | T1Mamdani):
+        for out in system.outputs:
+            lines += [
+                "",
+                "[[outputs]]",
+                f"name = {_toml_string(out.name)}",
+                f"universe = {_toml_value([float(v) for v in out.universe])}",
+            ]
+            lines += _sets_lines(out, "outputs")
+    names = system.output_names
     for rule in system.rules:
         antecedent = {
             inp.name: label
             for inp, label in zip(system.inputs, rule.antecedent, strict=True)
             if label is not None
         }
-        cons = rule.consequent
-        if not isinstance(cons, tuple) or not rule.plain or len(rule.consequents) != 1:
-            raise UnsupportedFeatureError(
-                f"rule {rule!r} uses a rule feature this writer cannot carry"
-            )
-        lo, hi = (float(v) for v in cons)
-        then = _toml_value(lo) if _same(lo, hi) else _toml_value([lo, hi])
-        lines += ["", "[[rules]]", f"if = {_toml_value(antecedent)}", f"then = {then}"]
+        if system.n_outputs == 1:
+            then = _toml_value(_then_value(rule.consequent))
+        else:
+            then = _toml_value({
+                name: _then_value(c)
+                for name, c in zip(names, rule.consequents, strict=True) if c is not None
+            })
+        lines += ["", "[[rules]]", f"if = {_toml_value(antecedent)}"]
+        negated = [inp.name for inp, neg in zip(system.inputs, rule.negated, strict=True) if neg]
+        if negated:
+            lines.append(f"not = {_toml_value(negated)}")
+        if rule.connective is not Connective.AND:
+            lines.append(f"connective = {_toml_string(rule.connective.value)}")
+        if rule.weight != 1.0:
+            lines.append(f"weight = {_toml_value(rule.weight)}")
+        lines.append(f"then = {then}")
     return "\n".join(lines) + "\n"
 
 
@@ -445,9 +533,40 @@ class _Reader:
                 raise self.error((*set_where, key), text) from None
         return self.guarded(where, lambda: Input(name, universe, sets))
 
-    def rule(self, value: object, where: Sequence[str | int], inputs: Sequence[Input]) -> Rule:
+    def output(self, value: object, where: Sequence[str | int]) -> Output:
+        inp = self.input(value, where)
+        return self.guarded(where, lambda: Output(inp.name, inp.universe, inp.sets))
+
+    def pair(self, value: object, where: Sequence[str | int]) -> float | tuple[float, float]:
+        if isinstance(value, list):
+            if len(value) != 2:
+                raise self.error(where, "expected a number or an interval [lo, hi]")
+            lo, hi = self.number(value[0], where), self.number(value[1], where)
+            if lo > hi:
+                raise self.error(where, f"interval [{lo}, {hi}] must satisfy lo <= hi")
+            return lo, hi
+        return self.number(value, where)
+
+    def consequent(self, value: object, where: Sequence[str | int], *, mamdani: bool,
+                   n_inputs: int) -> object:
+        if mamdani:
+            return self.string(value, where)
+        if isinstance(value, dict):
+            self.keys(value, {"linear", "constant"}, {"linear", "constant"}, where)
+            coef_v = self.array(value["linear"], (*where, "linear"))
+            if len(coef_v) != n_inputs:
+                raise self.error((*where, "linear"),
+                                 f"needs {n_inputs} coefficients (one per input), got "
+                                 f"{len(coef_v)}")
+            coefs = [self.pair(c, (*where, "linear")) for c in coef_v]
+            const = self.pair(value["constant"], (*where, "constant"))
+            return self.guarded(where, lambda: Linear(coefs, const))
+        return self.pair(value, where)
+
+    def rule(self, value: object, where: Sequence[str | int], inputs: Sequence[Input], *,
+             outputs: Sequence[str], mamdani: bool) -> Rule:
         table = self.table(value, where)
-        self.keys(table, {"if", "then"}, {"if", "then"}, where)
+        self.keys(table, {"if", "then", "not", "connective", "weight"}, {"if", "then"}, where)
         antecedent_v = self.table(table["if"], (*where, "if"))
         by_name = {inp.name: inp for inp in inputs}
         for input_name, label in antecedent_v.items():
@@ -466,17 +585,35 @@ class _Reader:
         if not antecedent_v:
             raise self.error((*where, "if"), "a rule needs at least one antecedent")
         antecedent = [antecedent_v.get(inp.name) for inp in inputs]
+        negated = [False] * len(inputs)
+        if "not" in table:
+            for item in self.array(table["not"], (*where, "not")):
+                name = self.string(item, (*where, "not"))
+                if name not in antecedent_v:
+                    raise self.error((*where, "not"),
+                                     f"{name!r} is not an input this rule mentions")
+                negated[[inp.name for inp in inputs].index(name)] = True
+        connective = "and"
+        if "connective" in table:
+            connective = self.string(table["connective"], (*where, "connective"))
+        weight = 1.0
+        if "weight" in table:
+            weight = self.number(table["weight"], (*where, "weight"))
         then = table["then"]
-        if isinstance(then, list):
-            if len(then) != 2:
-                raise self.error((*where, "then"), "expected a number or an interval [lo, hi]")
-            consequent: float | tuple[float, float] = (
-                self.number(then[0], (*where, "then")),
-                self.number(then[1], (*where, "then")),
-            )
+        n_in = len(inputs)
+        if len(outputs) == 1:
+            cons = [self.consequent(then, (*where, "then"), mamdani=mamdani, n_inputs=n_in)]
         else:
-            consequent = self.number(then, (*where, "then"))
-        return self.guarded((*where, "then"), lambda: Rule(antecedent, consequent))
+            then_t = self.table(then, (*where, "then"))
+            for key in then_t:
+                if key not in outputs:
+                    raise self.error((*where, "then"),
+                                     f"unknown output {key!r} (outputs: {list(outputs)})")
+            cons = [None if name not in then_t else
+                    self.consequent(then_t[name], (*where, "then"), mamdani=mamdani, n_inputs=n_in)
+                    for name in outputs]
+        return self.guarded(where, lambda: Rule(antecedent, consequents=cons, weight=weight,
+                                                connective=connective, negated=negated))
 
 
 def _kind(value: object) -> str:
@@ -487,7 +624,7 @@ def _kind(value: object) -> str:
 _DECODE_LINE_RE = re.compile(r"\(at line (\d+), column \d+\)")
 
 
-def loads(text: str, path: str = "<string>") -> IT2Sugeno | T1Sugeno:
+def loads(text: str, path: str = "<string>") -> System:
     """Parse it2track TOML text into a system.
 
     Raises
@@ -513,30 +650,58 @@ def loads(text: str, path: str = "<string>") -> IT2Sugeno | T1Sugeno:
     if isinstance(version, bool) or version != VERSION:
         raise reader.error(("version",), f"version={version!r} is not supported (only {VERSION})")
     kind = reader.string(data["kind"], ("kind",))
-    if kind not in ("it2", "t1"):
-        raise reader.error(("kind",), f"kind={kind!r} must be 'it2' or 't1'")
+    if kind not in _KINDS:
+        raise reader.error(("kind",), f"kind={kind!r} must be 'it2' or 't1' (Sugeno), "
+                           "'it2-mamdani' or 't1-mamdani'")
+    mamdani = kind.endswith("mamdani")
+    it2 = kind.startswith("it2")
     name = reader.string(data.get("name", ""), ("name",))
-    tnorm = TNorm.PRODUCT
-    if "tnorm" in data:
-        tnorm_name = reader.string(data["tnorm"], ("tnorm",))
-        tnorm = reader.guarded(("tnorm",), lambda: TNorm.from_name(tnorm_name))
-    on_zero = None
+    options: dict[str, Any] = {"name": name}
+
+    def enum_key(key: str, lookup: Callable[[str], Any], allowed: bool) -> None:
+        if key not in data:
+            return
+        if not allowed:
+            raise reader.error((key,), f"{key!r} does not apply to kind = {kind!r}")
+        text = reader.string(data[key], (key,))
+        options[key] = reader.guarded((key,), lambda: lookup(text))
+
+    enum_key("tnorm", TNorm.from_name, True)
+    enum_key("snorm", SNorm.from_name, True)
+    enum_key("implication", Implication.from_name, mamdani)
+    enum_key("aggregation", Aggregation.from_name, mamdani)
+    enum_key("type_reduction", TypeReduction.from_name, kind == "it2-mamdani")
+    enum_key("defuzzifier", Defuzzifier.from_name, kind == "t1-mamdani")
+    if "resolution" in data:
+        if not mamdani:
+            raise reader.error(("resolution",), f"'resolution' does not apply to kind = {kind!r}")
+        resolution = data["resolution"]
+        if isinstance(resolution, bool) or not isinstance(resolution, int):
+            raise reader.error(("resolution",), f"{resolution!r} must be an integer")
+        options["resolution"] = resolution
     if "on_zero_firing" in data:
-        on_zero = reader.number(data["on_zero_firing"], ("on_zero_firing",))
-    reducer: TypeReducer = EXHAUSTIVE
-    if kind == "t1":
+        zero = data["on_zero_firing"]
+        if isinstance(zero, list):
+            options["on_zero_firing"] = tuple(
+                reader.number(v, ("on_zero_firing",)) for v in zero)
+        else:
+            options["on_zero_firing"] = reader.number(zero, ("on_zero_firing",))
+    if not it2:
         for key in ("reducer", "reducer_max_iter"):
             if key in data:
-                raise reader.error((key,), f"{key!r} applies only to kind = 'it2'")
+                raise reader.error((key,), f"{key!r} applies only to kind = 'it2' or "
+                                   "'it2-mamdani'")
     else:
         reducer_name = reader.string(data.get("reducer", "exhaustive"), ("reducer",))
-        reducer = reader.guarded(("reducer",), lambda: Reducer.from_name(reducer_name).value)
+        reducer: TypeReducer = reader.guarded(
+            ("reducer",), lambda: Reducer.from_name(reducer_name).value)
         if "reducer_max_iter" in data:
             max_iter = data["reducer_max_iter"]
             if isinstance(max_iter, bool) or not isinstance(max_iter, int) or max_iter < 1:
                 raise reader.error(("reducer_max_iter",),
                                    f"{max_iter!r} must be a positive integer")
             reducer = reducer.with_max_iter(max_iter)
+        options["reducer"] = reducer
     inputs_v = reader.array(data["inputs"], ("inputs",))
     if not inputs_v:
         raise reader.error(("inputs",), "a system needs at least one input")
@@ -545,16 +710,30 @@ def loads(text: str, path: str = "<string>") -> IT2Sugeno | T1Sugeno:
     for i, inp_name in enumerate(names):
         if names.index(inp_name) != i:
             raise reader.error(("inputs", i, "name"), f"duplicate input name {inp_name!r}")
+    output_names: list[str] = []
+    if mamdani:
+        if "outputs" not in data:
+            raise reader.error((), "a Mamdani system needs [[outputs]]")
+        outputs_v = reader.array(data["outputs"], ("outputs",))
+        if not outputs_v:
+            raise reader.error(("outputs",), "a Mamdani system needs at least one output")
+        outputs = [reader.output(v, ("outputs", i)) for i, v in enumerate(outputs_v)]
+        options["outputs"] = tuple(outputs)
+        output_names = [o.name for o in outputs]
+    elif "outputs" in data:
+        output_names = [reader.string(v, ("outputs",))
+                        for v in reader.array(data["outputs"], ("outputs",))]
+        options["outputs"] = tuple(output_names)
+    if not output_names:
+        output_names = ["output1"]
     rules_v = reader.array(data["rules"], ("rules",))
     if not rules_v:
         raise reader.error(("rules",), "a system needs at least one rule")
-    rules = [reader.rule(v, ("rules", k), inputs) for k, v in enumerate(rules_v)]
+    rules = [reader.rule(v, ("rules", k), inputs, outputs=output_names, mamdani=mamdani)
+             for k, v in enumerate(rules_v)]
 
-    def build() -> IT2Sugeno | T1Sugeno:
-        if kind == "t1":
-            return T1Sugeno(inputs=tuple(inputs), rules=tuple(rules), tnorm=tnorm,
-                            on_zero_firing=on_zero, name=name)
-        return IT2Sugeno(inputs=tuple(inputs), rules=tuple(rules), tnorm=tnorm, reducer=reducer,
-                         on_zero_firing=on_zero, name=name)
+    def build() -> System:
+        system: System = _KINDS[kind](inputs=tuple(inputs), rules=tuple(rules), **options)
+        return system
 
     return reader.guarded((), build)

@@ -27,11 +27,11 @@ from numpy.typing import NDArray
 
 from .._limits import check_memory, fuzzy_batch_bytes
 from ..atomicfile import atomic_open
-from ..fuzzy import IT2Sugeno, T1Sugeno, ZeroFiringError
+from ..fuzzy import AnySystem, ZeroFiringError
 
 __all__ = ["plot_control_surface", "plot_footprints", "plot_system", "surface_grid"]
 
-FuzzySystem = IT2Sugeno | T1Sugeno
+FuzzySystem = AnySystem  # Sugeno, TSK or Mamdani (one output: see select_output)
 PathLike = str | os.PathLike[str]
 
 
