@@ -5,7 +5,9 @@ suffix      format
 ==========  ===================================================================================
 ``.toml``   it2track's own TOML (:mod:`.tomlfmt`): readable, exact for every system we build
 ``.t2fis``  the IT2FLS MATLAB toolbox of Taskin & Kumbasar (:mod:`.t2fis`)
-``.fis``    MATLAB's Fuzzy Logic Toolbox: type-1 Sugeno; type-2 in our layout (:mod:`.matfis`)
+``.fis``    MATLAB's Fuzzy Logic Toolbox: Sugeno and Mamdani; type-2 in our layout
+            (:mod:`.matfis`)
+``.fcl``    Fuzzy Control Language, IEC 61131-7 (:mod:`.fcl`): type-1, read only
 ==========  ===================================================================================
 
 >>> import it2track
@@ -33,7 +35,7 @@ from pathlib import Path
 from .._files import InputFileError, decode_text, read_bytes, refuse_binary
 from ..atomicfile import atomic_write_text
 from ..fuzzy import AnySystem
-from . import matfis, t2fis, tomlfmt
+from . import fcl, matfis, t2fis, tomlfmt
 from ._matlab import decode
 from .errors import FisFormatError, UnsupportedFeatureError
 
@@ -51,16 +53,25 @@ __all__ = [
 _Loader = Callable[[str, str], AnySystem]
 _Dumper = Callable[[AnySystem], str]
 
+
+
+def _fcl_dumps(system: AnySystem) -> str:
+    raise UnsupportedFeatureError(
+        "it2track reads FCL (IEC 61131-7) but does not write it; save as .toml, .fis or .t2fis"
+    )
+
+
 #: format name -> (file suffix, loads, dumps)
 FORMATS: dict[str, tuple[str, _Loader, _Dumper]] = {
     "toml": (".toml", tomlfmt.loads, tomlfmt.dumps),
     "t2fis": (".t2fis", t2fis.loads, t2fis.dumps),
     "fis": (".fis", matfis.loads, matfis.dumps),
+    "fcl": (".fcl", fcl.loads, _fcl_dumps),
 }
 
 
 def format_of(path: str | os.PathLike[str]) -> str:
-    """The format name (``"toml"``, ``"t2fis"``, ``"fis"``) for a path's suffix.
+    """The format name (``"toml"``, ``"t2fis"``, ``"fis"``, ``"fcl"``) for a path's suffix.
 
     Raises
     ------
@@ -83,7 +94,7 @@ def _format(fmt: str) -> tuple[str, _Loader, _Dumper]:
 
 
 def loads(text: str, fmt: str, *, path: str = "<string>") -> AnySystem:
-    """Parse ``text`` in format ``fmt`` (``"toml"``, ``"t2fis"`` or ``"fis"``).
+    """Parse ``text`` in format ``fmt`` (``"toml"``, ``"t2fis"``, ``"fis"`` or ``"fcl"``).
 
     ``path`` only labels error messages.
     """
@@ -106,7 +117,7 @@ def load(path: str | os.PathLike[str]) -> AnySystem:
 
     Returns
     -------
-    IT2Sugeno or T1Sugeno
+    IT2Sugeno, T1Sugeno, IT2Mamdani or T1Mamdani
         Evaluate as ``system(x1, x2, ...)``.
 
     Raises

@@ -141,10 +141,10 @@ class _Parser:
     def _tokens(self, text: str) -> Iterator[_Tok]:
         line, pos = 1, 0
         while pos < len(text):
+            if text.startswith("(*", pos) and "*)" not in text[pos + 2 :]:
+                raise self.error(line, "unterminated comment (* ... *)")
             m = _TOKEN.match(text, pos)
             if m is None:
-                if text.startswith("(*", pos):
-                    raise self.error(line, "unterminated comment (* ... *)")
                 raise self.error(line, f"unexpected character {text[pos]!r}")
             kind = m.lastgroup
             assert kind is not None
