@@ -41,6 +41,7 @@ from .errors import FisFormatError, UnsupportedFeatureError
 
 __all__ = [
     "FORMATS",
+    "READ_ONLY",
     "FisFormatError",
     "UnsupportedFeatureError",
     "dumps",
@@ -54,20 +55,31 @@ _Loader = Callable[[str, str], AnySystem]
 _Dumper = Callable[[AnySystem], str]
 
 
-
-def _fcl_dumps(system: AnySystem) -> str:
-    raise UnsupportedFeatureError(
-        "it2track reads FCL (IEC 61131-7) but does not write it; save as .toml, .fis or .t2fis"
-    )
-
-
-#: format name -> (file suffix, loads, dumps)
+#: format name -> (file suffix, loads, dumps): the formats it2track reads and writes
 FORMATS: dict[str, tuple[str, _Loader, _Dumper]] = {
     "toml": (".toml", tomlfmt.loads, tomlfmt.dumps),
     "t2fis": (".t2fis", t2fis.loads, t2fis.dumps),
     "fis": (".fis", matfis.loads, matfis.dumps),
-    "fcl": (".fcl", fcl.loads, _fcl_dumps),
 }
+#: format name -> (file suffix, loads): the formats it2track only reads
+READ_ONLY: dict[str, tuple[str, _Loader]] = {
+    "fcl": (".fcl", fcl.loads),
+}
+
+
+def _loader(name: str) -> _Loader:
+    return READ_ONLY[name][1] if name in READ_ONLY else FORMATS[name][1]
+
+
+def _dumper(name: str) -> _Dumper:
+    if name in READ_ONLY:
+        def refuse(system: AnySystem) -> str:
+            raise UnsupportedFeatureError(
+                f"it2track reads {name.upper()} but does not write it; save as .toml, .fis or "
+                ".t2fis"
+            )
+        return refuse
+    return FORMATS[name][2]
 
 
 def format_of(path: str | os.PathLike[str]) -> str:
@@ -79,18 +91,22 @@ def format_of(path: str | os.PathLike[str]) -> str:
         For any other suffix.
     """
     suffix = Path(path).suffix.lower()
-    for name, (fmt_suffix, _, _) in FORMATS.items():
+    for name, (fmt_suffix, *_) in (*FORMATS.items(), *READ_ONLY.items()):
         if suffix == fmt_suffix:
             return name
-    known = ", ".join(s for s, _, _ in FORMATS.values())
+    known = ", ".join([v[0] for v in FORMATS.values()] + [v[0] for v in READ_ONLY.values()])
     raise ValueError(f"{os.fspath(path)}: unknown fuzzy-system file suffix {suffix!r} ({known})")
 
 
 def _format(fmt: str) -> tuple[str, _Loader, _Dumper]:
+    name = fmt.lower().lstrip(".")
+    if name in READ_ONLY:
+        return READ_ONLY[name][0], _loader(name), _dumper(name)
     try:
-        return FORMATS[fmt.lower().lstrip(".")]
+        return FORMATS[name]
     except KeyError:
-        raise ValueError(f"unknown format {fmt!r}; choose one of {sorted(FORMATS)}") from None
+        known = sorted([*FORMATS, *READ_ONLY])
+        raise ValueError(f"unknown format {fmt!r}; choose one of {known}") from None
 
 
 def loads(text: str, fmt: str, *, path: str = "<string>") -> AnySystem:
@@ -143,7 +159,7 @@ def load(path: str | os.PathLike[str]) -> AnySystem:
             text = decode(data)  # UTF-8, else Latin-1 (MATLAB files)
     except InputFileError as exc:
         raise FisFormatError(label, exc.line, exc.problem) from None
-    return FORMATS[name][1](text, label)
+    return _loader(name)(text, label)
 
 
 def save(system: AnySystem, path: str | os.PathLike[str]) -> None:
@@ -156,5 +172,5 @@ def save(system: AnySystem, path: str | os.PathLike[str]) -> None:
     ValueError
         For an unknown suffix.
     """
-    text = FORMATS[format_of(path)][2](system)
+    text = _dumper(format_of(path))(system)
     atomic_write_text(path, text)
