@@ -124,6 +124,13 @@ class MamdaniTables:
     ``"mamdani"`` (besides the antecedents' features), and a ``MamdaniTables`` is not a
     :class:`~it2track.fuzzy.tables.SystemTables`.
 
+    Parameters
+    ----------
+    system : IT2Mamdani or T1Mamdani
+        The system to lower.
+    centroid_reducer : TypeReducer
+        Exact reducer for the output sets' centroid intervals.
+
     Attributes
     ----------
     antecedents : SystemTables
@@ -422,9 +429,27 @@ class IT2Mamdani(_MamdaniBase):
 class T1Mamdani(_MamdaniBase):
     """Type-1 Mamdani system: aggregated output set on a grid, then a defuzzifier.
 
-    Parameters as :class:`IT2Mamdani` (every set type-1), with ``defuzzifier`` instead of the
-    reducer: :class:`~it2track.fuzzy.norms.Defuzzifier` (default ``CENTROID``). The defaults
-    (min, max, min, max, centroid, 101 points) are MATLAB's ``mamfis``.
+    The defaults (min, max, min, max, centroid, 101 points) are MATLAB's ``mamfis``.
+
+    Parameters
+    ----------
+    inputs : sequence of Input
+        Every set type-1.
+    outputs : sequence of Output
+        Every set type-1.
+    rules : sequence of Rule
+        Consequents are output set labels.
+    tnorm, snorm : TNorm, SNorm
+        AND / OR of the antecedents (default min / max).
+    implication, aggregation : Implication, Aggregation
+        Default min / max.
+    defuzzifier : Defuzzifier
+        Default ``Defuzzifier.CENTROID``.
+    resolution : int
+        Output grid points (default 101).
+    on_zero_firing : float, tuple of float or None
+        Output where no rule fires; ``None`` (default) raises ``ZeroFiringError``.
+    name : str
 
     Examples
     --------
@@ -468,7 +493,7 @@ class T1Mamdani(_MamdaniBase):
 def defuzzify(mu: FloatArray, y: FloatArray, method: Defuzzifier) -> FloatArray:
     """Defuzzify sets sampled on a grid: ``mu`` ``(J, N)``, ``y`` ``(J,)`` -> ``(N,)``.
 
-    NaN where a set is zero everywhere (no output). See :class:`Defuzzifier`.
+    NaN where a set is zero everywhere (no output). ``method`` is a :class:`Defuzzifier`.
 
     Examples
     --------
