@@ -128,6 +128,20 @@ def _cases() -> list[Case]:
     add("robot-negative-radius", lambda p: RobotParams(wheel_radius=-1), ValueError,
         "wheel_radius", "-1")
     add("robot-motor-str", lambda p: RobotParams(motor="x"), ValueError, "motor", "'x'")
+    add("robot-tiny-track", lambda p: RobotParams(half_track=1e-300), ValueError,
+        "half_track=1e-300", "overflow")
+    add("robot-huge-wheel", lambda p: RobotParams(wheel_radius=1e300), ValueError,
+        "wheel_radius=1e+300", "[1e-06, 1e+06]")
+    # Used to hang: the exact discretisation's panel count grows with ts * R / L.
+    add("loop-inductance-1e-300",
+        lambda p: LoopConfig(robot=RobotParams(motor=MotorParams(inductance=1e-300))),
+        ValueError, "inductance=1e-300", "ts=0.01", "shorten ts")
+    add("loop-inertia-1e-12",
+        lambda p: LoopConfig(robot=RobotParams(motor=MotorParams(inertia=1e-12))),
+        ValueError, "inertia=1e-12")
+    add("drive-resistance-1e300",
+        lambda p: DifferentialDrive(RobotParams(motor=MotorParams(resistance=1e300)), 0.01),
+        ValueError, "resistance=1e+300")
     add("drive-zero-ts", lambda p: DifferentialDrive(RobotParams(), 0.0), ValueError,
         "ts", "0.0")
     add("drive-million-nodes",

@@ -84,6 +84,8 @@ for _loader in ("sweep", "optimize", "study"):
          "quadrature_nodes=1000000", "[1, 64]")
     case(f"{_loader}-motor-negative", _loader, ("", "[robot.motor]\nresistance = -5.0"),
          "resistance", "-5.0")
+    case(f"{_loader}-inductance-1e-300", _loader, ("", "[robot.motor]\ninductance = 1e-300"),
+         "inductance=1e-300", "shorten ts")
     case(f"{_loader}-robot-string", _loader, ("", "[robot]\nhalf_track = \"wide\""),
          "half_track", "'wide'")
     case(f"{_loader}-start-pose", _loader, ("", "[simulation]\nstart_pose = [0, 0]")

@@ -668,6 +668,12 @@ class SweepPlan:
             value = getattr(self, key)
             if isinstance(value, bool) or not isinstance(value, int) or value < 1:
                 raise ValueError(f"SweepPlan.{key}={value!r} must be an integer >= 1")
+        for group in range(len(self.robots)):  # each plant set with the simulation settings
+            try:
+                self.group_config(group)
+            except ValueError as exc:
+                raise ValueError(f"plant set {group} ([robot] values of run group {group}): "
+                                 f"{exc}") from None
         self._check_memory()
 
     def _check_memory(self) -> None:

@@ -35,17 +35,26 @@ from numpy.typing import ArrayLike, NDArray
 from .motor import MotorParams, _check_period
 
 __all__ = [
+    "GEOMETRY_RANGE",
+    "MAX_PANELS",
     "MAX_QUADRATURE_NODES",
     "DifferentialDrive",
     "RobotParams",
     "body_velocity",
+    "check_stiffness",
     "continuous_rhs",
+    "discretisation_panels",
 ]
 
 #: Most quadrature nodes per period. The product rule is exact for polynomial headings of
 #: degree < n and already at rounding level with a handful (4 is the default); the
 #: precomputation costs O(n^2) time and memory, so a million nodes would need terabytes.
 MAX_QUADRATURE_NODES = 64
+
+
+#: Range of ``half_track`` and ``wheel_radius`` accepted, m: from a micrometre to a thousand
+#: kilometres. Outside it the turn rate ``r / (2 l)`` or the speed ``r omega`` overflows.
+GEOMETRY_RANGE = (1e-6, 1e6)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -66,7 +75,8 @@ class RobotParams:
     ------
     ValueError
         If ``motor`` is not a :class:`MotorParams`, or ``half_track`` or ``wheel_radius``
-        is not a finite real number > 0; the message names the field and value.
+        is not a real number in ``[1e-6, 1e6]`` m (:data:`GEOMETRY_RANGE`); the message names
+        the field and value.
     """
 
     motor: MotorParams = field(default_factory=MotorParams)
@@ -83,6 +93,12 @@ class RobotParams:
             value = float(value)
             if not (math.isfinite(value) and value > 0.0):
                 raise ValueError(f"{name} must be finite and > 0, got {value!r}")
+            if not GEOMETRY_RANGE[0] <= value <= GEOMETRY_RANGE[1]:
+                raise ValueError(
+                    f"{name}={value!r} m is outside [{GEOMETRY_RANGE[0]:g}, "
+                    f"{GEOMETRY_RANGE[1]:g}] m (no robot is that size, and the kinematics "
+                    "would overflow)"
+                )
             object.__setattr__(self, name, value)
 
 
@@ -174,6 +190,43 @@ def _augmented_motor_matrix(motor: MotorParams) -> NDArray[np.float64]:
     m[:2, 4] = b
     m[2:4, :2] = np.eye(2)
     return m
+
+
+#: Most integration panels the exact discretisation may need per period (about 1 ms each):
+#: the panel count is ``ts`` times the motor's fastest rate, so an absurdly fast electrical
+#: pole (``inductance = 1e-300``) would otherwise never finish.
+MAX_PANELS = 20_000
+
+
+def discretisation_panels(params: RobotParams, ts: float) -> float:
+    """Panels :func:`_product_weights` uses for ``params`` at period ``ts``: the 1-norm of the
+    motor generator times ``ts`` (about ``ts * (R + K) / L``), rounded up."""
+    gen = _augmented_motor_matrix(params.motor)[[0, 1, 4]][:, [0, 1, 4]]
+    with np.errstate(over="ignore", invalid="ignore"):
+        norm = float(np.linalg.norm(gen * float(ts), 1))
+    return math.ceil(norm) if math.isfinite(norm) else math.inf
+
+
+def check_stiffness(params: RobotParams, ts: float) -> None:
+    """Refuse motor parameters whose time constants are so short against ``ts`` that the
+    exact discretisation could not be computed in reasonable time (or at all).
+
+    Raises
+    ------
+    ValueError
+        Naming the motor parameters, ``ts`` and the limit.
+    """
+    panels = discretisation_panels(params, ts)
+    if panels > MAX_PANELS:
+        m = params.motor
+        raise ValueError(
+            f"motor resistance={m.resistance!r}, inductance={m.inductance!r}, "
+            f"inertia={m.inertia!r}, friction={m.friction!r}, "
+            f"torque_constant={m.torque_constant!r} with ts={ts!r}: the motor's fastest rate "
+            f"times the period is about {panels:.3g}, more than the {MAX_PANELS} the exact "
+            "discretisation can integrate; check these values (e.g. an inductance far too "
+            "small) or shorten ts"
+        )
 
 
 def _product_weights(
@@ -470,6 +523,7 @@ class DifferentialDrive:
         r = params.wheel_radius
         turn = r / (2.0 * params.half_track)  # heading change per (rad of wheel difference)
         gen = _augmented_motor_matrix(params.motor)  # state (i, w, int i, int w, V)
+        check_stiffness(params, ts)
 
         # One period: wheel state (exact ZOH) and heading increment (exact).
         e = scipy.linalg.expm(gen * ts)

@@ -44,7 +44,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from .._limits import ResourceLimitError, check_memory, loop_bytes
 from ..plant import DifferentialDrive, RobotParams, held_sample_index, standard_noise
-from ..plant.drive import MAX_QUADRATURE_NODES
+from ..plant.drive import MAX_QUADRATURE_NODES, check_stiffness
 from ..plant.noise import MAX_NOISE_STD
 from . import compiled as _compiled
 from .controllers import HeadingController
@@ -228,6 +228,7 @@ class LoopConfig:
         if not isinstance(self.robot, RobotParams):
             raise ValueError(f"LoopConfig.robot={self.robot!r} must be a RobotParams")
         self._check_memory()
+        check_stiffness(self.robot, self.ts)  # the plant's precomputation must terminate
 
     def _check_memory(self) -> None:
         """One run of this config must fit in memory (the arrays grow with duration/ts and
