@@ -109,6 +109,11 @@ class ControllerSpec:
                 raise ValueError(f"controller {key}={value!r} must be a number")
             if not math.isfinite(value):
                 raise ValueError(f"controller {key}={value!r} must be finite")
+            if abs(value) > 1e6:
+                raise ValueError(
+                    f"controller {key}={value!r} exceeds 1e6 in magnitude (such a controller "
+                    "is bang-bang, and its arithmetic could overflow)"
+                )
         if not 0.0 <= self.fou < 1.6:
             raise ValueError(f"controller fou={self.fou!r} must satisfy 0 <= fou < 1.6")
         if self.kind is ControllerKind.FLC and self.fou != 0.0:

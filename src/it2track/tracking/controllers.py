@@ -42,11 +42,22 @@ class HeadingController:
         raise NotImplementedError
 
 
+#: Largest magnitude of a gain, filter constant or limit: beyond it a controller is pure
+#: bang-bang anyway (inputs are clipped to [-1, 1], outputs to the voltage limit) and products
+#: such as ``kp * e + kd * D`` could overflow to inf - inf = NaN.
+MAX_PARAMETER = 1e6
+
+
 def _check(owner: str, **values: float) -> None:
     for key, value in values.items():
         ok = isinstance(value, int | float) and not isinstance(value, bool)
         if not ok or not math.isfinite(value):
             raise ValueError(f"{owner}: {key}={value!r} must be a finite number")
+        if abs(value) > MAX_PARAMETER:
+            raise ValueError(
+                f"{owner}: {key}={value!r} exceeds {MAX_PARAMETER:g} in magnitude (such a "
+                "controller is bang-bang, and its arithmetic could overflow)"
+            )
 
 
 @dataclass(frozen=True, kw_only=True)
