@@ -3,7 +3,9 @@ its own folder: exit status 1 or 2, no traceback, a message naming the option (o
 the value, no hang (every process has a timeout), and nothing in the folder written, changed
 or deleted -- device nodes, FIFOs and symlinks included.
 
-The subprocesses run two at a time from one fixture, so the suite's wall time stays small.
+The subprocesses run two at a time from one fixture, so the suite's wall time stays small;
+what click itself validates (ranges, choices) and what the in-process suites already cover
+file by file is not repeated here.
 """
 
 from __future__ import annotations
@@ -70,7 +72,6 @@ def sweep_with(old: str, new: str) -> str:
 SIM = ["simulate", "--duration", "0.5"]
 # -- simulate -------------------------------------------------------------------------------
 case("sim-ts-1e-7", "simulate --ts 1e-7", "--ts 1e-07", "memory")
-case("sim-duration-zero", "simulate --duration 0", "--duration", "0")
 case("sim-noise-negative", [*SIM, "--noise-std", "-1"], "--noise-std", "-1")
 case("sim-noise-1e308", [*SIM, "--noise-std", "1e308"], "--noise-std", "1e+308", "largest")
 case("sim-seed-22-digits", [*SIM, "--seed", "1234567890123456789012"], "--seed",
@@ -84,9 +85,7 @@ case("sim-pd-with-fou", [*SIM, "--controller", "pd", "--fou", "0.3"], "--fou",
      "does not apply to --controller pd")
 case("sim-ke-zero", [*SIM, "--ke", "0"], "ke=0.0", "> 0")
 case("sim-ts-not-whole", [*SIM, "--ts", "0.003"], "--ts 0.003", "whole number")
-case("sim-reducer-unknown", [*SIM, "--reducer", "foo"], "--reducer", "'foo'")
 case("sim-noise-rate-1e15", [*SIM, "--noise-rate", "1e15"], "--noise-rate", "noise samples")
-case("sim-noise-power-negative", [*SIM, "--noise-power", "-1"], "--noise-power", "power")
 case("sim-noise-power-huge", [*SIM, "--noise-power", "1e308"], "--noise-power", "1e+06")
 case("sim-trace-empty", [*SIM, "--trace", ""], "--trace", "empty")
 case("sim-trace-dev-full", [*SIM, "--trace", "/dev/full"], "--trace /dev/full",
@@ -102,8 +101,6 @@ case("sim-controller-file-binary", [*SIM, "--controller-file", "binary.toml"],
      "--controller-file binary.toml", "binary")
 case("sim-controller-file-zero", [*SIM, "--controller-file", "zero.toml"], "zero.toml",
      "character device")
-case("sim-controller-file-folder", [*SIM, "--controller-file", "folder"],
-     "--controller-file", "folder")
 case("sim-trajectory-unknown", [*SIM, "--trajectory", "nope"], "--trajectory nope")
 case("sim-trajectory-fifo", [*SIM, "--trajectory", "fifo.csv"], "--trajectory fifo.csv",
      "FIFO")
@@ -112,8 +109,6 @@ case("sim-trajectory-binary", [*SIM, "--trajectory", "binary.csv"], "binary.csv"
 OUT = ["--out", "out", "--no-progress"]
 case("sweep-config-binary", ["sweep", "--config", "binary.toml", *OUT], "binary.toml",
      "binary")
-case("sweep-config-latin1", ["sweep", "--config", "latin1.toml", *OUT], "latin1.toml",
-     "UTF-8", "0xe9")
 case("sweep-config-fifo", ["sweep", "--config", "fifo.toml", *OUT], "fifo.toml", "FIFO")
 case("sweep-config-dev-zero", ["sweep", "--config", "zero.toml", *OUT], "zero.toml",
      "character device")
@@ -122,14 +117,10 @@ case("sweep-out-is-a-file", ["sweep", "--config", "sweep.toml", "--out", "binary
      "--out", "binary.csv")
 case("sweep-scheduler-no-port", ["sweep", "--config", "sweep.toml", *OUT, "--scheduler",
                                  "foo"], "--scheduler", "'foo'", "port")
-case("sweep-workers-negative", ["sweep", "--config", "sweep.toml", *OUT, "--workers", "-1"],
-     "--workers", "-1")
 case("sweep-tls-without-tls", ["sweep", "--config", "sweep.toml", *OUT, "--scheduler",
                                "tcp://127.0.0.1:1", "--tls-cert", "sweep.toml"], "tls://")
 case("sweep-duration-1e9", ["sweep", "--config", "bad.toml", *OUT], "bad.toml",
      "duration=1000000000.0", "GiB", bad=sweep_with("duration = 0.5", "duration = 1e9"))
-case("sweep-quadrature", ["sweep", "--config", "bad.toml", *OUT], "quadrature_nodes=1000000",
-     bad=sweep_with("duration = 0.5", "duration = 0.5\nquadrature_nodes = 1000000"))
 case("sweep-noise-1e308", ["sweep", "--config", "bad.toml", *OUT], "noise_std", "1e+308",
      bad=sweep_with("noise_std = 0.1", "noise_std = [0.1, 1e308]"))
 case("sweep-seed-22-digits", ["sweep", "--config", "bad.toml", *OUT], "seeds",
@@ -145,7 +136,6 @@ case("sweep-file-fifo", ["sweep", "--config", "bad.toml", *OUT], "fifo.t2fis", "
 # -- optimize -------------------------------------------------------------------------------
 case("optimize-config-binary", ["optimize", "--config", "binary.toml", *OUT], "binary.toml",
      "binary")
-case("optimize-config-fifo", ["optimize", "--config", "fifo.toml", *OUT], "fifo.toml", "FIFO")
 case("optimize-out-empty", ["optimize", "--config", "opt.toml", "--out", ""], "--out", "empty",
      opt=textwrap.dedent(OPTIMIZE))
 case("optimize-objective", ["optimize", "--config", "opt.toml", *OUT], "opt.toml", "ISEE",
@@ -163,7 +153,6 @@ case("reproduce-out-under-a-file", ["reproduce", "--quick", "--out", "binary.csv
 case("reproduce-out-holds-a-folder", ["reproduce", "--quick", "--out", "prev"],
      "metrics.csv exists and is not a regular file", prev_note="")
 case("reproduce-scheduler-no-port", [*REP, "--scheduler", "foo"], "--scheduler", "'foo'")
-case("reproduce-seeds-zero", [*REP, "--seeds", "0"], "--seeds", "0")
 case("reproduce-mathtext-label", [*REP, "--config", "study.toml"], "study.toml",
      "\\\\undefinedmacro", "cannot be drawn",
      study='[[controllers]]\nkind = "flc"\nlabel = "$\\\\undefinedmacro{x}$"\n')
@@ -177,13 +166,9 @@ case("reproduce-noise-1e308", [*REP, "--config", "study.toml"], "noise_levels", 
      study="[study]\nnoise_levels = [0.0, 1e308]\n")
 case("reproduce-pd-with-fou", [*REP, "--config", "study.toml"], "fou=0.2", "kind 'pd'",
      study='[[controllers]]\nkind = "pd"\nkp = 2.0\nfou = 0.2\n')
-case("reproduce-duration-1e9", [*REP, "--config", "study.toml"], "duration=1000000000.0",
-     study="[simulation]\nduration = 1e9\n")
 # -- fuzzy-system files ---------------------------------------------------------------------
 case("fis-show-fifo", "fis show fifo.t2fis", "fifo.t2fis", "FIFO")
 case("fis-show-binary", "fis show binary.toml", "binary.toml", "binary")
-case("fis-show-dev-zero", "fis show zero.toml", "zero.toml", "character device")
-case("fis-show-latin1", "fis show latin1.toml", "latin1.toml", "UTF-8")
 case("fis-eval-fifo", "fis eval fifo.t2fis 0 0", "fifo.t2fis", "FIFO")
 case("fis-convert-to-fifo", "fis convert good.toml fifo.fis", "fifo.fis", "FIFO")
 case("fis-convert-to-symlink", "fis convert good.toml link.fis", "link.fis", "symbolic link")

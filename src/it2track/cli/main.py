@@ -345,7 +345,6 @@ def _preflight_study(config: Any, config_path: str | None) -> None:
     from .._limits import ResourceLimitError, check_memory, loop_bytes
     from ..experiments.study import experiment_sizes
     from ..plant.noise import MAX_NOISE_STD
-    from ..report.figures import slug
     from ..tracking import get_trajectory
 
     source = config_path or "the default study"
@@ -374,20 +373,27 @@ def _preflight_study(config: Any, config_path: str | None) -> None:
     except ResourceLimitError as exc:
         _fail(str(exc))
     seen: dict[str, str] = {}
+    names = []
     for t in config.trajectories:
         try:
-            name = get_trajectory(t).name
+            names.append(get_trajectory(t).name)
         except (ValueError, OSError) as exc:
             _fail(f"{source} [study] trajectories: {exc}")
-        for key in (f"figure {slug(t)!r}", f"name {name!r}"):
-            if key in seen and seen[key] != t:
-                _fail(f"{source} [study] trajectories {seen[key]!r} and {t!r} would share the "
-                      f"{key} (one's figures and rows would overwrite the other's): rename one "
-                      "of the files")
-            seen[key] = t
-    labels = [s.label for s in config.extra_controllers]
-    labels += [get_trajectory(t).name for t in config.trajectories]
+    if len(config.trajectories) > 1 and any(t.lower().endswith(".csv")
+                                            for t in config.trajectories):
+        from ..report.figures import slug  # (imports matplotlib: only when files could clash)
+
+        for t, name in zip(config.trajectories, names, strict=True):
+            for key in (f"figure {slug(t)!r}", f"name {name!r}"):
+                if key in seen and seen[key] != t:
+                    _fail(f"{source} [study] trajectories {seen[key]!r} and {t!r} would share "
+                          f"the {key} (one's figures and rows would overwrite the other's): "
+                          "rename one of the files")
+                seen[key] = t
+    labels = [s.label for s in config.extra_controllers] + names
     for label in labels:
+        if "$" not in label:
+            continue  # only $...$ (mathtext) can fail to draw
         problem = _undrawable(label)
         if problem:
             _fail(f"{source}: the label {label!r} cannot be drawn in the figures ({problem}); "

@@ -212,7 +212,6 @@ def optimize(
     from ..atomicfile import atomic_write_bytes
     from ..experiments.optimize import load_optimize_config, run_optimization
     from ..experiments.specs import ConfigError
-    from ..report.optimize_plot import plot_convergence
 
     _check_out_dir(out_dir, files=("optimize.json", "optimize.md", "convergence.png"))
     try:
@@ -234,6 +233,8 @@ def optimize(
         ) from None
     data = result.to_dict()
     data["command"] = {"config": config_path, "workers": workers, "scheduler": scheduler}
+    from ..report.optimize_plot import plot_convergence  # matplotlib: only once needed
+
     try:
         out.mkdir(parents=True, exist_ok=True)
         atomic_write_bytes(out / "optimize.json", (json.dumps(data, indent=1) + "\n").encode())
