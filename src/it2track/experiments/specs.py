@@ -109,7 +109,7 @@ class ControllerSpec:
                 raise ValueError(f"controller {key}={value!r} must be a number")
             if not math.isfinite(value):
                 raise ValueError(f"controller {key}={value!r} must be finite")
-            if abs(value) > 1e6:
+            if key != "tf" and abs(value) > 1e6:
                 raise ValueError(
                     f"controller {key}={value!r} exceeds 1e6 in magnitude (such a controller "
                     "is bang-bang, and its arithmetic could overflow)"

@@ -42,10 +42,11 @@ class HeadingController:
         raise NotImplementedError
 
 
-#: Largest magnitude of a gain, filter constant or limit: beyond it a controller is pure
-#: bang-bang anyway (inputs are clipped to [-1, 1], outputs to the voltage limit) and products
-#: such as ``kp * e + kd * D`` could overflow to inf - inf = NaN.
-MAX_PARAMETER = 1e6
+#: Largest magnitude of a gain: beyond it a controller is pure bang-bang anyway (inputs are
+#: clipped to [-1, 1], outputs to the voltage limit) and products such as ``kp * e + kd * D``
+#: could overflow to inf - inf = NaN.
+MAX_GAIN = 1e6
+_GAINS = ("ke", "kde", "kp", "kd")
 
 
 def _check(owner: str, **values: float) -> None:
@@ -53,9 +54,9 @@ def _check(owner: str, **values: float) -> None:
         ok = isinstance(value, int | float) and not isinstance(value, bool)
         if not ok or not math.isfinite(value):
             raise ValueError(f"{owner}: {key}={value!r} must be a finite number")
-        if abs(value) > MAX_PARAMETER:
+        if key in _GAINS and abs(value) > MAX_GAIN:
             raise ValueError(
-                f"{owner}: {key}={value!r} exceeds {MAX_PARAMETER:g} in magnitude (such a "
+                f"{owner}: {key}={value!r} exceeds {MAX_GAIN:g} in magnitude (such a "
                 "controller is bang-bang, and its arithmetic could overflow)"
             )
 
