@@ -1,0 +1,233 @@
+r"""How far a float (binary32) build of the generated C may be from the Python (binary64) system.
+
+:func:`float_error_bound` returns, for each input point, a bound on ``|C_float - Python|`` for
+``yl``, ``yr`` and ``u``, evaluated from the double-precision evaluation at that point. The
+inputs are taken as float-representable (the C function receives floats, so the comparison is
+made at the point it actually sees). The bound is first order in the float unit roundoff
+``eps = 2**-24`` (terms in ``eps**2`` are dropped; they are below ``1e-13`` of the bound for
+any system here).
+
+Derivation
+----------
+**1. Membership rows.** Every table constant ``c`` is rounded once to float, ``|c~ - c| <=
+eps |c|``; the input clipped to the float-rounded universe moves by at most ``eps U``,
+``U = max(|lo|, |hi|)``. On a slope of width ``w`` a trapezoid row is
+``h (x - a) / w`` computed as ``h~ * fl(fl(x - a~) * fl(1 / w))``: the difference ``x - a``
+carries an absolute error ``<= eps (2 U + 2 P)`` (clipping, the rounded ``a``, the subtraction;
+``P`` the largest finite breakpoint magnitude), which the slope multiplies by ``h / w``; the
+remaining roundings (reciprocal, product, height) are relative, ``<= 4 eps`` of a value ``<= 1``.
+A branch decided on the wrong side of a rounded breakpoint costs no more, because the row is
+continuous with slope ``<= h / w``. Hence, per row,
+
+    e_trap = eps [ 2 h (U + P) / w_min + 8 ].
+
+A Gaussian row ``h exp(-z^2 / 2)``, ``z = (x - m) / sigma``: ``z`` carries an absolute error
+``<= eps (2 U + 2 |m|) / sigma + 2 eps |z|``; ``d/dz exp(-z^2/2) = -z exp(-z^2/2)`` is at most
+``e^(-1/2)`` in magnitude and ``z^2 exp(-z^2/2) <= 2/e``; the argument's two roundings and
+``expf``'s error (taken as ``<= 2`` ulp) add ``<= 4 eps``. With the same bound for the
+uncertain-mean rows (``|m| = max(|m1|, |m2|)``; their pieces join continuously):
+
+    e_gauss = eps h [ 2 (U + |m|) / sigma + 8 ].
+
+**2. Firing.** For the product t-norm ``theta = prod_i mu_i``,
+``|theta~ - theta| <= sum_i e_i prod_{j != i} (mu_j + e_j) + (n - 1) eps prod_j (mu_j + e_j)``;
+the minimum is 1-Lipschitz in the max norm: ``|theta~ - theta| <= max_i e_i``. The type
+reducers form ``d = fl(fu - fl)``, a relative error ``eps`` of ``fu - fl <= fu``, which we book
+as a firing perturbation of ``eps fu``. ``E_r`` is the larger of the rule's upper and lower
+firing errors (so the float firing box lies within ``E_r`` of the exact one).
+
+**3. The centroid.** For weights ``a, b > 0`` of the same rules, the identity
+
+    c(a) - c(b) = sum_r (a_r - b_r) (y_r - c(a)) / sum_r b_r
+
+holds, where ``c(t) = sum t y / sum t``. ``yl`` is the minimum of ``c`` over the firing box
+``[fl, fu]``, so (i) taking the exact minimiser ``t*`` and its nearest point in the float box
+bounds ``yl~ - yl`` by ``sum_r E_r range / sum t*``, and (ii) taking the float minimiser and
+its nearest point in the exact box bounds ``yl - yl~`` by ``sum_r E_r range / sum t~*``; both
+denominators are at least ``S = sum_r fl_r - sum_r E_r``, and ``range = max y - min y``. So
+
+    |yl~ - yl| <= range sum_r E_r / S + A,       (likewise yr with y_hi)
+
+where ``A`` is the arithmetic of the reduction itself: running sums of at most ``2R + 2``
+non-negative terms (``gamma_k = k eps / (1 - k eps)``), the cross-multiplied comparison and
+the final division: ``A = (2 gamma_{2R+2} + 4 eps) max|y|``. The iterative reducers stop at a
+switch point whose optimality was tested on rounded centroids; a wrong call moves the result
+to a neighbouring switch point by at most the same arithmetic error, so ``A`` doubles for KM,
+EKM and EIASC. A type-1 system is the degenerate box ``fl = fu``.
+
+Nie-Tan is one centroid with weights ``fl + fu`` (perturbed by ``2 E_r``) and the midpoints of
+the consequents. The Wu-Mendel bounds combine the centroids ``yl0 = c(fl)``, ``ylm = c(fu)``
+(each bounded as above with denominators ``sum fl``, ``sum fu``) with
+``spread = 1 / sum fl - 1 / sum fu`` and ``T = p q / (p + q)`` (``p``, ``q`` linear in the
+firing, ``|dT/dp|, |dT/dq| <= 1``):
+``|Delta(spread T)| <= |Delta spread| (T + |Delta T|) + spread |Delta T|``, plus the
+arithmetic of the difference ``sum fu - sum fl`` (``gamma_R (sum fu + sum fl) / (sum fu
+sum fl)`` relative to ``T``).
+
+Where ``S <= 0`` (the total lower firing is within rounding of zero) no bound follows from this
+argument: the function returns ``inf`` there, and the tests check only that the float result
+lies in the consequents' hull.
+
+``u = (yl + yr) / 2`` adds one rounding: ``|u~ - u| <= (b_yl + b_yr) / 2 + eps max|y|``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..fuzzy import IT2Sugeno, MFKind, T1Sugeno, TNorm
+
+__all__ = ["EPS32", "float_error_bound", "row_errors"]
+
+#: Unit roundoff of IEEE binary32.
+EPS32 = 2.0**-24
+
+FloatArray = NDArray[np.float64]
+
+
+def _gamma(k: int) -> float:
+    return k * EPS32 / (1.0 - k * EPS32)
+
+
+def row_errors(system: IT2Sugeno | T1Sugeno) -> FloatArray:
+    """Bound ``e`` on the float error of every membership row, shape ``(M + 1,)``.
+
+    The last entry (the constant 1 of unmentioned inputs) is 0. See the module docstring.
+    """
+    t = system.tables
+    out = np.zeros(t.n_rows + 1)
+    for k in range(t.n_rows):
+        i = int(t.mf_input[k])
+        big_u = max(abs(float(t.lo[i])), abs(float(t.hi[i])))
+        p = [float(v) for v in t.mf_params[k]]
+        kind = MFKind(int(t.mf_kind[k]))
+        if kind is MFKind.TRAPEZOID:
+            a, wl, d, wr, h = p
+            widths = [w for w, end in ((wl, a), (wr, d)) if math.isfinite(end)]
+            points = [abs(v) for v in (a, a + wl, d - wr, d) if math.isfinite(v)]
+            if not widths:
+                out[k] = 2.0 * EPS32 * h
+                continue
+            out[k] = EPS32 * (2.0 * h * (big_u + max(points)) / min(widths) + 8.0)
+        elif kind is MFKind.GAUSSIAN:
+            mean, sigma, h = p[:3]
+            out[k] = EPS32 * h * (2.0 * (big_u + abs(mean)) / sigma + 8.0)
+        elif kind in (MFKind.UM_GAUSSIAN_UPPER, MFKind.UM_GAUSSIAN_LOWER):
+            m1, m2, sigma, h = p[:4]
+            out[k] = EPS32 * h * (2.0 * (big_u + max(abs(m1), abs(m2))) / sigma + 8.0)
+        else:
+            raise ValueError(f"row {k} of kind {kind.name} has no float error bound")
+    return out
+
+
+def _firing_error(m: FloatArray, e: FloatArray, rows: NDArray[np.intp], tnorm: TNorm
+                  ) -> FloatArray:
+    """Per-rule firing error bound, shape (R, N), from memberships m (M+1, N)."""
+    mu = m[rows]  # (R, n_in, N)
+    err = e[rows][:, :, None] * np.ones_like(mu)
+    if tnorm is TNorm.MINIMUM:
+        out: FloatArray = err.max(axis=1)
+        return out
+    n_in = rows.shape[1]
+    padded = mu + err
+    total = np.zeros(mu[:, 0].shape)
+    for i in range(n_in):
+        others = np.ones_like(total)
+        for j in range(n_in):
+            if j != i:
+                others = others * padded[:, j]
+        total += err[:, i] * others
+    total += (n_in - 1) * EPS32 * np.prod(padded, axis=1)
+    return total
+
+
+def _centroid_bound(lower_sum: FloatArray, sum_e: FloatArray, spread_y: float,
+                    arith: float) -> FloatArray:
+    s = lower_sum - sum_e
+    with np.errstate(divide="ignore", invalid="ignore"):
+        b = np.where(s > 0, spread_y * sum_e / s + arith, np.inf)
+    return b
+
+
+def float_error_bound(system: IT2Sugeno | T1Sugeno, x: ArrayLike
+                      ) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Bound on ``|C_float - Python|`` at each point (see the module docstring).
+
+    Parameters
+    ----------
+    system : IT2Sugeno or T1Sugeno
+        The system the C was generated from (with its reducer).
+    x : array_like, shape (N, n_inputs)
+        Input points (float-representable values; they are clipped as the system does).
+
+    Returns
+    -------
+    b_yl, b_yr, b_u : ndarray, shape (N,)
+        Bounds for ``yl``, ``yr`` and ``u``; ``inf`` where the total lower firing is within
+        rounding of zero (no bound follows there).
+    """
+    t = system.tables
+    arr = np.asarray(x, dtype=np.float64)
+    xc = np.clip(arr, t.lo, t.hi).T.copy()  # (n_in, N)
+    m = t.memberships(xc).copy()
+    e = row_errors(system)
+    fu = np.prod(m[t.upper_rows_s], axis=1) if system.tnorm is TNorm.PRODUCT else \
+        np.min(m[t.upper_rows_s], axis=1)
+    fl = np.prod(m[t.lower_rows_s], axis=1) if system.tnorm is TNorm.PRODUCT else \
+        np.min(m[t.lower_rows_s], axis=1)
+    eu = _firing_error(m, e, t.upper_rows_s, system.tnorm)
+    el = _firing_error(m, e, t.lower_rows_s, system.tnorm)
+    big_e = np.maximum(eu, el) + EPS32 * fu
+    sum_e = big_e.sum(axis=0)
+    r = t.n_rules
+    y_lo, y_hi = t.y_lo_s, t.y_hi_s
+    ymax = float(max(np.abs(y_lo).max(), np.abs(y_hi).max()))
+    range_l = float(y_lo.max() - y_lo.min())
+    range_r = float(y_hi.max() - y_hi.min())
+    arith = (2.0 * _gamma(2 * r + 2) + 4.0 * EPS32) * ymax
+    reducer = getattr(system, "reducer", None)
+    name = "type-1" if reducer is None else reducer.name
+    if name in ("km", "ekm", "eiasc"):
+        arith *= 2.0
+    sl = fl.sum(axis=0)
+    su = fu.sum(axis=0)
+    if name == "nie-tan":
+        ym = 0.5 * (y_lo + y_hi)
+        b = _centroid_bound(sl + su, 2.0 * sum_e, float(ym.max() - ym.min()), arith)
+        b_yl = b_yr = b
+    elif name == "wu-mendel":
+        b_yl = _wu_mendel_side(fl, fu, y_lo, sl, su, sum_e, range_l, arith, r, left=True)
+        b_yr = _wu_mendel_side(fl, fu, y_hi, sl, su, sum_e, range_r, arith, r, left=False)
+    else:
+        b_yl = _centroid_bound(sl, sum_e, range_l, arith)
+        b_yr = _centroid_bound(sl, sum_e, range_r, arith)
+    b_u = 0.5 * (b_yl + b_yr) + EPS32 * ymax
+    return b_yl, b_yr, b_u
+
+
+def _wu_mendel_side(fl: FloatArray, fu: FloatArray, y: FloatArray, sl: FloatArray,
+                    su: FloatArray, sum_e: FloatArray, spread_y: float, arith: float, r: int,
+                    *, left: bool) -> FloatArray:
+    with np.errstate(divide="ignore", invalid="ignore"):
+        d0 = _centroid_bound(sl, sum_e, spread_y, arith)
+        dm = _centroid_bound(su, sum_e, spread_y, arith)
+        outer = np.maximum(d0, dm)
+        spread = np.where(sl > 0, 1.0 / sl - 1.0 / su, np.inf)
+        d_spread = np.where(sl > sum_e, sum_e / (sl * (sl - sum_e)), np.inf) + np.where(
+            su > sum_e, sum_e / (su * (su - sum_e)), np.inf)
+        if left:
+            p = np.einsum("rn,r->n", fl, y - y.min())
+            q = np.einsum("rn,r->n", fu, y.max() - y)
+        else:
+            p = np.einsum("rn,r->n", fu, y - y.min())
+            q = np.einsum("rn,r->n", fl, y.max() - y)
+        tt = np.where(p + q > 0, p * q / (p + q), 0.0)
+        d_t = 2.0 * sum_e * spread_y
+        d_prod = d_spread * (tt + d_t) + spread * d_t
+        arith_prod = (_gamma(r) * (su + sl) / (su * sl) + 6.0 * EPS32 * spread) * tt \
+            + 4.0 * EPS32 * float(np.abs(y).max())
+        out: FloatArray = outer + 0.5 * (d_prod + arith_prod)
+    return np.where(np.isfinite(out), out, np.inf)

@@ -1,0 +1,112 @@
+"""Random systems and input points for the code-generation tests."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from it2track.fuzzy import (
+    Gaussian,
+    Input,
+    IT2Set,
+    IT2Sugeno,
+    Reducer,
+    Rule,
+    T1Sugeno,
+    TNorm,
+    Trapezoid,
+    Triangle,
+)
+
+
+def _random_set(rng, lo, hi, name, shape, *, type1):
+    span = hi - lo
+    if shape in ("triangle", "trapezoid", "left", "right"):
+        c = rng.uniform(lo, hi)
+        w1, w2 = rng.uniform(0.1, 0.6, size=2) * span
+        if shape == "triangle":
+            pts = [c - w1, c, c + w2]
+        elif shape == "trapezoid":
+            plateau = rng.uniform(0.0, 0.3) * span
+            pts = [c - w1, c, c + plateau, c + plateau + w2]
+        elif shape == "left":
+            pts = [lo, lo, c + w2]
+        else:
+            pts = [c - w1, hi, hi]
+        h = 1.0 if rng.random() < 0.6 else rng.uniform(0.5, 1.0)
+        cls = Triangle if len(pts) == 3 else Trapezoid
+        upper = cls(*pts, h=h)
+        if type1:
+            return IT2Set(upper, upper, name)
+        fou = rng.uniform(0.0, 0.8) * min(w1, w2)
+        s = IT2Set.from_fou(upper, fou, name)
+        if rng.random() < 0.4:  # a lower MF lower than the upper one: height < upper's
+            lower = dataclasses.replace(s.lower, h=s.lower.h * rng.uniform(0.4, 1.0))
+            s = IT2Set(s.upper, lower, name)
+        return s
+    mean = rng.uniform(lo, hi)
+    sigma = rng.uniform(0.08, 0.4) * span
+    if type1:
+        return IT2Set.type1(Gaussian(mean, sigma, rng.uniform(0.6, 1.0)), name)
+    if shape == "gauss-std":
+        return IT2Set.gaussian_uncertain_std(mean, sigma * rng.uniform(0.5, 0.95), sigma, name,
+                                             h=rng.uniform(0.6, 1.0))
+    half = rng.uniform(0.0, 0.2) * span
+    return IT2Set.gaussian_uncertain_mean(mean - half, mean + half, sigma, name,
+                                          h=rng.uniform(0.6, 1.0))
+
+
+SHAPES = ("triangle", "trapezoid", "left", "right", "gauss-std", "gauss-mean")
+
+
+def random_system(seed: int, *, type1: bool = False, on_zero_firing=None,
+                  reducer: Reducer | None = None, shapes=SHAPES):
+    """A random multi-input Sugeno system covering every supported shape and option."""
+    rng = np.random.default_rng(seed)
+    n_in = int(rng.integers(1, 4))
+    inputs = []
+    for i in range(n_in):
+        lo = float(rng.uniform(-3.0, 0.0))
+        hi = lo + float(rng.uniform(0.5, 4.0))
+        n_sets = int(rng.integers(2, 5))
+        sets = [_random_set(rng, lo, hi, f"s{j}", shapes[int(rng.integers(len(shapes)))],
+                            type1=type1) for j in range(n_sets)]
+        inputs.append(Input(f"x{i}", (lo, hi), sets))
+    rules = []
+    seen = set()
+    for _ in range(int(rng.integers(3, 13))):
+        ante = tuple(
+            None if (n_in > 1 and rng.random() < 0.25) else
+            f"s{int(rng.integers(len(inputs[i].sets)))}" for i in range(n_in))
+        if all(a is None for a in ante) or ante in seen:
+            continue
+        seen.add(ante)
+        y = float(rng.uniform(-10, 10))
+        if type1 or rng.random() < 0.5:
+            cons: float | tuple[float, float] = y
+        else:
+            cons = (y, y + float(rng.uniform(0.0, 4.0)))
+        rules.append(Rule(list(ante), cons))
+    if not rules:
+        rules.append(Rule(["s0"] + [None] * (n_in - 1), 1.0))
+    tnorm = TNorm.PRODUCT if rng.random() < 0.6 else TNorm.MINIMUM
+    if type1:
+        return T1Sugeno(inputs=inputs, rules=rules, tnorm=tnorm, on_zero_firing=on_zero_firing,
+                        name=f"random-t1-{seed}")
+    red = reducer if reducer is not None else list(Reducer)[int(rng.integers(len(Reducer)))]
+    return IT2Sugeno(inputs=inputs, rules=rules, tnorm=tnorm, reducer=red.value,
+                     on_zero_firing=on_zero_firing, name=f"random-{seed}")
+
+
+def points(system, n_random: int, seed: int, *, grid: int = 21, margin: float = 0.3):
+    """A grid over (and beyond) the universes plus uniform random points, shape (N, n_in)."""
+    rng = np.random.default_rng(seed)
+    lo = np.array([inp.universe[0] for inp in system.inputs])
+    hi = np.array([inp.universe[1] for inp in system.inputs])
+    pad = margin * (hi - lo)
+    axes = [np.linspace(a - p, b + p, grid if system.n_inputs < 3 else 9)
+            for a, b, p in zip(lo, hi, pad, strict=True)]
+    g = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, system.n_inputs)
+    r = rng.uniform(lo - pad, hi + pad, size=(n_random, system.n_inputs))
+    return np.concatenate([g, r])
