@@ -709,10 +709,11 @@ def _claims_preamble(config: Any) -> str:
 
 def _register_subcommands() -> None:
     """Attach the commands that live in their own modules."""
+    from .export import export
     from .fis import fis, surface
     from .sweep import optimize, sweep
 
-    for command in (sweep, optimize, fis, surface):
+    for command in (sweep, optimize, fis, surface, export):
         main.add_command(command)
 
 
