@@ -5,7 +5,9 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+import pytest
 
+from it2track.codegen.tools import missing_tools
 from it2track.fuzzy import (
     Gaussian,
     Input,
@@ -18,6 +20,14 @@ from it2track.fuzzy import (
     Trapezoid,
     Triangle,
 )
+
+
+def skip_without(*tools: str) -> None:
+    """Skip (never silently) when a tool is missing, naming its Debian package."""
+    missing = missing_tools(tools)
+    if missing:
+        pytest.skip(f"needs {', '.join(tools)}: install the Debian package(s) "
+                    f"{', '.join(missing)}")
 
 
 def _random_set(rng, lo, hi, name, shape, *, type1):

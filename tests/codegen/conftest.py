@@ -3,18 +3,10 @@
 from __future__ import annotations
 
 import pytest
+from codegen_helpers import skip_without
 
 from it2track.codegen import RealType, generate_c
 from it2track.codegen.host import HostLibrary, build_host_library
-from it2track.codegen.tools import missing_tools
-
-
-def skip_without(*tools: str) -> None:
-    """Skip (never silently) when a tool is missing, naming its Debian package."""
-    missing = missing_tools(tools)
-    if missing:
-        pytest.skip(f"needs {', '.join(tools)}: install the Debian package(s) "
-                    f"{', '.join(missing)}")
 
 
 @pytest.fixture(scope="session")

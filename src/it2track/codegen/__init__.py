@@ -19,6 +19,7 @@ and call through ctypes), :mod:`.controller` (a heading controller backed by the
 simulated ATmega328P, measure cycles and sizes).
 """
 
+from .controller import CHeadingController
 from .generate import (
     SUPPORTED_FEATURES,
     CCode,
@@ -32,6 +33,7 @@ from .write import write_c
 __all__ = [
     "SUPPORTED_FEATURES",
     "CCode",
+    "CHeadingController",
     "RealType",
     "check_prefix",
     "check_supported",
