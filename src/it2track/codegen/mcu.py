@@ -1,0 +1,484 @@
+"""What a controller step costs on a microcontroller: cycles on the simulated ATmega328P, bytes.
+
+One implementation for the tests, the benchmark (``benchmarks/bench_mcu.py``), README and the
+report:
+
+- :func:`run_on_avr` cross-compiles generated C with ``avr-gcc -mmcu=atmega328p -Os`` (float
+  arithmetic: avr-gcc's ``double`` is 32-bit too), runs it on the cycle-accurate ``simavr`` at
+  16 MHz and returns, per input, the status, the outputs (bit-exact) and the CPU cycles of the
+  call, counted by Timer1 at prescaler 1 between compiler barriers (DESIGN.md sec. 9).
+  ``simavr`` executes instruction by instruction with each instruction's documented cycle
+  count, so the counts are deterministic: the same program and inputs give the same cycles on
+  every machine.
+- :func:`avr_sizes` / :func:`arm_sizes`: flash and RAM of the controller object (``avr-size``,
+  ``arm-none-eabi-size``; Cortex-M4F with ``-mcpu=cortex-m4 -mthumb -mfloat-abi=hard
+  -mfpu=fpv4-sp-d16``), the stack frames (``-fstack-usage``) and the flash of a minimal AVR
+  program around one call (with the start-up code and the software float routines it pulls in).
+- :func:`measure_costs`: all of it per type reducer for the paper's controller, as a
+  :class:`CostTable`.
+
+Tools missing raise :class:`~it2track.codegen.tools.ToolMissingError` naming the Debian
+packages (``gcc-avr``, ``avr-libc``, ``simavr``, ``gcc-arm-none-eabi``,
+``libnewlib-arm-none-eabi``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import os
+import re
+import secrets
+import subprocess
+import tempfile
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import jinja2
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..fuzzy import IT2Sugeno, Reducer, T1Sugeno
+from .generate import CCode, RealType, generate_c
+from .tools import BuildError, require, run_tool
+
+__all__ = [
+    "ARM_FLAGS",
+    "AVR_CLOCK_HZ",
+    "AVR_FLAGS",
+    "CONTROL_PERIOD_S",
+    "AvrRun",
+    "CodeSize",
+    "CostRow",
+    "CostTable",
+    "arm_sizes",
+    "avr_sizes",
+    "cost_grid",
+    "measure_costs",
+    "run_on_avr",
+]
+
+#: The ATmega328P of an Arduino Uno.
+AVR_MCU = "atmega328p"
+AVR_CLOCK_HZ = 16_000_000
+#: The paper's control period (10 ms).
+CONTROL_PERIOD_S = 0.01
+AVR_FLAGS: tuple[str, ...] = (
+    f"-mmcu={AVR_MCU}", "-Os", "-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic",
+)
+ARM_FLAGS: tuple[str, ...] = (
+    "-mcpu=cortex-m4", "-mthumb", "-mfloat-abi=hard", "-mfpu=fpv4-sp-d16", "-Os", "-std=c99",
+    "-Wall", "-Wextra", "-Werror", "-pedantic",
+)
+AVR_TOOLS = ("avr-gcc", "avr-size", "avr-libc", "simavr")
+ARM_TOOLS = ("arm-none-eabi-gcc", "arm-none-eabi-size", "newlib")
+#: Inputs per simavr run (the input table lives in flash: 8 bytes per two-input point).
+CHUNK = 1000
+
+_LINE = re.compile(r"R ([0-9a-f]{4}) ([0-9a-f]) ([0-9a-f]{8}) ([0-9a-f]{8}) ([0-9a-f]{8}) "
+                   r"([0-9a-f]{8})")
+_ANSI = re.compile(r"\x1b\[[0-9;]*m")
+
+FloatArray = NDArray[np.float64]
+
+
+def _env() -> jinja2.Environment:
+    return jinja2.Environment(
+        loader=jinja2.PackageLoader("it2track.codegen", "templates"),
+        undefined=jinja2.StrictUndefined, trim_blocks=True, lstrip_blocks=True,
+        keep_trailing_newline=True, autoescape=False)
+
+
+def _workdir(build_dir: str | os.PathLike[str] | None, tag: str) -> Path:
+    root = Path(build_dir) if build_dir is not None else Path(tempfile.gettempdir())
+    root.mkdir(parents=True, exist_ok=True)
+    path = root / f"{tag}-{secrets.token_hex(4)}"
+    path.mkdir()
+    return path
+
+
+def _write_code(code: CCode, where: Path) -> None:
+    for name, text in code.files().items():
+        (where / name).write_text(text)
+
+
+@dataclass(frozen=True, kw_only=True)
+class AvrRun:
+    """Results of :func:`run_on_avr`, one entry per input point.
+
+    Attributes
+    ----------
+    x : ndarray of float32, shape (N, n_inputs)
+        The inputs as the AVR saw them.
+    status : ndarray of int, shape (N,)
+    cycles : ndarray of int, shape (N,)
+        CPU cycles of one ``<prefix>_eval`` call (the empty measurement subtracted).
+    u, yl, yr : ndarray of float32, shape (N,)
+    """
+
+    x: NDArray[np.float32]
+    status: NDArray[np.int64]
+    cycles: NDArray[np.int64]
+    u: NDArray[np.float32]
+    yl: NDArray[np.float32]
+    yr: NDArray[np.float32]
+
+
+def run_on_avr(code: CCode, x: ArrayLike, *, build_dir: str | os.PathLike[str] | None = None,
+               timeout: float = 600.0) -> AvrRun:
+    """Run ``code`` on the simulated ATmega328P (16 MHz) for every row of ``x``.
+
+    Parameters
+    ----------
+    code : CCode
+        Generated code; a DOUBLE build computes in float on the AVR as well.
+    x : array_like, shape (N, n_inputs)
+        Inputs; rounded to float32.
+    build_dir : path, optional
+        Where to build (a fresh sub-folder per call; default: the temp dir).
+    timeout : float
+        Seconds allowed per simavr run.
+
+    Raises
+    ------
+    ToolMissingError
+        Without avr-gcc, avr-libc or simavr.
+    BuildError
+        If compiling fails or simavr's output is incomplete.
+    """
+    require(AVR_TOOLS)
+    pts = np.ascontiguousarray(np.asarray(x, dtype=np.float32))
+    if pts.ndim != 2 or pts.shape[1] != code.n_inputs:
+        raise ValueError(f"x must have shape (N, {code.n_inputs}), got {pts.shape}")
+    if not np.all(np.isfinite(pts)):
+        raise ValueError("x must be finite (it is printed as C constants)")
+    work = _workdir(build_dir, f"avr-{code.prefix}")
+    _write_code(code, work)
+    outs = []
+    for start in range(0, len(pts), CHUNK):
+        chunk = pts[start:start + CHUNK]
+        main = _env().get_template("avr_bench.c.j2").render(
+            p=code.prefix, header_name=code.header_name, n_in=code.n_inputs,
+            n_points=len(chunk),
+            points=[[float(v).hex() + "f" for v in row] for row in chunk])
+        (work / "bench.c").write_text(main)
+        elf = work / "bench.elf"
+        run_tool(["avr-gcc", *AVR_FLAGS, "-o", str(elf), "bench.c", code.source_name, "-lm"],
+                 cwd=work)
+        try:
+            proc = subprocess.run(["simavr", "-m", AVR_MCU, "-f", str(AVR_CLOCK_HZ), str(elf)],
+                                  capture_output=True, text=True, timeout=timeout, check=False)
+        except subprocess.TimeoutExpired as exc:
+            raise BuildError(f"simavr did not finish within {timeout:g} s") from exc
+        text = _ANSI.sub("", proc.stdout + proc.stderr)
+        rows = _LINE.findall(text)
+        if len(rows) != len(chunk) or not re.search(r"^E\.?$", text, re.MULTILINE):
+            raise BuildError(f"simavr printed {len(rows)} of {len(chunk)} results "
+                             f"(exit {proc.returncode}):\n{text[-2000:]}")
+        outs.append(np.array([[int(v, 16) for v in row] for row in rows], dtype=np.int64))
+    table = np.concatenate(outs) if outs else np.zeros((0, 6), dtype=np.int64)
+    if not np.array_equal(table[:, 0], np.arange(len(table)) % CHUNK):
+        raise BuildError("simavr results out of order")
+
+    def as_float(col: NDArray[np.int64]) -> NDArray[np.float32]:
+        return col.astype(np.uint32).view(np.float32)
+
+    return AvrRun(x=pts, status=table[:, 1], cycles=table[:, 2], u=as_float(table[:, 3]),
+                  yl=as_float(table[:, 4]), yr=as_float(table[:, 5]))
+
+
+@dataclass(frozen=True, kw_only=True)
+class CodeSize:
+    """Bytes of a compiled controller.
+
+    Attributes
+    ----------
+    text, data, bss : int
+        Sections of the controller object (code and the ``const`` tables, which are in flash on
+        the AVR; initialised and zeroed RAM).
+    stack : int
+        Sum of the stack frames of the controller's functions (``-fstack-usage``), an upper
+        bound on its stack depth not counting the compiler's arithmetic helpers.
+    program_flash : int or None
+        Flash of a minimal AVR program that calls the controller once (start-up code and the
+        software float routines included); None for the Cortex-M4 (object only).
+    """
+
+    text: int
+    data: int
+    bss: int
+    stack: int
+    program_flash: int | None = None
+
+    @property
+    def flash(self) -> int:
+        """Flash bytes of the controller object (``text + data``)."""
+        return self.text + self.data
+
+    @property
+    def ram(self) -> int:
+        """Static RAM of the controller object (``data + bss``): 0, it keeps no state."""
+        return self.data + self.bss
+
+
+def _size(tool: str, path: Path) -> tuple[int, int, int]:
+    out = run_tool([tool, str(path)]).stdout.splitlines()
+    text, data, bss = (int(v) for v in out[1].split()[:3])
+    return text, data, bss
+
+
+def _stack(work: Path) -> int:
+    total = 0
+    for su in work.glob("*.su"):
+        for line in su.read_text().splitlines():
+            parts = line.split("\t")
+            if len(parts) >= 2 and parts[1].strip().isdigit():
+                total += int(parts[1])
+    return total
+
+
+_MINIMAL = """\
+#include "{header}"
+volatile {p}_real v_in[{P}_N_IN];
+volatile {p}_real v_out;
+int main(void)
+{{
+    {p}_real in[{P}_N_IN], u, yl, yr;
+    int i;
+    for (i = 0; i < {P}_N_IN; ++i) {{
+        in[i] = v_in[i];
+    }}
+    if ({p}_eval(in, &u, &yl, &yr) == {P}_OK) {{
+        v_out = u + yl + yr;
+    }}
+    for (;;) {{
+    }}
+    return 0;
+}}
+"""
+
+
+def avr_sizes(code: CCode, *, build_dir: str | os.PathLike[str] | None = None) -> CodeSize:
+    """Sizes on the ATmega328P (``avr-gcc -mmcu=atmega328p -Os``)."""
+    require(("avr-gcc", "avr-size", "avr-libc"))
+    work = _workdir(build_dir, f"avr-size-{code.prefix}")
+    _write_code(code, work)
+    run_tool(["avr-gcc", *AVR_FLAGS, "-fstack-usage", "-c", code.source_name], cwd=work)
+    obj = work / (Path(code.source_name).stem + ".o")
+    text, data, bss = _size("avr-size", obj)
+    stack = _stack(work)
+    (work / "minimal.c").write_text(_MINIMAL.format(header=code.header_name, p=code.prefix,
+                                                    P=code.prefix.upper()))
+    run_tool(["avr-gcc", *AVR_FLAGS, "-o", "minimal.elf", "minimal.c", code.source_name, "-lm"],
+             cwd=work)
+    ptext, pdata, _ = _size("avr-size", work / "minimal.elf")
+    return CodeSize(text=text, data=data, bss=bss, stack=stack, program_flash=ptext + pdata)
+
+
+def arm_sizes(code: CCode, *, build_dir: str | os.PathLike[str] | None = None) -> CodeSize:
+    """Object sizes on the Cortex-M4F (``arm-none-eabi-gcc`` with :data:`ARM_FLAGS`)."""
+    require(ARM_TOOLS)
+    work = _workdir(build_dir, f"arm-size-{code.prefix}")
+    _write_code(code, work)
+    run_tool(["arm-none-eabi-gcc", *ARM_FLAGS, "-fstack-usage", "-c", code.source_name],
+             cwd=work)
+    text, data, bss = _size("arm-none-eabi-size", work / (Path(code.source_name).stem + ".o"))
+    return CodeSize(text=text, data=data, bss=bss, stack=_stack(work))
+
+
+def cost_grid(n: int, *, lo: float = -1.0, hi: float = 1.0, n_random: int = 0,
+              seed: int = 0) -> NDArray[np.float32]:
+    """Two-input measurement points: an ``n x n`` grid on ``[lo, hi]^2`` plus uniform random
+    points (float32, shape ``(n*n + n_random, 2)``)."""
+    if n < 2:
+        raise ValueError(f"n={n!r} must be >= 2")
+    axis = np.linspace(lo, hi, n)
+    g = np.stack(np.meshgrid(axis, axis, indexing="ij"), axis=-1).reshape(-1, 2)
+    r = np.random.default_rng(seed).uniform(lo, hi, size=(n_random, 2))
+    return np.concatenate([g, r]).astype(np.float32)
+
+
+@dataclass(frozen=True, kw_only=True)
+class CostRow:
+    """One controller's cost (see :class:`CostTable`)."""
+
+    label: str
+    reducer: str
+    exact: bool
+    cycles_max: int
+    cycles_mean: float
+    flash: int
+    program_flash: int
+    stack: int
+    float_error: float
+    equals_host_float: bool
+    arm_text: int | None
+
+    @property
+    def us_max(self) -> float:
+        """Worst step in microseconds at 16 MHz."""
+        return self.cycles_max / AVR_CLOCK_HZ * 1e6
+
+    @property
+    def us_mean(self) -> float:
+        return self.cycles_mean / AVR_CLOCK_HZ * 1e6
+
+    @property
+    def period_share(self) -> float:
+        """Worst step as a fraction of the paper's 10 ms control period."""
+        return self.us_max * 1e-6 / CONTROL_PERIOD_S
+
+
+@dataclass(frozen=True, kw_only=True)
+class CostTable:
+    """What the controller costs on the microcontrollers, one row per controller.
+
+    Attributes
+    ----------
+    rows : tuple of CostRow
+    n_points : int
+        Inputs measured per controller (the grid plus random points).
+    fou : float
+        FoU width of the paper's controller measured.
+    tools : dict of str -> str
+        Versions of the compilers and simulator used.
+    """
+
+    rows: tuple[CostRow, ...]
+    n_points: int
+    fou: float
+    tools: dict[str, str]
+
+    def as_text(self) -> str:
+        """The table as aligned plain text (what ``benchmarks/bench_mcu.py`` prints)."""
+        head = (f"{'controller':<28} {'cycles max':>10} {'mean':>8} {'us max':>8} "
+                f"{'% of 10ms':>9} {'AVR flash':>9} {'program':>8} {'stack':>5} "
+                f"{'float err':>9} {'M4 text':>7}")
+        lines = [head, "-" * len(head)]
+        for r in self.rows:
+            lines.append(
+                f"{r.label:<28} {r.cycles_max:>10d} {r.cycles_mean:>8.0f} {r.us_max:>8.0f} "
+                f"{100 * r.period_share:>8.1f}% {r.flash:>9d} {r.program_flash:>8d} "
+                f"{r.stack:>5d} {r.float_error:>9.1e} "
+                f"{'-' if r.arm_text is None else r.arm_text:>7}")
+        return "\n".join(lines)
+
+    def as_markdown(self) -> str:
+        """The table in Markdown (README)."""
+        lines = ["| controller | AVR cycles, worst | mean | µs worst @16 MHz | % of 10 ms | "
+                 "AVR flash (object / program) | stack | float error vs double | "
+                 "Cortex-M4F text |",
+                 "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+        for r in self.rows:
+            lines.append(
+                f"| {r.label} | {r.cycles_max:,} | {r.cycles_mean:,.0f} | {r.us_max:,.0f} | "
+                f"{100 * r.period_share:.1f} % | {r.flash:,} / {r.program_flash:,} B | "
+                f"{r.stack} B | {r.float_error:.1e} | "
+                f"{'-' if r.arm_text is None else f'{r.arm_text:,} B'} |")
+        return "\n".join(lines)
+
+
+def _version(tool: str) -> str:
+    try:
+        proc = subprocess.run([tool, "--version"], capture_output=True, text=True, timeout=30,
+                              check=False)
+    except (OSError, subprocess.TimeoutExpired):
+        return "?"
+    first = (proc.stdout or proc.stderr).strip().splitlines()
+    return first[0] if first else "?"
+
+
+def _simavr_version() -> str:
+    try:
+        out = subprocess.run(["dpkg-query", "-W", "-f=${Version}", "simavr"],
+                             capture_output=True, text=True, timeout=30, check=False)
+        return f"simavr {out.stdout.strip()}" if out.returncode == 0 else "simavr"
+    except (OSError, subprocess.TimeoutExpired):
+        return "simavr"
+
+
+def measure_costs(
+    *,
+    fou: float = 0.2,
+    reducers: Sequence[Reducer] | None = None,
+    grid: int = 21,
+    n_random: int = 0,
+    include_type1: bool = True,
+    arm: bool = True,
+    build_dir: str | os.PathLike[str] | None = None,
+) -> CostTable:
+    """Measure the paper's controller (FoU ``fou``) per type reducer on the simulated AVR.
+
+    For each reducer: AVR cycles per step (worst and mean over a ``grid x grid`` grid of
+    ``[-1, 1]^2`` plus ``n_random`` random points), flash and stack, the largest ``|u|``
+    difference of the AVR float result from the Python (double) system, whether the AVR's
+    outputs equal the host's float build bit for bit (when ``gcc`` is present), and the
+    Cortex-M4F code size (``arm``). ``include_type1`` adds the type-1 FLC (FoU 0).
+
+    Returns
+    -------
+    CostTable
+
+    Raises
+    ------
+    ToolMissingError
+        If avr-gcc, avr-libc or simavr (or, with ``arm``, the ARM toolchain) is missing.
+    """
+    from ..paper import heading_fls
+
+    require(AVR_TOOLS)
+    if arm:
+        require(ARM_TOOLS)
+    reds = list(Reducer) if reducers is None else list(reducers)
+    x = cost_grid(grid, n_random=n_random)
+    x64 = x.astype(np.float64)
+    systems: list[tuple[str, IT2Sugeno | T1Sugeno]] = []
+    if include_type1:
+        systems.append(("type-1 FLC (FoU 0)", heading_fls(0.0)))
+    base = heading_fls(fou)
+    assert isinstance(base, IT2Sugeno)
+    for red in reds:
+        label = f"IT2 {red.value.name}" + ("" if red.value.exact else " (approx.)")
+        systems.append((label, dataclasses.replace(base, reducer=red.value)))
+    host_ok = True
+    try:
+        require(("gcc",))
+    except Exception:
+        host_ok = False
+    rows = []
+    for label, fls in systems:
+        code = generate_c(fls, real=RealType.FLOAT)
+        run = run_on_avr(code, x, build_dir=build_dir)
+        if np.any(run.status != 0):
+            raise BuildError(f"{label}: the AVR returned error statuses "
+                             f"{sorted(set(run.status.tolist()))}")
+        ref = np.asarray(fls(x64[:, 0], x64[:, 1]), dtype=np.float64)
+        err = float(np.max(np.abs(run.u.astype(np.float64) - ref)))
+        same = False
+        if host_ok:
+            from .host import HostLibrary, build_host_library
+
+            where = Path(build_dir) if build_dir is not None else Path(tempfile.gettempdir())
+            lib = HostLibrary(code, build_host_library(code, where))
+            hu, hyl, hyr, _ = lib.evaluate(x)
+            same = bool(np.array_equal(hu.view(np.uint32), run.u.view(np.uint32))
+                        and np.array_equal(hyl.view(np.uint32), run.yl.view(np.uint32))
+                        and np.array_equal(hyr.view(np.uint32), run.yr.view(np.uint32)))
+        size = avr_sizes(code, build_dir=build_dir)
+        arm_text = arm_sizes(code, build_dir=build_dir).flash if arm else None
+        red_name = code.reducer
+        rows.append(CostRow(
+            label=label, reducer=red_name, exact=red_name not in ("nie-tan", "wu-mendel"),
+            cycles_max=int(run.cycles.max()), cycles_mean=float(run.cycles.mean()),
+            flash=size.flash, program_flash=int(size.program_flash or 0), stack=size.stack,
+            float_error=err, equals_host_float=same, arm_text=arm_text))
+    tools = {"avr-gcc": _version("avr-gcc"), "simavr": _simavr_version()}
+    if arm:
+        tools["arm-none-eabi-gcc"] = _version("arm-none-eabi-gcc")
+    return CostTable(rows=tuple(rows), n_points=len(x), fou=fou, tools=tools)
+
+
+def _digest(*parts: Any) -> str:  # pragma: no cover - kept for cache keys of callers
+    return hashlib.sha256(repr(parts).encode()).hexdigest()[:16]
