@@ -209,6 +209,18 @@ def _literal(value: float, real: RealType) -> str:
     return text + suffix
 
 
+def _key(value: float, real: RealType) -> str:
+    """The comparison key of a table constant (see ``<PREFIX>_K`` in the template)."""
+    if real is RealType.DOUBLE:
+        return _literal(value, real)
+    f = float(np.float32(value))
+    if f == 0.0:
+        f = 0.0  # -0 and +0 share a key
+    u = int(np.array(f, dtype=np.float32).view(np.uint32))
+    k = (~u & 0xFFFFFFFF) if u & 0x80000000 else (u | 0x80000000)
+    return f"0x{k:08X}UL"
+
+
 def _label(system: IT2Sugeno | T1Sugeno, row: int) -> str:
     tables = system.tables
     inp = system.inputs[int(tables.mf_input[row])]
@@ -289,9 +301,39 @@ def _combiner(tnorm: TNorm, prefix: str, real: RealType) -> Any:
     return combine
 
 
+_GROUP = {MFKind.TRAPEZOID: 0, MFKind.GAUSSIAN: 1, MFKind.UM_GAUSSIAN_UPPER: 2,
+          MFKind.UM_GAUSSIAN_LOWER: 2}
+
+
+def _dependencies(tables: Any) -> list[int]:
+    """For each row, the upper row it is only ever read together with as a lower row (so it
+    need not be evaluated where that upper row is 0), or ``n_rows`` (the constant-1 row: none).
+
+    A row qualifies if it is never an upper row, every rule reads it as the lower partner of
+    the same upper row, and that row is of the same table (evaluated in the same loop)."""
+    n_rows = tables.n_rows
+    uppers = set(tables.upper_rows_s.ravel().tolist())
+    partners: dict[int, set[int]] = {}
+    for lower, upper in zip(tables.lower_rows_s.ravel().tolist(),
+                            tables.upper_rows_s.ravel().tolist(), strict=True):
+        partners.setdefault(lower, set()).add(upper)
+    out = []
+    for k in range(n_rows):
+        ups = partners.get(k, set())
+        if k in uppers or len(ups) != 1:
+            out.append(n_rows)
+            continue
+        (u,) = ups
+        same = u != n_rows and _GROUP[MFKind(int(tables.mf_kind[u]))] == _GROUP[
+            MFKind(int(tables.mf_kind[k]))]
+        out.append(u if same else n_rows)
+    return out
+
+
 def _context(system: IT2Sugeno | T1Sugeno, real: RealType, prefix: str) -> dict[str, Any]:
     tables = system.tables
     lit = lambda v: _literal(v, real)  # noqa: E731
+    key = lambda v: _key(v, real)  # noqa: E731
     n_in, n_rules, n_rows = system.n_inputs, system.n_rules, tables.n_rows
     reducer = _reducer_of(system)
     red_name = "type-1" if reducer is None else reducer.name
@@ -308,6 +350,7 @@ def _context(system: IT2Sugeno | T1Sugeno, real: RealType, prefix: str) -> dict[
         )
     lo = [float(v) for v in tables.lo]
     hi = [float(v) for v in tables.hi]
+    dep = _dependencies(tables)
     trap, gauss, umg = [], [], []
     h1 = True
     for k in range(n_rows):
@@ -325,18 +368,25 @@ def _context(system: IT2Sugeno | T1Sugeno, real: RealType, prefix: str) -> dict[
             trap.append({
                 "a": lit(b if left_sh else a), "b": lit(b), "c": lit(c),
                 "d": lit(c if right_sh else d),
+                "ka": key(b if left_sh else a), "kb": key(b), "kc": key(c),
+                "kd": key(c if right_sh else d),
                 "il": lit(0.0 if left_sh else 1.0 / wl), "ir": lit(0.0 if right_sh else 1.0 / wr),
-                "h": lit(h), "inp": i, "row": k, "label": label,
+                "h": lit(h), "inp": i, "row": k, "label": label, "dep": dep[k],
             })
         elif kind is MFKind.GAUSSIAN:
             mean, sigma, h = p[:3]
             gauss.append({"mean": lit(mean), "inv_sigma": lit(1.0 / sigma), "h": lit(h),
-                          "inp": i, "row": k, "label": label})
+                          "inp": i, "row": k, "label": label, "dep": dep[k]})
         else:
             m1, m2, sigma, h = p[:4]
-            umg.append({"m1": lit(m1), "m2": lit(m2), "mid": lit(0.5 * (m1 + m2)),
+            umg.append({"m1": lit(m1), "m2": lit(m2), "km1": key(m1), "km2": key(m2),
+                        "kmid": key(0.5 * (m1 + m2)),
                         "inv_sigma": lit(1.0 / sigma), "h": lit(h), "inp": i, "row": k,
-                        "lower": int(kind is MFKind.UM_GAUSSIAN_LOWER), "label": label})
+                        "lower": int(kind is MFKind.UM_GAUSSIAN_LOWER), "label": label,
+                        "dep": dep[k]})
+    # Rows that depend on another row come after the rows of their table they depend on.
+    for table in (trap, gauss, umg):
+        table.sort(key=lambda e: e["dep"] != n_rows)
     ord_hi = [int(v) for v in tables.order_hi_s]
     iterative = red_name in ("km", "ekm", "eiasc")
     need_hi_gather = (not crisp and not type1_exact and red_name in ("exhaustive", "km", "ekm",
@@ -392,5 +442,11 @@ def _context(system: IT2Sugeno | T1Sugeno, real: RealType, prefix: str) -> dict[
         "km_tol_l": lit(km_tol_l), "km_tol_r": lit(km_tol_r), "max_iter": max_iter,
         "max_iter_text": f"{max_iter} iterations" if iterative else "(not iterative)",
         "wm": wm, "tnorm": system.tnorm.value,
+        "keys": real is RealType.FLOAT,
+        "klo": [key(v) for v in lo], "khi": [key(v) for v in hi],
+        "kmax": key(float(np.finfo(np.float32 if real is RealType.FLOAT else np.float64).max)),
+        "kmin": key(-float(np.finfo(np.float32 if real is RealType.FLOAT
+                                    else np.float64).max)),
+        "kzero": key(0.0),
         "zero_value": None if zero is None else lit(zero),
     }
