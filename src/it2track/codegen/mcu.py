@@ -152,6 +152,8 @@ def run_on_avr(code: CCode, x: ArrayLike, *, build_dir: str | os.PathLike[str] |
     pts = np.ascontiguousarray(np.asarray(x, dtype=np.float32))
     if pts.ndim != 2 or pts.shape[1] != code.n_inputs:
         raise ValueError(f"x must have shape (N, {code.n_inputs}), got {pts.shape}")
+    if len(pts) > 65535:
+        raise ValueError(f"at most 65535 points per run, got {len(pts)}")
     if not np.all(np.isfinite(pts)):
         raise ValueError("x must be finite (it is printed as C constants)")
     work = _workdir(build_dir, f"avr-{code.prefix}")
