@@ -42,18 +42,21 @@ firing errors (so the float firing box lies within ``E_r`` of the exact one).
 
 holds, where ``c(t) = sum t y / sum t``. ``yl`` is the minimum of ``c`` over the firing box
 ``[fl, fu]``, so (i) taking the exact minimiser ``t*`` and its nearest point in the float box
-bounds ``yl~ - yl`` by ``sum_r E_r range / sum t*``, and (ii) taking the float minimiser and
-its nearest point in the exact box bounds ``yl - yl~`` by ``sum_r E_r range / sum t~*``; both
-denominators are at least ``S = sum_r fl_r - sum_r E_r``, and ``range = max y - min y``. So
+bounds ``yl~ - yl`` by ``sum_r E_r |y_r - c(a)| / sum t*``, and (ii) taking the float
+minimiser ``t~*`` and its nearest point ``a`` in the exact box bounds ``yl - yl~`` by
+``sum_r E_r |y_r - c(a)| / sum t~*``. Both denominators are at least ``sum fl - sum E``, and
+``|y_r - c(a)| <= |y_r - yl| + 2 B`` for the bound ``B`` sought (``c(a)`` lies between ``yl``
+and ``yl~ + B``). Solving for ``B``:
 
-    |yl~ - yl| <= range sum_r E_r / S + A,       (likewise yr with y_hi)
+    |yl~ - yl| <= sum_r E_r |y_r - yl| / (sum fl - 3 sum E) + A,   (likewise yr with y_hi)
 
 where ``A`` is the arithmetic of the reduction itself: running sums of at most ``2R + 2``
 non-negative terms (``gamma_k = k eps / (1 - k eps)``), the cross-multiplied comparison and
 the final division: ``A = (2 gamma_{2R+2} + 4 eps) max|y|``. The iterative reducers stop at a
 switch point whose optimality was tested on rounded centroids; a wrong call moves the result
 to a neighbouring switch point by at most the same arithmetic error, so ``A`` doubles for KM,
-EKM and EIASC. A type-1 system is the degenerate box ``fl = fu``.
+EKM and EIASC. ``yl`` in the bound is the exact value (evaluated in double); a type-1 system
+is the degenerate box ``fl = fu``.
 
 Nie-Tan is one centroid with weights ``fl + fu`` (perturbed by ``2 E_r``) and the midpoints of
 the consequents. The Wu-Mendel bounds combine the centroids ``yl0 = c(fl)``, ``ylm = c(fu)``
@@ -64,9 +67,9 @@ firing, ``|dT/dp|, |dT/dq| <= 1``):
 arithmetic of the difference ``sum fu - sum fl`` (``gamma_R (sum fu + sum fl) / (sum fu
 sum fl)`` relative to ``T``).
 
-Where ``S <= 0`` (the total lower firing is within rounding of zero) no bound follows from this
-argument: the function returns ``inf`` there, and the tests check only that the float result
-lies in the consequents' hull.
+Where ``sum fl <= 3 sum E`` (the total lower firing is within rounding of zero) no bound
+follows from this argument: the function returns ``inf`` there, and the tests check only that
+the float result lies in the consequents' hull.
 
 ``u = (yl + yr) / 2`` adds one rounding: ``|u~ - u| <= (b_yl + b_yr) / 2 + eps max|y|``.
 """
@@ -78,7 +81,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..fuzzy import IT2Sugeno, MFKind, T1Sugeno, TNorm
+from ..fuzzy import EXHAUSTIVE, IT2Sugeno, MFKind, T1Sugeno, TNorm
 
 __all__ = ["EPS32", "float_error_bound", "row_errors"]
 
@@ -152,6 +155,17 @@ def _centroid_bound(lower_sum: FloatArray, sum_e: FloatArray, spread_y: float,
     return b
 
 
+def _weighted_bound(lower_sum: FloatArray, big_e: FloatArray, y: FloatArray,
+                    c: FloatArray, arith: float) -> FloatArray:
+    """``sum_r E_r |y_r - c| / (sum fl - 3 sum E) + A`` (see the module docstring, step 3)."""
+    sum_e = big_e.sum(axis=0)
+    s = lower_sum - 3.0 * sum_e
+    with np.errstate(divide="ignore", invalid="ignore"):
+        num = np.einsum("rn,rn->n", big_e, np.abs(y[:, None] - c[None, :]))
+        b = np.where((s > 0) & np.isfinite(c), num / s + arith, np.inf)
+    return b
+
+
 def float_error_bound(system: IT2Sugeno | T1Sugeno, x: ArrayLike
                       ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """Bound on ``|C_float - Python|`` at each point (see the module docstring).
@@ -196,14 +210,20 @@ def float_error_bound(system: IT2Sugeno | T1Sugeno, x: ArrayLike
     su = fu.sum(axis=0)
     if name == "nie-tan":
         ym = 0.5 * (y_lo + y_hi)
-        b = _centroid_bound(sl + su, 2.0 * sum_e, float(ym.max() - ym.min()), arith)
+        w = fl + fu
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ref = np.einsum("rn,r->n", w, ym) / w.sum(axis=0)
+        # weights fl + fu are perturbed by 2 E and sum to at least sum(fl + fu)
+        b = _weighted_bound(sl + su, 2.0 * big_e, ym, ref, arith)
         b_yl = b_yr = b
     elif name == "wu-mendel":
         b_yl = _wu_mendel_side(fl, fu, y_lo, sl, su, sum_e, range_l, arith, r, left=True)
         b_yr = _wu_mendel_side(fl, fu, y_hi, sl, su, sum_e, range_r, arith, r, left=False)
     else:
-        b_yl = _centroid_bound(sl, sum_e, range_l, arith)
-        b_yr = _centroid_bound(sl, sum_e, range_r, arith)
+        ref_l, ref_r = EXHAUSTIVE.reduce_rules_first(fl, fu, y_lo, y_hi, t.order_ident,
+                                                     t.order_hi_s)
+        b_yl = _weighted_bound(sl, big_e, y_lo, ref_l, arith)
+        b_yr = _weighted_bound(sl, big_e, y_hi, ref_r, arith)
     b_u = 0.5 * (b_yl + b_yr) + EPS32 * ymax
     return b_yl, b_yr, b_u
 
