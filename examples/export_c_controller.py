@@ -1,8 +1,13 @@
-"""Export the paper's IT2FLC as C, compile it on this machine and check it against Python.
+"""
+Export the controller as C for a microcontroller
+=================================================
 
-The same as ``it2track export c --paper 0.2 --out DIR``, through the Python API; then the
-generated code is compiled with the host's C compiler (when ``gcc`` is installed) and evaluated
-through ctypes on a grid of inputs, inside and outside the universe [-1, 1]^2.
+Export the paper's IT2FLC as C, compile it on this machine and check it against Python: the
+same as ``it2track export c --paper 0.2 --out DIR``, through the Python API; then the generated
+code is compiled with the host's C compiler (when ``gcc`` is installed) and evaluated through
+ctypes on a grid of inputs, inside and outside the universe [-1, 1]^2.
+
+Run: ``python examples/export_c_controller.py``
 """
 
 import tempfile

@@ -17,7 +17,7 @@ carries an absolute error ``<= eps (2 U + 2 P)`` (clipping, the rounded ``a``, t
 ``P`` the largest finite breakpoint magnitude), which the slope multiplies by ``h / w``; the
 remaining roundings (reciprocal, product, height) are relative, ``<= 4 eps`` of a value ``<= 1``.
 A branch decided on the wrong side of a rounded breakpoint costs no more, because the row is
-continuous with slope ``<= h / w``. Hence, per row,
+continuous with slope ``<= h / w``. Hence, per row::
 
     e_trap = eps [ 2 h (U + P) / w_min + 8 ].
 
@@ -25,7 +25,7 @@ A Gaussian row ``h exp(-z^2 / 2)``, ``z = (x - m) / sigma``: ``z`` carries an ab
 ``<= eps (2 U + 2 |m|) / sigma + 2 eps |z|``; ``d/dz exp(-z^2/2) = -z exp(-z^2/2)`` is at most
 ``e^(-1/2)`` in magnitude and ``z^2 exp(-z^2/2) <= 2/e``; the argument's two roundings and
 ``expf``'s error (taken as ``<= 2`` ulp) add ``<= 4 eps``. With the same bound for the
-uncertain-mean rows (``|m| = max(|m1|, |m2|)``; their pieces join continuously):
+uncertain-mean rows (``|m| = max(|m1|, |m2|)``; their pieces join continuously)::
 
     e_gauss = eps h [ 2 (U + |m|) / sigma + 8 ].
 
@@ -36,7 +36,7 @@ reducers form ``d = fl(fu - fl)``, a relative error ``eps`` of ``fu - fl <= fu``
 as a firing perturbation of ``eps fu``. ``E_r`` is the larger of the rule's upper and lower
 firing errors (so the float firing box lies within ``E_r`` of the exact one).
 
-**3. The centroid.** For weights ``a, b > 0`` of the same rules, the identity
+**3. The centroid.** For weights ``a, b > 0`` of the same rules, the identity::
 
     c(a) - c(b) = sum_r (a_r - b_r) (y_r - c(a)) / sum_r b_r
 
@@ -46,7 +46,7 @@ bounds ``yl~ - yl`` by ``sum_r E_r |y_r - c(a)| / sum t*``, and (ii) taking the 
 minimiser ``t~*`` and its nearest point ``a`` in the exact box bounds ``yl - yl~`` by
 ``sum_r E_r |y_r - c(a)| / sum t~*``. Both denominators are at least ``sum fl - sum E``, and
 ``|y_r - c(a)| <= |y_r - yl| + 2 B`` for the bound ``B`` sought (``c(a)`` lies between ``yl``
-and ``yl~ + B``). Solving for ``B``:
+and ``yl~ + B``). Solving for ``B``::
 
     |yl~ - yl| <= sum_r E_r |y_r - yl| / (sum fl - 3 sum E) + A,   (likewise yr with y_hi)
 
