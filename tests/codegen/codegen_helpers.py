@@ -7,6 +7,8 @@ import dataclasses
 import numpy as np
 import pytest
 
+from it2track.codegen import RealType, generate_c
+from it2track.codegen.host import HostLibrary, build_host_library
 from it2track.codegen.tools import missing_tools
 from it2track.fuzzy import (
     Gaussian,
@@ -120,3 +122,18 @@ def points(system, n_random: int, seed: int, *, grid: int = 21, margin: float = 
     g = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, system.n_inputs)
     r = rng.uniform(lo - pad, hi + pad, size=(n_random, system.n_inputs))
     return np.concatenate([g, r])
+
+
+def host_lib_factory(build_dir):
+    """``make(system, real=..., prefix=...) -> HostLibrary``, each code compiled once."""
+    skip_without("gcc")
+    cache: dict[str, HostLibrary] = {}
+
+    def make(system, real=RealType.DOUBLE, prefix="it2"):
+        code = generate_c(system, real=real, prefix=prefix)
+        key = code.digest()
+        if key not in cache:
+            cache[key] = HostLibrary(code, build_host_library(code, build_dir))
+        return cache[key]
+
+    return make

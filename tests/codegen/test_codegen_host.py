@@ -8,7 +8,7 @@ import dataclasses
 
 import numpy as np
 import pytest
-from codegen_helpers import points, random_system
+from codegen_helpers import host_lib_factory, points, random_system
 
 import it2track
 from it2track.codegen import RealType
@@ -25,6 +25,17 @@ from it2track.fuzzy import (
     Triangle,
     ZeroFiringError,
 )
+
+
+@pytest.fixture(scope="module")
+def build_dir(tmp_path_factory):
+    return tmp_path_factory.mktemp("c-builds")
+
+
+@pytest.fixture(scope="module")
+def host_lib(build_dir):
+    return host_lib_factory(build_dir)
+
 
 OK, BAD_INPUT, ZERO_FIRING, NO_CONVERGENCE, ZERO_LOWER = range(5)
 

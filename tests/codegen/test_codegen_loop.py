@@ -21,6 +21,11 @@ from it2track.tracking import (
     simulate_metrics,
 )
 
+
+@pytest.fixture(scope="module")
+def build_dir(tmp_path_factory):
+    return tmp_path_factory.mktemp("c-builds")
+
 TRAJECTORIES = ("straight", "curved", "sinusoidal")
 
 

@@ -32,6 +32,11 @@ from it2track.fuzzy import Reducer
 
 
 @pytest.fixture(scope="module")
+def build_dir(tmp_path_factory):
+    return tmp_path_factory.mktemp("c-builds")
+
+
+@pytest.fixture(scope="module")
 def avr():
     skip_without("avr-gcc", "avr-size", "avr-libc", "simavr")
 
