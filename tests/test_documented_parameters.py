@@ -7,7 +7,7 @@ import inspect
 import pytest
 
 PACKAGES = ("it2track.fuzzy", "it2track.plant", "it2track.tracking", "it2track.experiments",
-            "it2track.io", "it2track.paper")
+            "it2track.io", "it2track.paper", "it2track.codegen")
 
 
 def public_callables():

@@ -155,7 +155,8 @@ def _reducer_of(system: IT2Sugeno | T1Sugeno) -> TypeReducer | None:
 
 
 def check_supported(system: object) -> None:
-    """Raise :class:`~it2track.io.UnsupportedFeatureError` unless C can be generated.
+    """Raise :class:`~it2track.io.UnsupportedFeatureError` unless C can be generated for
+    ``system``.
 
     Allowed: exactly :class:`~it2track.fuzzy.IT2Sugeno` or :class:`~it2track.fuzzy.T1Sugeno`,
     membership rows of the kinds trapezoid/triangle, Gaussian and uncertain-mean Gaussian,

@@ -25,7 +25,6 @@ packages (``gcc-avr``, ``avr-libc``, ``simavr``, ``gcc-arm-none-eabi``,
 from __future__ import annotations
 
 import dataclasses
-import hashlib
 import os
 import re
 import secrets
@@ -34,7 +33,6 @@ import tempfile
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 import jinja2
 import numpy as np
@@ -480,7 +478,3 @@ def measure_costs(
     if arm:
         tools["arm-none-eabi-gcc"] = _version("arm-none-eabi-gcc")
     return CostTable(rows=tuple(rows), n_points=len(x), fou=fou, tools=tools)
-
-
-def _digest(*parts: Any) -> str:  # pragma: no cover - kept for cache keys of callers
-    return hashlib.sha256(repr(parts).encode()).hexdigest()[:16]
