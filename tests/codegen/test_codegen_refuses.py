@@ -1,0 +1,81 @@
+"""What the generator refuses: an explicit allow-list, so that anything it does not implement --
+including a rule-language feature added to the fuzzy layer later -- is refused with
+UnsupportedFeatureError before any file is written."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import pytest
+
+import it2track
+from it2track.codegen import SUPPORTED_FEATURES, RealType, check_supported, generate_c, write_c
+from it2track.fuzzy import KM, Gaussian, Input, IT2Set, IT2Sugeno, Rule, TypeReducer
+from it2track.io import UnsupportedFeatureError
+
+
+def test_rule_language_features_outside_the_allow_list_are_refused(monkeypatch, tmp_path):
+    fls = it2track.heading_fls(0.2)
+    for feature in ("weights", "or", "a-feature-from-the-future"):
+        if feature in SUPPORTED_FEATURES:
+            continue
+        monkeypatch.setattr(fls.tables, "features", frozenset({feature}))
+        with pytest.raises(UnsupportedFeatureError, match=feature):
+            generate_c(fls)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_python_callable_membership_is_refused():
+    a = IT2Set.from_scale_lag(Gaussian(-1, 0.5), scale=0.8, lag=0.2, name="A")
+    fls = IT2Sugeno(inputs=[Input("x", (-2, 2), [a])], rules=[Rule(["A"], 1.0)])
+    with pytest.raises(UnsupportedFeatureError, match="no C implementation"):
+        check_supported(fls)
+
+
+def test_unknown_system_types_are_refused():
+    class Custom(IT2Sugeno):
+        pass
+
+    base = it2track.heading_fls(0.2)
+    sub = Custom(inputs=base.inputs, rules=base.rules)
+    for obj in (sub, object(), "it2"):
+        with pytest.raises(UnsupportedFeatureError, match="zero-order Sugeno"):
+            generate_c(obj)  # type: ignore[arg-type]
+
+
+def test_a_reducer_that_is_not_a_builtin_is_refused():
+    fake = TypeReducer(name="km", exact=True, _left=KM._right, _right=KM._left)
+    fls = dataclasses.replace(it2track.heading_fls(0.2), reducer=fake)
+    with pytest.raises(UnsupportedFeatureError, match="built-in"):
+        generate_c(fls)
+    ok = dataclasses.replace(it2track.heading_fls(0.2), reducer=KM.with_max_iter(7))
+    assert "for (it = 0; it < 7; ++it)" in generate_c(ok).source
+
+
+@pytest.mark.parametrize("prefix", ["", "1abc", "ABC", "with-dash", "int", "a" * 32, None])
+def test_bad_prefixes(prefix):
+    with pytest.raises(ValueError, match="prefix"):
+        generate_c(it2track.heading_fls(0.2), prefix=prefix)  # type: ignore[arg-type]
+
+
+def test_bad_real_type():
+    with pytest.raises(ValueError, match="RealType"):
+        generate_c(it2track.heading_fls(0.2), real="float")  # type: ignore[arg-type]
+    assert RealType.from_name(" Float ") is RealType.FLOAT
+    with pytest.raises(ValueError, match="'half'"):
+        RealType.from_name("half")
+
+
+def test_write_c_checks_before_writing(tmp_path):
+    code = generate_c(it2track.heading_fls(0.2))
+    (tmp_path / "it2.h").write_text("mine")
+    with pytest.raises(FileExistsError, match="not written by it2track"):
+        write_c(code, tmp_path)
+    assert not (tmp_path / "it2.c").exists()
+    with pytest.raises(FileNotFoundError):
+        write_c(code, "")
+    with pytest.raises(NotADirectoryError):
+        write_c(code, tmp_path / "it2.h")
+    written = write_c(code, tmp_path / "new")
+    assert [p.name for p in written] == ["it2.h", "it2.c"]
+    assert write_c(code, tmp_path / "new") == written  # its own files: replaced
