@@ -74,25 +74,33 @@ def c_command(system: Path | None, fou: float | None, out_text: str, real: str,
     _check_out_dir(out)
 
     # -- build the system ---------------------------------------------------------------------
+    from ..fuzzy import IT2Sugeno, Reducer, T1Sugeno
+
+    loaded: object
     try:
         if fou is not None:
             from ..paper import heading_fls
 
-            fls = heading_fls(fou)
+            loaded = heading_fls(fou)
         else:
             from ..io import load
 
             assert system is not None
-            fls = load(system)
+            loaded = load(system)
     except ValueError as exc:
         where = "--paper" if fou is not None else "SYSTEM"
         raise click.BadParameter(str(exc), param_hint=where) from None
     except OSError as exc:
         raise click.BadParameter(f"cannot read {system}: {exc.strerror}",
                                  param_hint="SYSTEM") from None
+    where = "--paper" if fou is not None else "SYSTEM"
+    try:
+        check_supported(loaded)  # before anything else: a Mamdani system, say, is named as such
+    except UnsupportedFeatureError as exc:
+        raise click.BadParameter(f"cannot generate C: {exc}", param_hint=where) from None
+    assert isinstance(loaded, IT2Sugeno | T1Sugeno)
+    fls = loaded
     if reducer is not None:
-        from ..fuzzy import IT2Sugeno, Reducer
-
         if not isinstance(fls, IT2Sugeno):
             raise click.BadParameter(
                 f"{type(fls).__name__} {fls.name!r} is a type-1 system: it has no type "
@@ -101,10 +109,8 @@ def c_command(system: Path | None, fou: float | None, out_text: str, real: str,
 
     # -- generate and write -------------------------------------------------------------------
     try:
-        check_supported(fls)
         code = generate_c(fls, real=RealType.from_name(real), prefix=prefix)
     except UnsupportedFeatureError as exc:
-        where = "--paper" if fou is not None else "SYSTEM"
         raise click.BadParameter(f"cannot generate C: {exc}", param_hint=where) from None
     try:
         written = write_c(code, out, force=force)
