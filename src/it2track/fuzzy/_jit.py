@@ -18,7 +18,7 @@ import math
 from typing import Any
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from .libm import exp_scalar
 
@@ -34,7 +34,7 @@ EXHAUSTIVE, KM, EKM, EIASC, NIE_TAN, WU_MENDEL, T1 = 0, 1, 2, 3, 4, 5, 6
 # Status codes: the reference raises where the status is not OK.
 OK, ZERO_FIRING, WM_ZERO_LOWER, NOT_CONVERGED = 0, 1, 2, 3
 
-def _compiled(*, inline: bool = False, parallel: bool = False) -> Any:
+def _compiled(*, inline: bool = False) -> Any:
     """numba's ``njit`` with this package's options: cached on disk, IEEE division semantics
     (``error_model="numpy"``: x / 0 is inf or NaN, as in numpy), no fast-math, GIL released.
 
@@ -43,11 +43,11 @@ def _compiled(*, inline: bool = False, parallel: bool = False) -> Any:
     LLVM cannot remove. Larger functions are called once per block: inlining them would
     multiply the compile time.
     """
-    return njit(cache=True, error_model="numpy", nogil=True, parallel=parallel,
+    return njit(cache=True, error_model="numpy", nogil=True,
                 inline="always" if inline else "never")
 
 
-exp = _compiled(inline=True)(exp_scalar)
+exp = _compiled()(exp_scalar)  # scalar arguments: a call costs no reference counting
 
 
 def scratch_rows(P: np.ndarray) -> int:
@@ -246,7 +246,7 @@ def _switch(P, S, j, flb, fub, oy, o_idx, left, k0, tol):
     return math.nan, NOT_CONVERGED
 
 
-@_compiled()
+@_compiled(inline=True)
 def _eiasc(P, S, j, flb, fub, oy, o_idx, left):
     n_rules, max_iter = int(P[N_RULES]), int(P[MAX_ITER])
     g = _row(P, o_idx, 0)
@@ -273,42 +273,46 @@ def _eiasc(P, S, j, flb, fub, oy, o_idx, left):
     return math.nan, OK  # unreachable: the last rule always stops
 
 
-@_compiled(inline=True)
-def _dot(S, b, j, P, oy, n_rules):
-    s = S[b, j] * P[oy]
-    for n in range(1, n_rules):
-        s += S[b + n, j] * P[oy + n]
-    return s
-
-
-@_compiled(inline=True)
-def _sum(S, b, j, n_rules):
-    s = S[b, j]
-    for n in range(1, n_rules):
-        s += S[b + n, j]
-    return s
-
-
 @_compiled()
-def _wu_mendel(P, S, j, flb, fub):
+def _wu_mendel(P, L, S, flb, fub, tb, yl, yr):
+    """reducers._wu_mendel for the lanes (rows in rule order, as _dot_rows/_sum_rows)."""
     n_rules = int(P[N_RULES])
     ylo, yhi, wm = int(P[O_YLO]), int(P[O_YHI]), int(P[O_WM])
-    sl = _sum(S, flb, j, n_rules)
-    su = _sum(S, fub, j, n_rules)
-    yl0 = _dot(S, flb, j, P, ylo, n_rules) / sl
-    ylm = _dot(S, fub, j, P, ylo, n_rules) / su
-    yr0 = _dot(S, flb, j, P, yhi, n_rules) / sl
-    yrm = _dot(S, fub, j, P, yhi, n_rules) / su
-    yl_outer_hi = math.nan if yl0 != yl0 or ylm != ylm else (yl0 if yl0 <= ylm else ylm)
-    yr_outer_lo = math.nan if yr0 != yr0 or yrm != yrm else (yr0 if yr0 >= yrm else yrm)
-    spread = (su - sl) / (su * sl)
-    pl = _dot(S, flb, j, P, wm, n_rules)
-    ql = _dot(S, fub, j, P, wm + n_rules, n_rules)
-    yl_lo = yl_outer_hi - spread * (pl * ql / (pl + ql) if pl + ql > 0 else 0.0)
-    pr = _dot(S, fub, j, P, wm + 2 * n_rules, n_rules)
-    qr = _dot(S, flb, j, P, wm + 3 * n_rules, n_rules)
-    yr_hi = yr_outer_lo + spread * (pr * qr / (pr + qr) if pr + qr > 0 else 0.0)
-    return 0.5 * (yl_lo + yl_outer_hi), 0.5 * (yr_outer_lo + yr_hi)
+    for j in range(L):
+        sl = S[flb, j]
+        su = S[fub, j]
+        a0 = S[flb, j] * P[ylo]  # sum fl y_lo
+        a1 = S[fub, j] * P[ylo]  # sum fu y_lo
+        a2 = S[flb, j] * P[yhi]  # sum fl y_hi
+        a3 = S[fub, j] * P[yhi]  # sum fu y_hi
+        pl = S[flb, j] * P[wm]
+        ql = S[fub, j] * P[wm + n_rules]
+        pr = S[fub, j] * P[wm + 2 * n_rules]
+        qr = S[flb, j] * P[wm + 3 * n_rules]
+        for n in range(1, n_rules):
+            fl = S[flb + n, j]
+            fu = S[fub + n, j]
+            sl += fl
+            su += fu
+            a0 += fl * P[ylo + n]
+            a1 += fu * P[ylo + n]
+            a2 += fl * P[yhi + n]
+            a3 += fu * P[yhi + n]
+            pl += fl * P[wm + n]
+            ql += fu * P[wm + n_rules + n]
+            pr += fu * P[wm + 2 * n_rules + n]
+            qr += fl * P[wm + 3 * n_rules + n]
+        yl0 = a0 / sl
+        ylm = a1 / su
+        yr0 = a2 / sl
+        yrm = a3 / su
+        yl_outer_hi = math.nan if yl0 != yl0 or ylm != ylm else (yl0 if yl0 <= ylm else ylm)
+        yr_outer_lo = math.nan if yr0 != yr0 or yrm != yrm else (yr0 if yr0 >= yrm else yrm)
+        spread = (su - sl) / (su * sl)
+        yl_lo = yl_outer_hi - spread * (pl * ql / (pl + ql) if pl + ql > 0 else 0.0)
+        yr_hi = yr_outer_lo + spread * (pr * qr / (pr + qr) if pr + qr > 0 else 0.0)
+        yl[j] = 0.5 * (yl_lo + yl_outer_hi)
+        yr[j] = 0.5 * (yr_outer_lo + yr_hi)
 
 
 @_compiled()
@@ -361,8 +365,7 @@ def eval_block(P, X, L, S, yl, yr, st):
             yl[j] = S[num, j] / S[den, j]
             yr[j] = yl[j]
     elif red == WU_MENDEL:
-        for j in range(L):
-            yl[j], yr[j] = _wu_mendel(P, S, j, flb, fub)
+        _wu_mendel(P, L, S, flb, fub, tb, yl, yr)
     elif red == EIASC:
         for j in range(L):
             yl[j], s1 = _eiasc(P, S, j, flb, fub, ylo, -1, True)
@@ -421,21 +424,20 @@ def scalar2(P, a, b):
 BLOCK = 256  # points per block (the block's scratch stays in the L1/L2 cache)
 
 
-def _batch(P, X, out_a, out_b, status, crisp):
-    """Evaluate the clipped points ``X`` (n_inputs, N): ``crisp`` writes ``(yl + yr) / 2`` to
-    ``out_a``, otherwise ``yl`` and ``yr`` to ``out_a``/``out_b``; ``status`` per point."""
+@_compiled()
+def batch(P, X, out_a, out_b, status, crisp, first, last):
+    """Evaluate the clipped points ``X[:, first:last]`` (X: n_inputs x N): ``crisp`` writes
+    ``(yl + yr) / 2`` to ``out_a``, otherwise ``yl`` and ``yr`` to ``out_a``/``out_b``;
+    ``status`` per point. Releases the GIL: threads may run disjoint ranges at once."""
     n_in = X.shape[0]
-    n = X.shape[1]
     rows = int(P[N_ROWS]) + 4 + 2 * int(P[N_RULES])
-    n_blocks = (n + BLOCK - 1) // BLOCK
-    for blk in prange(n_blocks):
-        S = np.empty((rows, BLOCK))
-        xb = np.empty((n_in, BLOCK))
-        yl = np.empty(BLOCK)
-        yr = np.empty(BLOCK)
-        st = np.empty(BLOCK, dtype=np.int8)
-        a = blk * BLOCK
-        L = min(n, a + BLOCK) - a
+    S = np.empty((rows, BLOCK))
+    xb = np.empty((n_in, BLOCK))
+    yl = np.empty(BLOCK)
+    yr = np.empty(BLOCK)
+    st = np.empty(BLOCK, dtype=np.int8)
+    for a in range(first, last, BLOCK):
+        L = min(last, a + BLOCK) - a
         for i in range(n_in):
             for j in range(L):
                 xb[i, j] = X[i, a + j]
@@ -447,7 +449,3 @@ def _batch(P, X, out_a, out_b, status, crisp):
             else:
                 out_a[a + j] = yl[j]
                 out_b[a + j] = yr[j]
-
-
-batch_serial = _compiled()(_batch)
-batch_parallel = _compiled(parallel=True)(_batch)

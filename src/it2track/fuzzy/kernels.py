@@ -21,16 +21,20 @@ imported) or ``compiled`` (like ``auto``, but a missing numba is an error). It i
 system is first evaluated. numba is an optional accelerator here: :mod:`it2track.fuzzy` imports
 numpy only and imports numba lazily, on the first evaluation that can use it.
 
-Threads: the parallel batch kernel runs on numba's thread pool (``numba.set_num_threads``);
-calls from several Python threads at once take turns on it (one lock), since numba's default
-thread pool is not re-entrant. Results never depend on the number of threads: each point is
-computed alone.
+Threads: large batches are split into contiguous ranges evaluated at once by a small thread
+pool (the kernels are serial and release the GIL); :func:`threads` says how many, from
+``numba.get_num_threads()`` (so ``numba.set_num_threads`` and ``NUMBA_NUM_THREADS`` apply).
+numba's own parallel backend is not used: it would double the compile time and is not
+re-entrant from several Python threads. Results never depend on the number of threads: each
+point is computed alone.
 """
 
 from __future__ import annotations
 
 import os
 import threading
+from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
 import numpy as np
@@ -59,8 +63,6 @@ _REDUCERS: dict[Any, int] = {
 }  # fmt: skip
 _T1 = 6
 _PARALLEL_MIN = 8192  # fewer points than this: the serial kernel (no thread start-up)
-#: Held while a parallel kernel runs: numba's default thread pool is not re-entrant.
-POOL_LOCK = threading.Lock()
 _jit: Any = None
 
 
@@ -228,13 +230,52 @@ def interval(
     out_a = np.empty(n)
     out_b = out_a if crisp else np.empty(n)
     status = np.empty(n, dtype=np.int8)
-    if n >= _PARALLEL_MIN and POOL_LOCK.acquire(blocking=False):
-        try:
-            _jit.batch_parallel(packed, x, out_a, out_b, status, crisp)
-        finally:
-            POOL_LOCK.release()
-    else:
-        _jit.batch_serial(packed, x, out_a, out_b, status, crisp)
+    bounds = _split(n, threads() if n >= _PARALLEL_MIN else 1, _jit.BLOCK)
+    run_threads([(_jit.batch, (packed, x, out_a, out_b, status, crisp, a, b))
+                 for a, b in bounds])  # fmt: skip
     if status.any():
         return None
     return out_a, (None if crisp else out_b)
+
+
+def threads() -> int:
+    """Threads the compiled kernels use: ``numba.get_num_threads()`` (``numba.set_num_threads``
+    changes it; ``NUMBA_NUM_THREADS`` sets the default, the number of CPUs)."""
+    import numba
+
+    return int(numba.get_num_threads())
+
+
+def _split(n: int, parts: int, align: int) -> list[tuple[int, int]]:
+    """``parts`` contiguous ranges covering ``0 .. n`` (boundaries multiples of ``align``)."""
+    size = -(-n // max(1, parts))
+    size = -(-size // align) * align
+    return [(a, min(n, a + size)) for a in range(0, n, size)] or [(0, 0)]
+
+
+_POOL: tuple[int, ThreadPoolExecutor] | None = None
+_POOL_LOCK = threading.Lock()
+
+
+def run_threads(calls: list[tuple[Callable[..., object], tuple[object, ...]]]) -> None:
+    """Run ``fn(*args)`` for every pair, the first in this thread and the others on a thread
+    pool (the compiled kernels release the GIL), and wait for all; re-raises the first error.
+
+    The kernels write disjoint parts of their outputs, so results do not depend on the number
+    of threads or their timing. The pool is per process (recreated after a fork).
+    """
+    global _POOL
+    if len(calls) <= 1:
+        for fn, args in calls:
+            fn(*args)
+        return
+    with _POOL_LOCK:
+        if _POOL is None or _POOL[0] != os.getpid():
+            _POOL = (os.getpid(), ThreadPoolExecutor(max_workers=os.cpu_count() or 2,
+                                                     thread_name_prefix="it2track-kernel"))
+        pool = _POOL[1]
+    futures = [pool.submit(fn, *args) for fn, args in calls[1:]]
+    fn, args = calls[0]
+    fn(*args)
+    for f in futures:
+        f.result()

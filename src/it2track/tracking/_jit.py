@@ -4,9 +4,10 @@ One task advances a *block* of up to :data:`LANES` runs that share a controller 
 whole run, lane by lane: desired heading, noise, errors, controller, saturation, metrics and
 the exact-ZOH plant step, with the operations of :meth:`._Engine.run`,
 :meth:`~it2track.plant.DifferentialDrive.step` and :class:`.metrics.MetricAccumulator` in the
-same order, so every number is the numpy engine's, bit for bit. Blocks run in parallel
-(``prange``); a run never reads another run's numbers, so results do not depend on the block,
-the batch or the number of threads. Fuzzy controllers are evaluated by
+same order, so every number is the numpy engine's, bit for bit. The kernel is serial and
+releases the GIL; :mod:`.compiled` runs disjoint sets of blocks on several threads. A run never
+reads another run's numbers, so results do not depend on the block, the batch or the number of
+threads. Fuzzy controllers are evaluated by
 :func:`it2track.fuzzy._jit.eval_block` on the block's lanes.
 
 numba checks a cached function against its own source file only: after editing
@@ -19,7 +20,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import prange
 
 from ..fuzzy._jit import N_ROWS, N_RULES, OK, _compiled, eval_block
 from ..plant.drive import (
@@ -41,7 +41,7 @@ TS, V_LIM, HALF_R, W_SCALE, N_STEPS, K_START, PREVIOUS = range(7)
 N_METRICS = 14
 N_FIELDS = 17
 
-atan2 = _compiled(inline=True)(atan2_scalar)
+atan2 = _compiled(inline=True)(atan2_scalar)  # scalar arguments: calls cost no reference counting
 _PI = math.pi
 _TWO_PI = 2.0 * math.pi
 _S1, _S2, _S3, _S4, _S5, _S6 = _SIN_KERNEL
@@ -81,7 +81,7 @@ def _kernels(r):
     return s, 1.0 - t
 
 
-@_compiled()
+@_compiled(inline=True)
 def _sincos(x):
     """drive._sincos for one value."""
     if abs(x) > _SINCOS_LIMIT:
@@ -192,7 +192,7 @@ def _loop(C, c_off, blocks, tidx, std, zinv, Z, hold, xref, yref, v0ref, start, 
     previous = cfg[PREVIOUS] != 0.0
     ts, v_lim, half_r, w_scale = cfg[TS], cfg[V_LIM], cfg[HALF_R], cfg[W_SCALE]
     n_nodes = (plant.size - 9) // 6
-    for b in prange(blocks.shape[0]):
+    for b in range(blocks.shape[0]):
         first, stop, ci = blocks[b, 0], blocks[b, 1], blocks[b, 2]
         L = stop - first
         off = c_off[ci]
@@ -335,4 +335,4 @@ def _loop(C, c_off, blocks, tidx, std, zinv, Z, hold, xref, yref, v0ref, start, 
             metrics[g, 13] = A[23, j] * ts
 
 
-loop = _compiled(parallel=True)(_loop)
+loop = _compiled()(_loop)

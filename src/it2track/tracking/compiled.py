@@ -20,7 +20,6 @@ engine, which raises its own error.
 
 from __future__ import annotations
 
-import threading
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
@@ -37,7 +36,6 @@ if TYPE_CHECKING:
 __all__ = ["run", "supported"]
 
 FloatArray = NDArray[np.float64]
-_LOCK: threading.Lock = fuzzy_kernels.POOL_LOCK
 
 
 def supported(controller: HeadingController) -> str | None:
@@ -123,15 +121,19 @@ def run(
     metrics = np.empty((n, jit.N_METRICS))
     rec = np.empty((jit.N_FIELDS, n, n_steps + 1) if record else (jit.N_FIELDS, 0, 0))
     status = np.zeros(n, dtype=np.int8)
-    with _LOCK:
-        jit.loop(
-            packed, offsets, np.array(blocks, dtype=np.int64).reshape(-1, 3),
-            np.ascontiguousarray(runs.trajectory[order]),
-            np.ascontiguousarray(runs.noise_std[order]), inverse.astype(np.int64), z,
-            np.ascontiguousarray(engine.hold, dtype=np.int64), engine.x_ref, engine.y_ref,
-            engine.v0, np.ascontiguousarray(engine.start), _plant_vector(engine), vec,
-            metrics, rec, record, status,
-        )  # fmt: skip
+    blocks_arr = np.array(blocks, dtype=np.int64).reshape(-1, 3)
+    shared = (
+        np.ascontiguousarray(runs.trajectory[order]),
+        np.ascontiguousarray(runs.noise_std[order]), inverse.astype(np.int64), z,
+        np.ascontiguousarray(engine.hold, dtype=np.int64), engine.x_ref, engine.y_ref,
+        engine.v0, np.ascontiguousarray(engine.start), _plant_vector(engine), vec,
+        metrics, rec, record, status,
+    )  # fmt: skip
+    parts = max(1, min(fuzzy_kernels.threads(), len(blocks)))
+    fuzzy_kernels.run_threads([
+        (jit.loop, (packed, offsets, np.ascontiguousarray(blocks_arr[i::parts]), *shared))
+        for i in range(parts)
+    ])  # fmt: skip
     inv = np.empty_like(order)
     inv[order] = np.arange(n)
     out = {name: np.ascontiguousarray(metrics[inv, i]) for i, name in enumerate(METRIC_NAMES)}
