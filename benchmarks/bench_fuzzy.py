@@ -3,6 +3,10 @@
 Run from the repository root::
 
     .venv/bin/python benchmarks/bench_fuzzy.py
+    IT2TRACK_ENGINE=numpy .venv/bin/python benchmarks/bench_fuzzy.py   # the numpy path
+
+``fls(e, de)`` uses the compiled kernels (numba) where they apply, the numpy evaluation
+otherwise or with ``IT2TRACK_ENGINE=numpy``; ``benchmarks/bench_engine.py`` compares both.
 
 Measures, on one pinned CPU core and in one run:
 
@@ -151,7 +155,8 @@ def main(argv: list[str] | None = None) -> int:
     print(f"# it2track fuzzy benchmark: paper controller, FoU {FOU}, product t-norm")
     print(f"python {platform.python_version()}, numpy {np.__version__}, {cpu_model()}, "
           f"{pinned}, {args.clock} clock, median of {args.repeats} repeats, "
-          f"load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} CPUs\n")
+          f"load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} CPUs, engine "
+          f"{os.environ.get('IT2TRACK_ENGINE', 'auto')}\n")
 
     ours: dict[str, dict[int, tuple[float, float, float]]] = {}
     for red in REDUCERS:

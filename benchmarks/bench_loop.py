@@ -16,10 +16,14 @@ Measures, on this machine, in one run:
    peak of the ``simulate_metrics`` call.
 
 A run-step is one control period of one run (10 s at 100 Hz = 1000 run-steps per run).
-Times are medians over repeats. Run it from the repository root::
+Times are medians over repeats. ``simulate_metrics`` runs on the compiled engine (numba, every
+thread ``numba.get_num_threads()`` allows) wherever it applies; ``IT2TRACK_ENGINE=numpy``
+measures the numpy engine instead (``benchmarks/bench_engine.py`` shows both side by side).
+Run it from the repository root::
 
     .venv/bin/python benchmarks/bench_loop.py            # ~1 min on an idle machine
     .venv/bin/python benchmarks/bench_loop.py --quick    # smaller, for a smoke test
+    IT2TRACK_ENGINE=numpy .venv/bin/python benchmarks/bench_loop.py --quick
 """
 
 from __future__ import annotations
@@ -245,7 +249,8 @@ def main() -> None:
 
     print(f"\n## bench_loop ({platform.processor() or platform.machine()}, {os.cpu_count()} "
           f"CPUs, Python {platform.python_version()}, numpy {np.__version__}, "
-          f"OPENBLAS_NUM_THREADS={os.environ['OPENBLAS_NUM_THREADS']})\n")  # fmt: skip
+          f"OPENBLAS_NUM_THREADS={os.environ['OPENBLAS_NUM_THREADS']}, engine "
+          f"{os.environ.get('IT2TRACK_ENGINE', 'auto')})\n")  # fmt: skip
     print("Each run: 10 s at 100 Hz = 1000 run-steps; IT2FLC FoU 0.2 (study: FLC + IT2 "
           f"0.1/0.2/0.3), sigma = {SIGMA} rad. Times: median of {repeats} repeats "
           f"(study: {max(1, repeats - 2)}).\n")  # fmt: skip
