@@ -218,3 +218,21 @@ def test_engine_variable(monkeypatch):
     monkeypatch.setenv(kernels.ENGINE_ENV, "fast")
     with pytest.raises(ValueError, match="IT2TRACK_ENGINE='fast'"):
         kernels.engine()
+
+
+def test_empty_and_threaded_batches():
+    fls = heading_fls(0.2)
+    assert fls(np.empty(0), np.empty(0)).shape == (0,)
+    assert fls.interval(np.empty((3, 0)), np.empty((3, 0)))[0].shape == (3, 0)
+    x = points(3 * kernels._PARALLEL_MIN + 5, 12)  # split across threads
+    import numba
+
+    before = numba.get_num_threads()
+    try:
+        got = []
+        for n in (1, 2):
+            numba.set_num_threads(n)
+            got.append(fls(*x))
+    finally:
+        numba.set_num_threads(before)
+    assert same(got[0], got[1]) and same(got[0], sum(reference(fls, *x)) * 0.5)

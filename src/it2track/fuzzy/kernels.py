@@ -248,9 +248,11 @@ def threads() -> int:
 
 def _split(n: int, parts: int, align: int) -> list[tuple[int, int]]:
     """``parts`` contiguous ranges covering ``0 .. n`` (boundaries multiples of ``align``)."""
+    if n == 0:
+        return [(0, 0)]
     size = -(-n // max(1, parts))
     size = -(-size // align) * align
-    return [(a, min(n, a + size)) for a in range(0, n, size)] or [(0, 0)]
+    return [(a, min(n, a + size)) for a in range(0, n, size)]
 
 
 _POOL: tuple[int, ThreadPoolExecutor] | None = None
