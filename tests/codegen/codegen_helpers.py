@@ -17,6 +17,7 @@ from it2track.fuzzy import (
     IT2Sugeno,
     Reducer,
     Rule,
+    SNorm,
     T1Sugeno,
     TNorm,
     Trapezoid,
@@ -73,8 +74,9 @@ SHAPES = ("triangle", "trapezoid", "left", "right", "gauss-std", "gauss-mean")
 
 
 def random_system(seed: int, *, type1: bool = False, on_zero_firing=None,
-                  reducer: Reducer | None = None, shapes=SHAPES):
-    """A random multi-input Sugeno system covering every supported shape and option."""
+                  reducer: Reducer | None = None, shapes=SHAPES, features: bool = False):
+    """A random multi-input Sugeno system covering every supported shape and option
+    (``features``: also NOT antecedents, OR rules with either s-norm, and rule weights)."""
     rng = np.random.default_rng(seed)
     n_in = int(rng.integers(1, 4))
     inputs = []
@@ -99,16 +101,25 @@ def random_system(seed: int, *, type1: bool = False, on_zero_firing=None,
             cons: float | tuple[float, float] = y
         else:
             cons = (y, y + float(rng.uniform(0.0, 4.0)))
-        rules.append(Rule(list(ante), cons))
+        if not features:
+            rules.append(Rule(list(ante), cons))
+            continue
+        mentioned = sum(a is not None for a in ante)
+        rules.append(Rule(
+            list(ante), cons,
+            weight=float(rng.uniform(0.3, 1.0)) if rng.random() < 0.4 else 1.0,
+            connective="or" if mentioned > 1 and rng.random() < 0.4 else "and",
+            negated=[a is not None and bool(rng.random() < 0.25) for a in ante]))
     if not rules:
         rules.append(Rule(["s0"] + [None] * (n_in - 1), 1.0))
     tnorm = TNorm.PRODUCT if rng.random() < 0.6 else TNorm.MINIMUM
+    extra = {"snorm": SNorm.PROBOR if rng.random() < 0.5 else SNorm.MAXIMUM} if features else {}
     if type1:
         return T1Sugeno(inputs=inputs, rules=rules, tnorm=tnorm, on_zero_firing=on_zero_firing,
-                        name=f"random-t1-{seed}")
+                        name=f"random-t1-{seed}", **extra)
     red = reducer if reducer is not None else list(Reducer)[int(rng.integers(len(Reducer)))]
     return IT2Sugeno(inputs=inputs, rules=rules, tnorm=tnorm, reducer=red.value,
-                     on_zero_firing=on_zero_firing, name=f"random-{seed}")
+                     on_zero_firing=on_zero_firing, name=f"random-{seed}", **extra)
 
 
 def points(system, n_random: int, seed: int, *, grid: int = 21, margin: float = 0.3):

@@ -143,6 +143,17 @@ def test_random_systems_equal_python(seed, host_lib):
     assert bounded.sum() > 0.5 * fired.sum(), f"{system.name}: most points need a finite bound"
 
 
+@pytest.mark.parametrize("seed", range(300, 312))
+def test_rule_language_features_equal_python(seed, host_lib):
+    """NOT antecedents, OR rules (max and probabilistic OR) and rule weights."""
+    system = random_system(seed, features=True, type1=seed % 4 == 3,
+                           on_zero_firing=None if seed % 2 else 2.5)
+    assert system.tables.features & {"not", "or", "weights"}
+    x = points(system, 10_000, seed=seed)
+    check_double(host_lib(system), system, x)
+    check_float(host_lib(system, real=RealType.FLOAT), system, x)
+
+
 @pytest.mark.parametrize("seed", range(6))
 def test_random_type1_systems_equal_python(seed, host_lib):
     system = random_system(100 + seed, type1=True, on_zero_firing=1.25 if seed % 2 else None)
@@ -180,6 +191,12 @@ def test_random_systems_cover_every_shape_and_option():
     assert tnorms == set(TNorm)
     assert reducers == {r.value.name for r in Reducer}
     assert interval and dontcare and low_height
+    features, snorms = set(), set()
+    for seed in range(300, 312):
+        s = random_system(seed, features=True, type1=seed % 4 == 3)
+        features |= s.tables.features
+        snorms.add(s.snorm)
+    assert features == {"not", "or", "weights"} and len(snorms) == 2
 
 
 def _gap_system(reducer, zero=None):

@@ -80,6 +80,21 @@ def test_every_reducer_runs_on_the_avr(avr, build_dir, red):
     assert np.array_equal(_bits(run.u), _bits(u))
 
 
+def test_rule_language_features_on_the_avr(avr, build_dir):
+    """NOT, OR (probabilistic or max) and weights: the AVR equals the host float build."""
+    system = random_system(301, features=True, on_zero_firing=0.0,
+                           shapes=("triangle", "trapezoid", "left", "right"))
+    assert system.tables.features & {"not", "or", "weights"}
+    code = generate_c(system, real=RealType.FLOAT)
+    lo = [i.universe[0] for i in system.inputs]
+    hi = [i.universe[1] for i in system.inputs]
+    x = np.random.default_rng(1).uniform(lo, hi, size=(150, system.n_inputs)).astype(np.float32)
+    run = run_on_avr(code, x, build_dir=build_dir)
+    u, _, _, status = _host_float(code, x, build_dir)
+    assert np.array_equal(run.status, status)
+    assert np.array_equal(_bits(run.u), _bits(u))
+
+
 def test_avr_error_statuses(avr, build_dir):
     from it2track.fuzzy import Input, IT2Set, IT2Sugeno, Rule
     n = IT2Set.triangle([-1, -1, -0.1], [-1, -1, -0.5], "N")

@@ -25,6 +25,30 @@ def test_rule_language_features_outside_the_allow_list_are_refused(monkeypatch, 
     assert list(tmp_path.iterdir()) == []
 
 
+def test_features_it_does_not_implement_are_refused_in_real_systems():
+    from it2track.fuzzy import IT2Mamdani, Linear, Output, Triangle
+    sets = [IT2Set.from_fou(Triangle(-1, -1, 1), 0.2, "N"),
+            IT2Set.from_fou(Triangle(-1, 1, 1), 0.2, "P")]
+    x = Input("x", (-1, 1), sets)
+    tsk = IT2Sugeno(inputs=[x], rules=[Rule(["N"], Linear([2.0], 0.5)), Rule(["P"], 1.0)])
+    with pytest.raises(UnsupportedFeatureError, match="linear"):
+        generate_c(tsk)
+    two = IT2Sugeno(inputs=[x], rules=[Rule(["N"], consequents=[1.0, 2.0]),
+                                       Rule(["P"], consequents=[-1.0, 0.0])])
+    with pytest.raises(UnsupportedFeatureError, match="outputs"):
+        generate_c(two)
+    y = Output("y", (0, 4), [IT2Set(Triangle(0, 0, 4), Triangle(0, 0, 2), "small"),
+                             IT2Set(Triangle(0, 4, 4), Triangle(2, 4, 4), "big")])
+    mamdani = IT2Mamdani(inputs=[x], outputs=[y],
+                         rules=[Rule(["N"], "small"), Rule(["P"], "big")], resolution=5)
+    with pytest.raises(UnsupportedFeatureError, match="IT2Mamdani"):
+        generate_c(mamdani)  # type: ignore[arg-type]
+    weighted = IT2Sugeno(inputs=[x], rules=[Rule(["N"], 1.0, weight=0.5),
+                                            Rule(["P"], -1.0, negated=[True])])
+    assert {"weights", "not"} <= weighted.tables.features
+    assert "it2_eval" in generate_c(weighted).source  # implemented: accepted
+
+
 def test_python_callable_membership_is_refused():
     a = IT2Set.from_scale_lag(Gaussian(-1, 0.5), scale=0.8, lag=0.2, name="A")
     fls = IT2Sugeno(inputs=[Input("x", (-2, 2), [a])], rules=[Rule(["A"], 1.0)])

@@ -29,7 +29,10 @@ uncertain-mean rows (``|m| = max(|m1|, |m2|)``; their pieces join continuously):
 
     e_gauss = eps h [ 2 (U + |m|) / sigma + 8 ].
 
-**2. Firing.** For the product t-norm ``theta = prod_i mu_i``,
+**2. Firing.** (With NOT, OR rules or weights every operation is 1-Lipschitz in each argument
+on ``[0, 1]``, so a rule's error is at most the sum of its antecedents' errors plus one rounding
+per operation, times its weight; a negated row ``1 - mu`` adds one rounding.) For the product
+t-norm ``theta = prod_i mu_i``,
 ``|theta~ - theta| <= sum_i e_i prod_{j != i} (mu_j + e_j) + (n - 1) eps prod_j (mu_j + e_j)``;
 the minimum is 1-Lipschitz in the max norm: ``|theta~ - theta| <= max_i e_i``. The type
 reducers form ``d = fl(fu - fl)``, a relative error ``eps`` of ``fu - fl <= fu``, which we book
@@ -188,12 +191,27 @@ def float_error_bound(system: IT2Sugeno | T1Sugeno, x: ArrayLike
     xc = np.clip(arr, t.lo, t.hi).T.copy()  # (n_in, N)
     m = t.memberships(xc).copy()
     e = row_errors(system)
-    fu = np.prod(m[t.upper_rows_s], axis=1) if system.tnorm is TNorm.PRODUCT else \
-        np.min(m[t.upper_rows_s], axis=1)
-    fl = np.prod(m[t.lower_rows_s], axis=1) if system.tnorm is TNorm.PRODUCT else \
-        np.min(m[t.lower_rows_s], axis=1)
-    eu = _firing_error(m, e, t.upper_rows_s, system.tnorm)
-    el = _firing_error(m, e, t.lower_rows_s, system.tnorm)
+    general = bool(frozenset(getattr(t, "features", frozenset())) & {"not", "or", "weights"})
+    if general:
+        # NOT, OR, weights: rows [m, 1, 0, 1 - m] with errors [e, 0, 0, e + eps]; every t-norm
+        # and s-norm here is 1-Lipschitz in each argument on [0, 1] (the probabilistic OR too:
+        # d(a + b - ab)/da = 1 - b), so a rule's error is at most the sum of its antecedents'
+        # plus one rounding per operation, times its weight.
+        fl_b, fu_b = t.firing_block(xc, system.tnorm)
+        fl, fu = fl_b.copy(), fu_b.copy()
+        n_rows = t.n_rows
+        e_ext = np.concatenate([e[:n_rows], [0.0, 0.0], e[:n_rows] + EPS32])
+        w = np.asarray(getattr(t, "weight_s", np.ones(t.n_rules)))[:, None]
+        n_in = t.n_inputs
+        eu = (e_ext[t.up_ext_s].sum(axis=1)[:, None] + 3.0 * n_in * EPS32) * w + EPS32 * fu
+        el = (e_ext[t.lo_ext_s].sum(axis=1)[:, None] + 3.0 * n_in * EPS32) * w + EPS32 * fl
+    else:
+        fu = np.prod(m[t.upper_rows_s], axis=1) if system.tnorm is TNorm.PRODUCT else \
+            np.min(m[t.upper_rows_s], axis=1)
+        fl = np.prod(m[t.lower_rows_s], axis=1) if system.tnorm is TNorm.PRODUCT else \
+            np.min(m[t.lower_rows_s], axis=1)
+        eu = _firing_error(m, e, t.upper_rows_s, system.tnorm)
+        el = _firing_error(m, e, t.lower_rows_s, system.tnorm)
     big_e = np.maximum(eu, el) + EPS32 * fu
     sum_e = big_e.sum(axis=0)
     r = t.n_rules

@@ -47,7 +47,7 @@ __all__ = [
 
 #: Rule-language features of :attr:`SystemTables.features` the generator implements. Anything
 #: else (a feature added to the fuzzy layer later included) is refused.
-SUPPORTED_FEATURES: frozenset[str] = frozenset()
+SUPPORTED_FEATURES: frozenset[str] = frozenset({"not", "or", "weights"})
 #: The system types the generator knows (exact types: a subclass may change the semantics).
 SUPPORTED_SYSTEMS: tuple[type, ...] = (IT2Sugeno, T1Sugeno)
 #: Membership row kinds with a C implementation.
@@ -282,6 +282,7 @@ def generate_c(
     context = _context(system, real, prefix)
     env = _environment()
     env.globals["combine"] = _combiner(system.tnorm, prefix, real)
+    env.globals["scombine"] = _s_combiner(getattr(system.tables, "snorm", None), prefix)
     header = env.get_template("controller.h.j2").render(**context)
     source = env.get_template("controller.c.j2").render(**context)
     return CCode(
@@ -297,7 +298,8 @@ def _combiner(tnorm: TNorm, prefix: str, real: RealType) -> Any:
     def combine(acc: str, expr: str) -> str:
         if tnorm is TNorm.PRODUCT:
             return f"{acc} *= {expr};"
-        return f"{{ const {prefix}_real t_ = {expr}; if (t_ < {acc}) {{ {acc} = t_; }} }}"
+        return (f"{{ const {prefix}_real t_ = {expr}; if ({prefix.upper()}_LT(t_, {acc})) "
+                f"{{ {acc} = t_; }} }}")
 
     return combine
 
@@ -331,6 +333,19 @@ def _dependencies(tables: Any) -> list[int]:
     return out
 
 
+def _s_combiner(snorm: Any, prefix: str) -> Any:
+    from ..fuzzy.norms import SNorm
+
+    P = prefix.upper()
+
+    def combine(acc: str, expr: str) -> str:
+        if snorm is SNorm.PROBOR:  # a + b - a b, as SNorm.pair
+            return (f"{{ const {prefix}_real t_ = {expr}; {acc} = {acc} + t_ - {acc} * t_; }}")
+        return f"{{ const {prefix}_real t_ = {expr}; if ({P}_GT(t_, {acc})) {{ {acc} = t_; }} }}"
+
+    return combine
+
+
 def _context(system: IT2Sugeno | T1Sugeno, real: RealType, prefix: str) -> dict[str, Any]:
     tables = system.tables
     lit = lambda v: _literal(v, real)  # noqa: E731
@@ -338,11 +353,14 @@ def _context(system: IT2Sugeno | T1Sugeno, real: RealType, prefix: str) -> dict[
     n_in, n_rules, n_rows = system.n_inputs, system.n_rules, tables.n_rows
     reducer = _reducer_of(system)
     red_name = "type-1" if reducer is None else reducer.name
-    type1 = bool(tables.type1)
+    features = frozenset(getattr(tables, "features", frozenset()))
+    general = bool(features & {"not", "or", "weights"})
+    type1 = bool(tables.type1_firing if general else tables.type1)
     crisp = bool(tables.crisp)
     exact = reducer is None or reducer.exact
     type1_exact = type1 and exact
-    biggest = max(n_rows + 1, n_rules + 1, n_in)
+    n_ext = 2 * n_rows + 2 if general else n_rows + 1
+    biggest = max(n_ext, n_rules + 1, n_in)
     idx_bytes = 1 if biggest < 255 else 2
     if biggest >= 65535:
         raise UnsupportedFeatureError(
@@ -434,7 +452,14 @@ def _context(system: IT2Sugeno | T1Sugeno, real: RealType, prefix: str) -> dict[
         "libm_text": "uses exp() from <math.h>" if needs_exp else "needs no library function",
         "idx_type": "unsigned char" if idx_bytes == 1 else "unsigned short",
         "idx_bytes": idx_bytes, "idx_none": 255 if idx_bytes == 1 else 65535,
-        "ru": tables.upper_rows_s.tolist(), "rl": tables.lower_rows_s.tolist(),
+        "ru": (tables.up_ext_s if general else tables.upper_rows_s).tolist(),
+        "rl": (tables.lo_ext_s if general else tables.lower_rows_s).tolist(),
+        "general": general, "n_ext": n_ext,
+        "has_not": "not" in features, "has_or": "or" in features,
+        "has_weights": "weights" in features,
+        "is_or": [int(v) for v in getattr(tables, "is_or_s", np.zeros(n_rules, bool))],
+        "weights": [lit(v) for v in getattr(tables, "weight_s", np.ones(n_rules))],
+        "snorm": getattr(getattr(tables, "snorm", None), "value", "max"),
         "type1": type1, "crisp": crisp, "type1_exact": type1_exact,
         "y_lo": [lit(v) for v in y_lo], "y_hi": [lit(v) for v in y_hi],
         "need_ord_hi": need_hi_gather, "need_hi_gather": need_hi_gather, "ord_hi": ord_hi,
