@@ -16,17 +16,10 @@ import pytest
 from it2track.experiments.analysis import summarise
 from it2track.experiments.specs import ControllerKind, ControllerSpec
 from it2track.experiments.study import PDTuning, StudyConfig, StudyResult, run_study
-from it2track.report.figures import (
-    _controller_table,
-    _fig_win_rates,
-    _Summary,
-    _surface_info,
-    _trace_index,
-    _zero_de_slice,
-    figure_keys,
-    slug,
-    write_figures,
-)
+from it2track.report.figures import figure_keys, slug, write_figures
+from it2track.report.figures.claims import _fig_win_rates
+from it2track.report.figures.surfaces import _zero_de_slice
+from it2track.report.identity import _controller_table, _Summary, _surface_info, _trace_index
 from it2track.tracking import LoopConfig
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"

@@ -18,17 +18,14 @@ from it2track.experiments.analysis import ClaimResult, evaluate_claims, summaris
 from it2track.experiments.specs import ControllerKind, ControllerSpec
 from it2track.experiments.study import PDTuning, StudyConfig, run_study
 from it2track.report.figures import write_figures
-from it2track.report.html import (
-    _assumptions,
-    _claims_section,
-    _glance,
-    _pd_section,
-    _setup_section,
-    _summary_section,
-    _verdict_class,
-    figure_captions,
-    write_html,
-)
+from it2track.report.html import figure_captions, write_html
+from it2track.report.html.assumptions import assumptions_section as _assumptions
+from it2track.report.html.claims import claims_section as _claims_section
+from it2track.report.html.claims import glance as _glance
+from it2track.report.html.claims import verdict_class as _verdict_class
+from it2track.report.html.study_setup import pd_section as _pd_section
+from it2track.report.html.study_setup import setup_section as _setup_section
+from it2track.report.html.summary import summary_section as _summary_section
 from it2track.tracking import LoopConfig
 
 VOID = {"area", "base", "br", "col", "embed", "hr", "img", "input", "link", "meta", "source",

@@ -1,0 +1,99 @@
+"""The study's self-contained HTML report: one file, figures embedded, no script, no network.
+
+The page holds the setup, every assumption the study makes where the paper is silent or
+misprinted (DESIGN.md), the figures with captions, the verdicts on the paper's claims with their
+criteria and evidence, a summary table and the command that regenerates it all. It is built from
+Jinja2 templates (``it2track/report/templates``, autoescaped) by one module per page section:
+:mod:`.study_setup`, :mod:`.assumptions`, :mod:`.results` (with :mod:`.captions`),
+:mod:`.claims`, :mod:`.summary`, :mod:`.rerun`. The file is written atomically.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+from ...atomicfile import atomic_write_text
+from ...experiments.study import StudyResult
+from .assumptions import assumptions_section
+from .captions import figure_captions
+from .claims import claims_section, glance
+from .env import render
+from .rerun import rerun_section
+from .results import results_section
+from .study_setup import setup_section
+from .summary import summary_section
+
+__all__ = ["figure_captions", "render_html", "write_html"]
+
+#: The page's sections in order: (anchor, heading) for the navigation.
+SECTIONS = (("setup", "Setup"), ("assumptions", "Assumptions"), ("results", "Results"),
+            ("claims", "Claims"), ("summary", "Summary table"), ("rerun", "How to rerun"))
+
+
+def render_html(
+    *,
+    result: StudyResult,
+    summary: Sequence[Mapping[str, Any]],
+    claims: Sequence[Any],
+    manifest: Mapping[str, Any],
+    figures: Mapping[str, Path],
+    elapsed_s: float,
+) -> str:
+    """The report as one HTML string (see :func:`write_html`)."""
+    cfg = result.config
+    sub = (f"Study run in {elapsed_s:.1f} s · {len(cfg.trajectories)} trajectories · "
+           f"main noise level σ = {cfg.noise_std:g} rad · {cfg.seeds} realisations per cell")
+    sections = [
+        setup_section(result, summary),
+        assumptions_section(result),
+        results_section(result, summary, figures),
+        claims_section(claims),
+        summary_section(result, summary),
+        rerun_section(result, manifest, elapsed_s),
+    ]
+    return str(render("page.html.j2", subtitle=sub, glance=glance(claims), nav=SECTIONS,
+                      sections=sections))
+
+
+def write_html(
+    path: Path,
+    *,
+    result: StudyResult,
+    summary: Sequence[Mapping[str, Any]],
+    claims: Sequence[Any],
+    manifest: Mapping[str, Any],
+    figures: Mapping[str, Path],
+    elapsed_s: float,
+) -> Path:
+    """Write the study's self-contained HTML report.
+
+    Parameters
+    ----------
+    path : Path
+        Destination (written atomically: a reader sees the old file or the whole new one).
+    result : StudyResult
+    summary : list of dict
+        From :func:`it2track.experiments.analysis.summarise`.
+    claims : list of ClaimResult
+        From :func:`it2track.experiments.analysis.evaluate_claims`.
+    manifest : dict
+        Provenance; ``manifest["command"]`` is shown as the command to rerun.
+    figures : dict of str -> Path
+        From :func:`it2track.report.figures.write_figures`; each file is embedded as a base64
+        data URI, so the page needs nothing else.
+    elapsed_s : float
+        Wall time of the run, s.
+
+    Returns
+    -------
+    Path
+        ``path``.
+    """
+    text = render_html(result=result, summary=summary, claims=claims, manifest=manifest,
+                       figures=figures, elapsed_s=elapsed_s)
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    atomic_write_text(path, text)
+    return path

@@ -1,0 +1,118 @@
+"""Titles and captions of the figures, and their order on the page."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+from ...experiments.study import StudyResult
+from ..identity import PAPER_FIGURE_NUMBER, slug, surface_limit
+from .facts import _gains_text, _gap_sentence
+
+__all__ = ["figure_captions"]
+
+
+def _n_of(summary: Sequence[Mapping[str, Any]], experiment: str) -> int:
+    return next((int(r["n"]) for r in summary if r.get("experiment") == experiment), 0)
+
+
+def figure_captions(result: StudyResult, summary: Sequence[Mapping[str, Any]]
+                    ) -> dict[str, tuple[str, str]]:
+    """Figure key -> (title, caption) for the figures of :func:`~.figures.write_figures`."""
+    cfg = result.config
+    sigma = f"σ = {cfg.noise_std:g} rad"
+    seed = f"noise realisation with seed index {cfg.figure_seed}"
+    fous = ", ".join(f"{w:g}" for w in cfg.fous)
+    n_paper, n_noise, n_fou = (_n_of(summary, e) for e in ("paper", "noise", "fou"))
+    caps: dict[str, tuple[str, str]] = {}
+    for traj in cfg.trajectories:
+        num = PAPER_FIGURE_NUMBER.get(traj)
+        title = f"{traj.capitalize()} trajectory" + (f" (paper Fig. {num})" if num else "")
+        caps[f"paper_{slug(traj)}"] = (
+            title,
+            f"FLC vs IT2FLC FoU {cfg.main_fou:g} on the {traj} trajectory, one {seed} at "
+            f"{sigma}. (a) Position with the reference path (dashed; dots mark the start "
+            "points). (b) True heading θ (solid) and the desired heading θd = atan2 towards "
+            "the current reference point (dash-dot), with the tangent heading of the path "
+            "(dotted). (c) Translational speed and the reference speed |ṗd|; the inset shows "
+            "v − |ṗd| after start-up. With the motor mixing V0 ± u and identical motors, v does "
+            "not depend on u unless a wheel voltage saturates, so (c) is the same for every "
+            "controller. (d) Rotational speed. " + _gap_sentence(result, traj),
+        )
+    caps["fou_comparison"] = (
+        "FoU comparison (paper Fig. 10)",
+        f"Position (top) and heading θ (bottom) of the IT2FLCs with FoU widths {fous} on each "
+        f"trajectory, same {seed} at {sigma}. Dashed: the reference path (top) and the tangent "
+        "heading of the path (bottom). One realisation only: the Monte Carlo figures below say "
+        "whether the differences are systematic.",
+    )
+    caps["integral_errors"] = (
+        "Integral errors (paper Fig. 11, with Monte Carlo statistics)",
+        f"IAE, ITAE, ISE and ITSE of the true heading error θd − θ, mean over {n_paper} noise "
+        f"realisations at {sigma} (the same realisations for every controller), with 95 % "
+        "Student-t intervals of the mean. For each FoU width w the solid bar is the IT2FLC and "
+        "the hatched bar the type-1 FLC with the same dead zone 0.2 − w/2; dotted red line: the "
+        "FLC's mean. Bars too short to read carry their value.",
+    )
+    caps["noise_sweep"] = (
+        "Noise-level sweep",
+        f"The four integral errors against the heading-noise standard deviation σ (square-root "
+        f"axis), mean and 95 % band over {n_noise} realisations per point; the dotted vertical "
+        f"marks the study's {sigma}. Panels marked [log] use a log (or, where errors are "
+        "exactly zero, symmetric-log) axis. On the straight line the robot starts on the path, "
+        "so with σ below the dead zone a fuzzy controller never acts and its error is 0.",
+    )
+    caps["fou_sweep"] = (
+        "FoU-width sweep: footprint vs dead zone",
+        f"ISE and IAE against the FoU width w at {sigma}, mean and 95 % band over {n_fou} "
+        "realisations, for the IT2FLC(w) (solid) and the type-1 FLC with the same dead zone "
+        "0.2 − w/2 (dashed); both start from the FLC at w = 0 (red dot). Dotted verticals: "
+        "the paper's widths. Where the dashed curve lies at or below the solid one, narrowing "
+        "the dead zone alone explains the improvement over the FLC.",
+    )
+    vlim = surface_limit(result)
+    step = vlim / 3.0
+    contours = ", ".join(f"±{k * step / 2:.3g}" for k in (1, 3, 5))
+    gains = _gains_text(result)
+    unit_note = ", so the inputs are in rad" if gains == "Ke = 1, Kde = 1" else ""
+    caps["control_surfaces"] = (
+        "Control surfaces",
+        f"u(e, Δe) of each fuzzy controller over the input universe [−1, 1]² ({gains}"
+        f"{unit_note}), one colour scale for all (±{vlim:.3g} V, the largest consequent), "
+        f"contours at {contours} V. Top: the FLC and the IT2FLCs; bottom: the type-1 FLCs whose "
+        "dead zone matches the IT2FLC above them. Dashed square: the dead zone, where only the "
+        "Z×Z rule fires and u = 0.",
+    )
+    caps["dead_zone"] = (
+        "The dead zone (why a wider FoU helps)",
+        "The slice u(e, Δe = 0) of each controller as built from its specification (reducer and "
+        "t-norm included). Left: the whole universe; right: zoom with the dead-zone edges "
+        "±(0.2 − w/2) dotted. The FLC does nothing while |Ke·e| < 0.2 (0.2 rad = 11.5° for "
+        "Ke = 1); an FoU of width w shrinks this to 0.2 − w/2 (DESIGN.md §3). Dashed: the "
+        "type-1 FLCs with the same dead zones; just outside the dead zone they are steeper than "
+        "the IT2FLCs, whose type-reduced output averages the lower and upper firing.",
+    )
+    caps["win_rates"] = (
+        "Paired win rates",
+        f"Per trajectory and criterion, over the {n_paper} noise realisations at {sigma}: the "
+        "fraction in which the controller's error is smaller than the FLC's on the same "
+        "realisation, ties counting ½ (win rate = P(smaller) + ½ P(equal)). 0.5: no "
+        "difference — including exact ties, e.g. when neither controller leaves its dead zone, "
+        "which are not losses; blue: better than the FLC; red: worse. Cells with ties give "
+        "their share.",
+    )
+    return caps
+
+
+_FIGURE_ORDER_TAIL = ("fou_comparison", "integral_errors", "win_rates", "noise_sweep",
+                      "fou_sweep", "control_surfaces", "dead_zone")
+
+
+def _ordered_keys(figures: Mapping[str, Path], result: StudyResult) -> list[str]:
+    preferred = [f"paper_{slug(t)}" for t in result.config.trajectories]
+    preferred += list(_FIGURE_ORDER_TAIL)
+    keys = [k for k in preferred if k in figures]
+    keys += [k for k in figures if k not in keys]
+    return keys
+
