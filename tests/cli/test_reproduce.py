@@ -90,7 +90,7 @@ def test_bad_config_is_reported_without_output(tmp_path):
 def test_publish_replaces_a_previous_run_without_leftovers(tmp_path):
     import hashlib
 
-    from it2track.cli.main import _publish
+    from it2track.cli.outdir import _publish
 
     def sha(text):
         return hashlib.sha256(text.encode()).hexdigest()
@@ -163,7 +163,7 @@ def test_reproduce_rejects_workers_and_scheduler_together(tmp_path):
 def test_publish_never_removes_directories(tmp_path):
     from click import ClickException
 
-    from it2track.cli.main import _publish
+    from it2track.cli.outdir import _publish
 
     out = tmp_path / "out"
     (out / "metrics.csv").mkdir(parents=True)  # a folder where a result goes
@@ -188,7 +188,7 @@ def test_reproduce_with_a_local_worker_writes_the_same_numbers(quick_run, tmp_pa
     for name in ("metrics.csv", "summary.csv", "claims.md"):
         assert (tmp_path / name).read_bytes() == (out / name).read_bytes(), name
     manifest = json.loads((tmp_path / "manifest.json").read_text())
-    from it2track.cli.main import _quick
+    from it2track.cli.reproduce import _quick
     from it2track.experiments.study import study_run_count
 
     assert manifest["simulations"] == study_run_count(_quick(StudyConfig()))

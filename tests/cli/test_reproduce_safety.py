@@ -18,8 +18,9 @@ import pytest
 from click import ClickException
 from click.testing import CliRunner
 
-from it2track.cli import main as cli_main
-from it2track.cli.main import _discard_staging, _make_staging, _publish, main
+from it2track.cli import outdir as cli_main
+from it2track.cli.main import main
+from it2track.cli.outdir import _discard_staging, _make_staging, _publish
 
 DEAD_PID = 4999999  # above Linux's largest pid_max (2**22): never a live process
 
@@ -151,7 +152,7 @@ def test_only_stale_staging_folders_that_are_provably_ours_are_removed(tmp_path:
 
 HOLDER = """
 import sys, time
-from it2track.cli.main import _discard_staging, _make_staging
+from it2track.cli.outdir import _discard_staging, _make_staging
 staging = _make_staging(sys.argv[1])
 try:
     (staging / "half.csv").write_text("half written")

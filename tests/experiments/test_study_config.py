@@ -157,7 +157,7 @@ def test_bad_pd_tuning_names_the_section(tmp_path, text, needle):
 
 
 def test_quick_keeps_the_users_pd_settings():
-    from it2track.cli.main import _quick
+    from it2track.cli.reproduce import _quick
     from it2track.experiments.study import PDTuning
 
     cfg = replace(StudyConfig(), pd=PDTuning(match_effort=False, effort_limit=30.0, tf=0.05))

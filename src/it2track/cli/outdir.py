@@ -1,0 +1,284 @@
+"""The output folder of ``it2track reproduce``: a staging folder per run, and publishing a
+finished run into ``--out`` without ever losing a file of the user's.
+
+Moved verbatim from :mod:`it2track.cli.main` (the hardening of issue 10).
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+import tempfile
+import time
+from pathlib import Path
+from typing import Any, NoReturn
+
+import click
+
+__all__ = ["_discard_staging", "_make_staging", "_publish"]
+
+
+def _fail(message: str) -> NoReturn:
+    raise click.ClickException(message)
+
+
+#: Results every run writes (figures vary with the config): checked before any work starts.
+_FIXED_OUTPUTS = ("metrics.csv", "summary.csv", "claims.md", "report.html", "manifest.json")
+_STAGING_PREFIX = ".reproduce-"
+_OWNER_FILE = "owner.json"
+_OWNER_PROGRAM = "it2track reproduce"
+
+
+def _process_start(pid: int) -> int | None:
+    """Start time of process ``pid`` (clock ticks since boot, Linux ``/proc``), else None."""
+    try:
+        text = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return None
+    try:
+        return int(text.rsplit(")", 1)[1].split()[19])
+    except (IndexError, ValueError):  # pragma: no cover - unexpected /proc format
+        return None
+
+
+def _owner_alive(owner: dict[str, Any]) -> bool:
+    """Is the process that created a staging folder (``owner.json``) still running?"""
+    import os
+    import socket
+
+    if owner.get("host") != socket.gethostname():
+        return True  # another machine (shared filesystem): cannot tell, so never ours to remove
+    pid = owner.get("pid")
+    if isinstance(pid, bool) or not isinstance(pid, int) or pid <= 0:
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:
+        return True
+    start = owner.get("start")
+    return start is None or _process_start(pid) in (None, start)  # a reused pid is not it
+
+
+def _remove_stale_staging(out: Path) -> None:
+    """Remove staging folders that killed runs of ``reproduce`` left in ``out``.
+
+    A folder is removed only if it is provably ours and stale: a real directory named
+    ``.reproduce-*`` holding our ``owner.json`` (program, host, pid, process start time) whose
+    process is gone, and nothing but that file and a ``files/`` folder of regular files. Any
+    other ``.reproduce-*`` entry (a user's, an older version's, a live run's) is left alone.
+    """
+    import os
+    import stat
+
+    try:
+        entries = [e for e in os.scandir(out) if e.name.startswith(_STAGING_PREFIX)]
+    except OSError:
+        return
+    for entry in entries:
+        if not entry.is_dir(follow_symlinks=False):
+            continue
+        root = Path(entry.path)
+        try:
+            st = os.lstat(root / _OWNER_FILE)
+            if not stat.S_ISREG(st.st_mode):
+                continue
+            owner = json.loads((root / _OWNER_FILE).read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            continue
+        if not isinstance(owner, dict) or owner.get("program") != _OWNER_PROGRAM:
+            continue
+        if _owner_alive(owner):
+            continue
+        files = root / "files"
+        try:
+            names = set(os.listdir(root))
+            inner = list(os.scandir(files)) if "files" in names else []
+        except OSError:
+            continue
+        if names - {_OWNER_FILE, "files"} or not all(
+            e.is_file(follow_symlinks=False) for e in inner
+        ) or ("files" in names and not files.is_dir()) or files.is_symlink():
+            click.echo(f"note: left {root} alone (holds more than a run's files)", err=True)
+            continue
+        try:
+            for e in inner:
+                os.unlink(e.path)
+            if "files" in names:
+                os.rmdir(files)
+            os.unlink(root / _OWNER_FILE)
+            os.rmdir(root)
+        except OSError as exc:
+            click.echo(f"note: could not remove the stale {root}: {exc.strerror}", err=True)
+
+
+def _make_staging(out_dir: str) -> Path:
+    """Create ``out_dir`` and a fresh staging folder in it; returns the folder results go to.
+
+    Checked before any simulation: an empty ``--out``, a folder that cannot be created or
+    written (read-only, a file in the way), a result name taken by something that is not a
+    regular file. Stale staging folders of killed runs are removed (see
+    :func:`_remove_stale_staging`). The staging root holds ``owner.json`` (this process's
+    identity, the proof a later run needs to remove it) and ``files/``, which is returned.
+    """
+    import os
+    import socket
+    import stat
+
+    if not out_dir:
+        _fail("--out '' is empty: give an output folder")
+    out = Path(out_dir)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        _fail(f"cannot create the output folder --out {out_dir}: "
+              f"{exc.strerror or exc}; nothing was simulated")
+    for name in _FIXED_OUTPUTS:
+        try:
+            mode = os.lstat(out / name).st_mode
+        except OSError:
+            continue
+        if not stat.S_ISREG(mode):
+            _fail(f"{out / name} exists and is not a regular file; it2track never replaces "
+                  "what it did not write: move it away or choose another --out "
+                  "(nothing was simulated)")
+    _remove_stale_staging(out)
+    try:
+        root = Path(tempfile.mkdtemp(prefix=_STAGING_PREFIX, dir=out))
+    except OSError as exc:
+        _fail(f"cannot write into the output folder --out {out_dir}: "
+              f"{exc.strerror or exc}; nothing was simulated")
+    try:
+        owner = {"program": _OWNER_PROGRAM, "host": socket.gethostname(), "pid": os.getpid(),
+                 "start": _process_start(os.getpid()), "created": time.time()}
+        from ..atomicfile import atomic_write_text
+
+        atomic_write_text(root / _OWNER_FILE, json.dumps(owner) + "\n")
+        (root / "files").mkdir()
+    except OSError as exc:
+        shutil.rmtree(root, ignore_errors=True)
+        _fail(f"cannot write into the output folder --out {out_dir}: "
+              f"{exc.strerror or exc}; nothing was simulated")
+    _terminate_cleanly()
+    return root / "files"
+
+
+def _terminate_cleanly() -> None:
+    """Let SIGTERM unwind like Ctrl-C (``finally`` blocks run, the staging folder goes)."""
+    import signal
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        return
+
+    def handler(signum: int, frame: Any) -> None:
+        raise SystemExit(128 + signum)
+
+    if signal.getsignal(signal.SIGTERM) is signal.SIG_DFL:
+        signal.signal(signal.SIGTERM, handler)
+        _RESTORE_SIGTERM.append(signal.SIG_DFL)
+
+
+_RESTORE_SIGTERM: list[Any] = []
+
+
+def _discard_staging(staging: Path) -> None:
+    """Remove this run's own staging folder (the parent of ``staging``)."""
+    import signal
+
+    shutil.rmtree(staging.parent, ignore_errors=True)
+    while _RESTORE_SIGTERM:
+        signal.signal(signal.SIGTERM, _RESTORE_SIGTERM.pop())
+
+
+def _sha256_file(path: Path) -> str:
+    import hashlib
+
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        while block := fh.read(1 << 20):
+            h.update(block)
+    return h.hexdigest()
+
+
+def _publish(staging: Path, out: Path) -> None:
+    """Move a finished run from ``staging`` into ``out``, never losing a file of the user's.
+
+    Only two kinds of file in ``out`` are ever replaced or removed:
+
+    - files this run is about to write (same names; only if they are regular files: a folder,
+      link or device in the way stops the publish before anything moves);
+    - files a previous run wrote and listed in its ``manifest.json`` *with their SHA-256*, and
+      that still have exactly those bytes (e.g. figures of a trajectory no longer studied).
+      Anything else -- a name the old manifest lists without a digest or with another one
+      (a file edited since, a manifest this program did not write), a folder, a link, a path
+      outside ``out`` -- is kept (and named on stderr).
+
+    The new manifest records the SHA-256 of every file of this run, as that proof for the
+    next run. The old manifest goes before anything else moves and the new one comes last:
+    an interrupted publish leaves no manifest rather than one that describes a mix of runs.
+    """
+    import os
+    import stat
+
+    from ..report import outputs
+
+    new = sorted(p.name for p in staging.iterdir())
+    for name in new:
+        try:
+            mode = os.lstat(out / name).st_mode
+        except FileNotFoundError:
+            continue
+        if not stat.S_ISREG(mode):
+            _fail(f"{out / name} exists and is not a regular file; it2track never replaces "
+                  "what it did not write: move it away and rerun (nothing was published)")
+    staged_manifest = staging / "manifest.json"
+    manifest = json.loads(staged_manifest.read_text(encoding="utf-8"))
+    manifest["sha256"] = {n: _sha256_file(staging / n) for n in new if n != "manifest.json"}
+    outputs.write_json(staged_manifest, manifest)
+
+    old_path = out / "manifest.json"
+    stale: dict[str, str] = {}
+    try:
+        old = json.loads(old_path.read_text(encoding="utf-8")) if old_path.is_file() else {}
+    except (OSError, ValueError):
+        old = {}
+    listed = old.get("files", []) if isinstance(old, dict) else []
+    digests = old.get("sha256", {}) if isinstance(old, dict) else {}
+    if not isinstance(digests, dict):
+        digests = {}
+    kept: list[str] = []
+    for name in listed if isinstance(listed, list) else []:
+        if not isinstance(name, str) or name in new or name == "manifest.json":
+            continue
+        target = out / name
+        plain = (name not in ("", ".", "..") and "/" not in name and "\\" not in name
+                 and not name.startswith("."))
+        if not plain or not os.path.lexists(target):
+            continue
+        digest = digests.get(name)
+        try:
+            ours = (isinstance(digest, str) and stat.S_ISREG(os.lstat(target).st_mode)
+                    and _sha256_file(target) == digest)
+        except OSError:
+            ours = False
+        if ours:
+            stale[name] = str(digest)
+        else:
+            kept.append(name)
+    if old_path.is_file() and not old_path.is_symlink():
+        old_path.unlink()
+    for name in sorted(stale):
+        (out / name).unlink(missing_ok=True)
+    for name in new:
+        if name != "manifest.json":
+            (staging / name).replace(out / name)
+    staged_manifest.replace(old_path)
+    if kept:
+        click.echo(
+            f"note: kept {len(kept)} file(s) in {out} that the previous manifest lists but that "
+            f"this run cannot prove it wrote (changed since, or no checksum): "
+            f"{', '.join(sorted(kept))}",
+            err=True,
+        )

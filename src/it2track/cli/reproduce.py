@@ -1,0 +1,251 @@
+"""``it2track reproduce``: the whole study, its files, figures and report, in one command.
+
+Moved from :mod:`it2track.cli.main`; the output folder's safety (staging, publishing) lives in
+:mod:`it2track.cli.outdir`.
+"""
+
+from __future__ import annotations
+
+import shlex
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+import click
+
+from .outdir import _discard_staging, _fail, _make_staging, _publish
+from .sweep import check_scheduler as _check_scheduler
+from .sweep import dask_options as _dask_options
+from .sweep import dask_settings as _dask_settings
+
+__all__ = ["reproduce"]
+
+
+def _quick(config: Any) -> Any:
+    from dataclasses import replace
+
+    pd = config.pd
+    if pd is not None and pd.kp is None:  # keep the user's PD settings, tune on a small grid
+        pd = replace(pd, seeds=2, kp_grid=(2.0, 6.0, 20.0), kd_grid=(0.0, 0.2, 1.0))
+    return replace(config, seeds=6, sweep_seeds=4, noise_levels=(0.0, 0.05, 0.2),
+                   fou_sweep=(0.0, 0.1, 0.2, 0.3), pd=pd)
+
+
+@click.command()
+@click.option("--out", "out_dir", default="results", show_default=True,
+              type=click.Path(file_okay=False), help="Output folder.")
+@click.option("--config", "config_path", type=click.Path(exists=True, dir_okay=False),
+              help="Study TOML file (default: the paper's defaults, configs/paper.toml).")
+@click.option("--seeds", type=click.IntRange(min=1), help="Noise realisations per cell.")
+@click.option("--sweep-seeds", type=click.IntRange(min=1),
+              help="Noise realisations per cell of the noise and FoU sweeps.")
+@click.option("--quick", is_flag=True, help="A seconds-long smoke version (few seeds/levels).")
+@click.option("--workers", type=click.IntRange(min=0), default=0, show_default=True,
+              help="Local worker processes for the experiments' runs (0: this process).")
+@click.option("--scheduler", metavar="tcp://HOST:PORT", callback=_check_scheduler,
+              help="Run the experiments on this Dask cluster (needs it2track[dask]; only on a "
+              "trusted network or with TLS: see README).")
+@_dask_options
+@click.option("--no-progress", is_flag=True, help="No progress bar.")
+def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
+              sweep_seeds: int | None, quick: bool, workers: int, scheduler: str | None,
+              no_progress: bool, **dask: Any) -> None:
+    """Regenerate every result of the paper, with statistics and verdicts on its claims.
+
+    Writes figures (PNG+SVG), metrics.csv, summary.csv, claims.md, report.html and
+    manifest.json into OUT. Files appear only when complete.
+    """
+    from dataclasses import replace
+
+    from tqdm import tqdm
+
+    from ..experiments.analysis import evaluate_claims, summarise
+    from ..experiments.specs import ConfigError
+    from ..experiments.study import (
+        ROW_KEYS,
+        StudyConfig,
+        load_study_config,
+        run_study,
+        study_run_count,
+    )
+    from ..report import outputs
+    from ..tracking import METRIC_NAMES
+
+    started = time.perf_counter()
+    try:
+        config = load_study_config(config_path) if config_path else StudyConfig()
+        if quick:
+            config = _quick(config)
+        if seeds is not None:
+            config = replace(config, seeds=seeds)
+        if sweep_seeds is not None:
+            config = replace(config, sweep_seeds=sweep_seeds)
+    except (ConfigError, ValueError) as exc:
+        _fail(str(exc))
+        return
+    from concurrent.futures import BrokenExecutor
+
+    from ..experiments.executors import ExecutorError, make_executor
+
+    if workers and scheduler:
+        _fail("give either --workers or --scheduler, not both")
+    _preflight_study(config, config_path)
+    total = study_run_count(config)
+    out = Path(out_dir)
+    staging = _make_staging(out_dir)
+    try:
+        with tqdm(total=total, unit="run", disable=no_progress, file=sys.stderr,
+                  desc="simulating") as bar:
+            try:
+                if workers or scheduler:
+                    with make_executor(workers=workers or None, scheduler=scheduler,
+                                       **_dask_settings(**dask)) as ex:
+                        result = run_study(config, progress=bar.update, executor=ex)
+                else:
+                    result = run_study(config, progress=bar.update)
+            except (ValueError, OSError, ExecutorError, BrokenExecutor) as exc:
+                _fail(f"the study stopped: {type(exc).__name__}: {exc}; nothing was written")
+                return
+        summary = summarise(result.rows)
+        claims = evaluate_claims(result.rows, fous=config.fous, main_fou=config.main_fou,
+                                 trajectories=config.trajectories)
+        outputs.write_metrics_csv(staging / "metrics.csv", result.rows,
+                                  [*ROW_KEYS, *METRIC_NAMES])
+        outputs.write_summary_csv(staging / "summary.csv", summary)
+        preamble = _claims_preamble(config)
+        outputs.write_claims_md(staging / "claims.md", claims, preamble=preamble)
+        if not no_progress:
+            click.echo("writing figures and report ...", err=True)
+        from ..report.figures import write_figures
+        from ..report.html import write_html
+
+        figures = write_figures(result, summary, staging)
+        command = _command_line(click.get_current_context())
+        cfg = config.to_dict()
+        cfg["pd_tuning"] = {k: v for k, v in result.pd_tuning.items() if k != "grid"}
+        manifest = outputs.manifest(
+            config=cfg, command=command.strip(), elapsed_s=time.perf_counter() - started,
+            extra={"rows": len(result.rows["seed"]), "simulations": total,
+                   "files": sorted(p.name for p in staging.iterdir())},
+        )
+        write_html(staging / "report.html", result=result, summary=summary, claims=claims,
+                   manifest=manifest, figures=figures, elapsed_s=time.perf_counter() - started)
+        manifest["elapsed_s"] = round(time.perf_counter() - started, 3)
+        manifest["files"] = sorted([*(p.name for p in staging.iterdir()), "manifest.json"])
+        outputs.write_json(staging / "manifest.json", manifest)
+        _publish(staging, out)
+    finally:
+        _discard_staging(staging)
+    elapsed = time.perf_counter() - started
+    click.echo(f"{len(result.rows['seed'])} result rows from {total} simulations in "
+               f"{elapsed:.1f} s -> {out}/")
+    for c in claims:
+        click.echo(f"  {c.id}: {c.verdict}")
+
+
+def _preflight_study(config: Any, config_path: str | None) -> None:
+    """What would fail only after minutes of simulation, checked before any: the memory the
+    results need, noise levels beyond the allowed range, trajectories whose figures or rows
+    would overwrite each other, and labels matplotlib cannot draw (mathtext)."""
+    from .._limits import ResourceLimitError, check_memory, loop_bytes
+    from ..experiments.study import experiment_sizes
+    from ..plant.noise import MAX_NOISE_STD
+    from ..tracking import get_trajectory
+
+    source = config_path or "the default study"
+    for key, values in (("noise_std", [config.noise_std]),
+                        ("noise_levels", list(config.noise_levels))):
+        big = [v for v in values if v > MAX_NOISE_STD]
+        if big:
+            _fail(f"{source} [study] {key}: {big[0]!r} exceeds {MAX_NOISE_STD:g} rad, the largest "
+                  "heading-noise standard deviation allowed")
+    sizes = experiment_sizes(config)
+    rows = sum(v for k, v in sizes.items() if k != "pd_tuning")
+    loop = config.loop
+    n_traced = 1 + len(config.fous)
+    try:
+        check_memory(
+            700 * rows + 100 * sizes["pd_tuning"]
+            + loop_bytes(n_steps=loop.n_steps, runs=n_traced, record=True,
+                         noise_samples=int(loop.duration * loop.noise_rate) + 1)
+            + loop_bytes(n_steps=loop.n_steps, runs=config.batch_size,
+                         trajectories=len(config.trajectories),
+                         noise_samples=int(loop.duration * loop.noise_rate) + 1),
+            what=(f"{source}: the study's {rows} result rows (seeds={config.seeds}, "
+                  f"sweep_seeds={config.sweep_seeds}, batch_size={config.batch_size})"),
+            hint="use fewer seeds (--seeds, --sweep-seeds) or a smaller batch_size",
+        )
+    except ResourceLimitError as exc:
+        _fail(str(exc))
+    seen: dict[str, str] = {}
+    names = []
+    for t in config.trajectories:
+        try:
+            names.append(get_trajectory(t).name)
+        except (ValueError, OSError) as exc:
+            _fail(f"{source} [study] trajectories: {exc}")
+    if len(config.trajectories) > 1 and any(t.lower().endswith(".csv")
+                                            for t in config.trajectories):
+        from ..report.figures import slug  # (imports matplotlib: only when files could clash)
+
+        for t, name in zip(config.trajectories, names, strict=True):
+            for key in (f"figure {slug(t)!r}", f"name {name!r}"):
+                if key in seen and seen[key] != t:
+                    _fail(f"{source} [study] trajectories {seen[key]!r} and {t!r} would share "
+                          f"the {key} (one's figures and rows would overwrite the other's): "
+                          "rename one of the files")
+                seen[key] = t
+    labels = [s.label for s in config.extra_controllers] + names
+    for label in labels:
+        if "$" not in label:
+            continue  # only $...$ (mathtext) can fail to draw
+        problem = _undrawable(label)
+        if problem:
+            _fail(f"{source}: the label {label!r} cannot be drawn in the figures ({problem}); "
+                  "escape '$' as '\\$' or fix the mathtext")
+
+
+def _undrawable(text: str) -> str | None:
+    """Why matplotlib cannot draw ``text`` (a mathtext parse error), or None."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(2, 1))
+    FigureCanvasAgg(fig)
+    fig.text(0, 0, text)
+    try:
+        fig.canvas.draw()
+    except Exception as exc:  # any drawing failure means a bad label
+        return " ".join(str(exc).split())[:200] or type(exc).__name__
+    return None
+
+
+def _command_line(ctx: click.Context) -> str:
+    """The command that reproduces this run, from the parsed options (not ``sys.argv``)."""
+    parts = [ctx.command_path]
+    for param in ctx.command.params:
+        value = ctx.params.get(param.name or "")
+        if value is None or value == param.default or not isinstance(param, click.Option):
+            continue
+        flag = param.opts[0]
+        parts.append(flag if param.is_flag else f"{flag} {shlex.quote(str(value))}")
+    return " ".join(parts)
+
+
+def _claims_preamble(config: Any) -> str:
+    levels = ", ".join(f"{s:g}" for s in config.noise_levels)
+    return (
+        "# Claims of the paper, tested\n\n"
+        "Computed by `it2track reproduce` from the `noise` experiment: "
+        f"{config.sweep_seeds} noise realisations per cell (common random numbers across "
+        f"controllers), noise levels sigma = {levels} rad, trajectories "
+        f"{', '.join(config.trajectories)}, {config.loop.duration:g} s at "
+        f"{1 / config.loop.ts:g} Hz. Intervals are 95 % Student-t intervals of paired "
+        "per-seed differences. A comparison cell *supports* a claim when its interval lies on "
+        "the claimed side of zero, *contradicts* it when it lies on the other side, and is "
+        "*inconclusive* otherwise (an interval containing zero, e.g. exact ties); a noise level "
+        "holds when every cell supports the claim, is contradicted when any cell contradicts "
+        "it, and is *not shown* otherwise. Every verdict below is computed from the data in "
+        "metrics.csv."
+    )
