@@ -27,17 +27,20 @@ the ``kind`` and ``fou`` columns of the metrics table, never by the text of thei
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import matplotlib
+from matplotlib.figure import Figure
 
 from ...experiments.study import StudyResult
 from ..identity import (
     INTEGRAL_UNITS,
     PAPER_FIGURE_NUMBER,
     _controller_table,
+    _Ctrl,
     _Summary,
     controller_specs,
     slug,
@@ -55,25 +58,131 @@ __all__ = [
     "INTEGRAL_UNITS",
     "PAPER_FIGURE_NUMBER",
     "controller_specs",
+    "draw_figure",
     "figure_keys",
+    "figure_plan",
     "slug",
     "surface_limit",
+    "write_figure",
     "write_figures",
 ]
 
 
+@dataclass(frozen=True)
+class _Inputs:
+    """What every figure function takes: the result, the summary index, the controllers'
+    identities and the palette."""
+
+    result: StudyResult
+    summ: _Summary
+    ctrls: Mapping[str, _Ctrl]
+    pal: _Palette
+
+    @classmethod
+    def of(cls, result: StudyResult, summary: Sequence[Mapping[str, Any]]) -> _Inputs:
+        ctrls = _controller_table(result)
+        return cls(result, _Summary(summary), ctrls, _Palette(result.config.fous, ctrls.values()))
+
+
+@dataclass(frozen=True)
+class _Figure:
+    """One figure: whether its data are present, and how to draw it."""
+
+    available: Callable[[_Inputs], bool]
+    draw: Callable[[_Inputs], Figure]
+
+
+def _paper_figure(traj: str) -> _Figure:
+    return _Figure(lambda i: traj in i.result.traces,
+                   lambda i: _fig_paper(i.result, traj, i.ctrls, i.pal))
+
+
+def _figures(result: StudyResult) -> dict[str, _Figure]:
+    """Every figure of the study by key, in report order."""
+    figs = {f"paper_{slug(t)}": _paper_figure(t) for t in result.config.trajectories}
+    figs["fou_comparison"] = _Figure(
+        lambda i: all(t in i.result.traces for t in i.result.config.trajectories),
+        lambda i: _fig_fou_comparison(i.result, i.ctrls, i.pal))
+    figs["integral_errors"] = _Figure(
+        lambda i: i.summ.has("paper"),
+        lambda i: _fig_integral_errors(i.result, i.summ, i.ctrls, i.pal))
+    figs["noise_sweep"] = _Figure(
+        lambda i: i.summ.has("noise"),
+        lambda i: _fig_noise_sweep(i.result, i.summ, i.ctrls, i.pal))
+    figs["fou_sweep"] = _Figure(
+        lambda i: i.summ.has("fou"),
+        lambda i: _fig_fou_sweep(i.result, i.summ, i.ctrls, i.pal))
+    figs["control_surfaces"] = _Figure(
+        lambda i: bool(i.result.surfaces),
+        lambda i: _fig_control_surfaces(i.result, i.ctrls))
+    figs["dead_zone"] = _Figure(
+        lambda i: bool(i.result.surfaces),
+        lambda i: _fig_dead_zone(i.result, i.ctrls, i.pal))
+    figs["win_rates"] = _Figure(
+        lambda i: i.summ.has("paper") and len(i.summ.controllers("paper")) > 1,
+        lambda i: _fig_win_rates(i.result, i.summ, i.ctrls))
+    return figs
+
+
 def figure_keys(result: StudyResult) -> list[str]:
-    """The keys :func:`write_figures` produces for ``result`` (in report order)."""
-    keys = [f"paper_{slug(t)}" for t in result.config.trajectories]
-    keys += ["fou_comparison", "integral_errors", "noise_sweep", "fou_sweep"]
-    keys += ["control_surfaces", "dead_zone", "win_rates"]
-    return keys
+    """Every key :func:`write_figures` can produce for ``result`` (in report order)."""
+    return list(_figures(result))
+
+
+def figure_plan(result: StudyResult, summary: Sequence[Mapping[str, Any]]) -> list[str]:
+    """The keys of the figures whose data ``result`` and ``summary`` hold, in report order.
+
+    A result with traces and surfaces but no rows, and an empty summary, plans exactly the
+    figures that need no Monte Carlo (the time series, control surfaces and dead zone): they
+    can be drawn while the experiments still run.
+    """
+    inputs = _Inputs.of(result, summary)
+    return [key for key, fig in _figures(result).items() if fig.available(inputs)]
+
+
+def draw_figure(key: str, result: StudyResult,
+                summary: Sequence[Mapping[str, Any]]) -> Figure:
+    """The figure ``key`` (see :func:`figure_plan`) as a matplotlib figure, not yet drawn.
+
+    Call it inside ``matplotlib.rc_context(figures.style._RC)`` for the study's look;
+    :func:`write_figure` does.
+
+    Raises
+    ------
+    KeyError
+        ``key`` is not a figure of this study, or its data are absent.
+    """
+    figs = _figures(result)
+    inputs = _Inputs.of(result, summary)
+    if key not in figs or not figs[key].available(inputs):
+        raise KeyError(f"no figure {key!r} for this result (have: "
+                       f"{', '.join(figure_plan(result, summary)) or 'none'})")
+    return figs[key].draw(inputs)
+
+
+def write_figure(key: str, result: StudyResult, summary: Sequence[Mapping[str, Any]],
+                 out_dir: Path, *, svg: bool = True) -> Path:
+    """Draw the figure ``key`` and write ``<key>.png`` (and ``<key>.svg``) into ``out_dir``.
+
+    A module-level function of picklable arguments, so that figures can be written by worker
+    processes; the files do not depend on the process that writes them.
+
+    Returns
+    -------
+    Path
+        The PNG file.
+    """
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    with matplotlib.rc_context(_RC):  # type: ignore[arg-type]
+        return _save(draw_figure(key, result, summary), out_dir, key, svg=svg)
 
 
 def write_figures(
-    result: StudyResult, summary: Sequence[Mapping[str, Any]], out_dir: Path
+    result: StudyResult, summary: Sequence[Mapping[str, Any]], out_dir: Path, *,
+    svg: bool = True,
 ) -> dict[str, Path]:
-    """Draw every figure of the study and write each as PNG and SVG.
+    """Draw every figure of the study and write each as PNG (and SVG).
 
     Parameters
     ----------
@@ -83,6 +192,8 @@ def write_figures(
         From :func:`it2track.experiments.analysis.summarise` ``(result.rows)``.
     out_dir : Path
         Folder for ``<key>.png`` and ``<key>.svg`` (created if missing).
+    svg : bool, default True
+        Also write each figure as SVG.
 
     Returns
     -------
@@ -92,32 +203,5 @@ def write_figures(
     """
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    cfg = result.config
-    ctrls = _controller_table(result)
-    pal = _Palette(cfg.fous)
-    summ = _Summary(summary)
-    out: dict[str, Path] = {}
-    with matplotlib.rc_context(_RC):  # type: ignore[arg-type]
-        for traj in cfg.trajectories:
-            if traj in result.traces:
-                key = f"paper_{slug(traj)}"
-                out[key] = _save(_fig_paper(result, traj, ctrls, pal), out_dir, key)
-        if all(t in result.traces for t in cfg.trajectories):
-            out["fou_comparison"] = _save(_fig_fou_comparison(result, ctrls, pal), out_dir,
-                                          "fou_comparison")
-        if summ.has("paper"):
-            out["integral_errors"] = _save(_fig_integral_errors(result, summ, ctrls, pal),
-                                           out_dir, "integral_errors")
-        if summ.has("noise"):
-            out["noise_sweep"] = _save(_fig_noise_sweep(result, summ, ctrls, pal), out_dir,
-                                       "noise_sweep")
-        if summ.has("fou"):
-            out["fou_sweep"] = _save(_fig_fou_sweep(result, summ, ctrls, pal), out_dir,
-                                     "fou_sweep")
-        if result.surfaces:
-            out["control_surfaces"] = _save(_fig_control_surfaces(result, ctrls), out_dir,
-                                            "control_surfaces")
-            out["dead_zone"] = _save(_fig_dead_zone(result, ctrls, pal), out_dir, "dead_zone")
-        if summ.has("paper") and len(summ.controllers("paper")) > 1:
-            out["win_rates"] = _save(_fig_win_rates(result, summ, ctrls), out_dir, "win_rates")
-    return out
+    return {key: write_figure(key, result, summary, out_dir, svg=svg)
+            for key in figure_plan(result, summary)}

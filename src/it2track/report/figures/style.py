@@ -20,7 +20,7 @@ import PIL.Image
 from matplotlib.figure import Figure
 
 from ...atomicfile import atomic_open
-from ..identity import _FLC, _IT2, _PD, _T1M, INTEGRAL_UNITS, _Ctrl
+from ..identity import _FLC, _IT2, _PD, _T1M, INTEGRAL_UNITS, _Ctrl, _order_key
 
 __all__ = ["FIGURE_DPI"]
 
@@ -62,11 +62,19 @@ class _Style:
 
 class _Palette:
     """Consistent colours: FLC red, IT2FLC(w) along viridis by width (the matched type-1 of the
-    same width shares the colour, dashed / hatched), PD grey, other controllers tab colours."""
+    same width shares the colour, dashed / hatched), PD grey, other controllers tab colours.
 
-    def __init__(self, fous: Iterable[float]) -> None:
+    The other controllers' colours are fixed up front from ``controllers`` (in
+    :func:`~it2track.report.identity._order_key` order), so that a controller has one colour in
+    every figure, whichever figure is drawn first and in whichever process.
+    """
+
+    def __init__(self, fous: Iterable[float], controllers: Iterable[_Ctrl] = ()) -> None:
         self.fous = sorted({float(w) for w in fous if w > 0})
         self.extra: dict[str, str] = {}
+        for c in sorted(controllers, key=_order_key):
+            if c.kind not in (_FLC, _IT2, _T1M, _PD):
+                self.style(c)
 
     def fou_color(self, w: float) -> str:
         cmap = matplotlib.colormaps["viridis"]
@@ -97,17 +105,18 @@ class _Palette:
 # ---------------------------------------------------------------------------------------------
 
 
-def _save(fig: Figure, out_dir: Path, stem: str) -> Path:
+def _save(fig: Figure, out_dir: Path, stem: str, *, svg: bool = True) -> Path:
     png = out_dir / f"{stem}.png"
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=FIGURE_DPI, pil_kwargs={"compress_level": 0})
     with atomic_open(png, "wb") as fh:
         fh.write(_compact_png(buf.getvalue()))
-    # The constrained layout has been computed by the PNG draw; freeze it for the SVG (the
-    # layout is in figure fractions, so it does not depend on the dpi).
-    fig.set_layout_engine("none")
-    with atomic_open(out_dir / f"{stem}.svg", "wb") as fh:
-        fig.savefig(fh, format="svg", metadata={"Date": None, "Creator": None})
+    if svg:
+        # The constrained layout has been computed by the PNG draw; freeze it for the SVG (the
+        # layout is in figure fractions, so it does not depend on the dpi).
+        fig.set_layout_engine("none")
+        with atomic_open(out_dir / f"{stem}.svg", "wb") as fh:
+            fig.savefig(fh, format="svg", metadata={"Date": None, "Creator": None})
     fig.clear()
     return png
 
