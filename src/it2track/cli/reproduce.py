@@ -9,8 +9,10 @@ from __future__ import annotations
 import shlex
 import sys
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import click
 
@@ -18,6 +20,9 @@ from .outdir import _discard_staging, _fail, _make_staging, _publish
 from .sweep import check_scheduler as _check_scheduler
 from .sweep import dask_options as _dask_options
 from .sweep import dask_settings as _dask_settings
+
+if TYPE_CHECKING:
+    from ..report.render import FigureRenderer
 
 __all__ = ["reproduce"]
 
@@ -47,14 +52,17 @@ def _quick(config: Any) -> Any:
               help="Run the experiments on this Dask cluster (needs it2track[dask]; only on a "
               "trusted network or with TLS: see README).")
 @_dask_options
-@click.option("--no-progress", is_flag=True, help="No progress bar.")
+@click.option("--svg/--no-svg", default=None,
+              help="Also write every figure as SVG (default: yes, except with --quick).")
+@click.option("--no-progress", is_flag=True, help="No progress bar or stage messages.")
 def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
               sweep_seeds: int | None, quick: bool, workers: int, scheduler: str | None,
-              no_progress: bool, **dask: Any) -> None:
+              svg: bool | None, no_progress: bool, **dask: Any) -> None:
     """Regenerate every result of the paper, with statistics and verdicts on its claims.
 
-    Writes figures (PNG+SVG), metrics.csv, summary.csv, claims.md, report.html and
-    manifest.json into OUT. Files appear only when complete.
+    Writes figures (PNG, and SVG unless --quick or --no-svg), metrics.csv, summary.csv,
+    claims.md, report.html and manifest.json into OUT. Files appear only when complete.
+    Figures are drawn by worker processes while the study runs.
     """
     from dataclasses import replace
 
@@ -70,6 +78,8 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
         study_run_count,
     )
     from ..report import outputs
+    from ..report.html import write_html
+    from ..report.render import FigureError, FigureRenderer, default_figure_workers
     from ..tracking import METRIC_NAMES
 
     started = time.perf_counter()
@@ -93,34 +103,44 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
     _preflight_study(config, config_path)
     total = study_run_count(config)
     out = Path(out_dir)
+    svg = (not quick) if svg is None else svg
+    stages = _Stages(enabled=not no_progress)
     staging = _make_staging(out_dir)
     try:
-        with tqdm(total=total, unit="run", disable=no_progress, file=sys.stderr,
-                  desc="simulating") as bar:
-            try:
-                if workers or scheduler:
-                    with make_executor(workers=workers or None, scheduler=scheduler,
-                                       **_dask_settings(**dask)) as ex:
-                        result = run_study(config, progress=bar.update, executor=ex)
-                else:
-                    result = run_study(config, progress=bar.update)
-            except (ValueError, OSError, ExecutorError, BrokenExecutor) as exc:
-                _fail(f"the study stopped: {type(exc).__name__}: {exc}; nothing was written")
-                return
-        summary = summarise(result.rows)
-        claims = evaluate_claims(result.rows, fous=config.fous, main_fou=config.main_fou,
-                                 trajectories=config.trajectories)
-        outputs.write_metrics_csv(staging / "metrics.csv", result.rows,
-                                  [*ROW_KEYS, *METRIC_NAMES])
-        outputs.write_summary_csv(staging / "summary.csv", summary)
-        preamble = _claims_preamble(config)
-        outputs.write_claims_md(staging / "claims.md", claims, preamble=preamble)
-        if not no_progress:
-            click.echo("writing figures and report ...", err=True)
-        from ..report.figures import write_figures
-        from ..report.html import write_html
-
-        figures = write_figures(result, summary, staging)
+        # Figure workers start now and import matplotlib while the study runs; each figure is
+        # drawn as soon as its data exist (report.render), so both cores stay busy.
+        with FigureRenderer(staging, workers=default_figure_workers(), svg=svg,
+                            on_done=stages.figure_done) as renderer:
+            with stages.stage("simulating"), tqdm(
+                    total=total, unit="run", disable=no_progress, file=sys.stderr,
+                    desc="simulating", leave=False) as bar:
+                try:
+                    if workers or scheduler:
+                        with make_executor(workers=workers or None, scheduler=scheduler,
+                                           **_dask_settings(**dask)) as ex:
+                            result = run_study(config, progress=bar.update, executor=ex)
+                    else:
+                        result = run_study(config, progress=bar.update)
+                except (ValueError, OSError, ExecutorError, BrokenExecutor) as exc:
+                    _fail(f"the study stopped: {type(exc).__name__}: {exc}; nothing was "
+                          "written")
+            with stages.stage("statistics and verdicts"):
+                summary = summarise(result.rows)
+                claims = evaluate_claims(result.rows, fous=config.fous,
+                                         main_fou=config.main_fou,
+                                         trajectories=config.trajectories)
+            renderer.submit(result, summary)
+            with stages.stage("metrics.csv, summary.csv, claims.md"):
+                outputs.write_metrics_csv(staging / "metrics.csv", result.rows,
+                                          [*ROW_KEYS, *METRIC_NAMES])
+                outputs.write_summary_csv(staging / "summary.csv", summary)
+                preamble = _claims_preamble(config)
+                outputs.write_claims_md(staging / "claims.md", claims, preamble=preamble)
+            with stages.stage("figures"), stages.figure_bar(renderer):
+                try:
+                    figures = renderer.results(result)
+                except FigureError as exc:
+                    _fail(f"{exc}; nothing was written")
         command = _command_line(click.get_current_context())
         cfg = config.to_dict()
         cfg["pd_tuning"] = {k: v for k, v in result.pd_tuning.items() if k != "grid"}
@@ -129,19 +149,76 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
             extra={"rows": len(result.rows["seed"]), "simulations": total,
                    "files": sorted(p.name for p in staging.iterdir())},
         )
-        write_html(staging / "report.html", result=result, summary=summary, claims=claims,
-                   manifest=manifest, figures=figures, elapsed_s=time.perf_counter() - started)
+        with stages.stage("report.html"):
+            write_html(staging / "report.html", result=result, summary=summary,
+                       claims=claims, manifest=manifest, figures=figures,
+                       elapsed_s=time.perf_counter() - started)
         manifest["elapsed_s"] = round(time.perf_counter() - started, 3)
+        manifest["stage_s"] = stages.record()
         manifest["files"] = sorted([*(p.name for p in staging.iterdir()), "manifest.json"])
         outputs.write_json(staging / "manifest.json", manifest)
         _publish(staging, out)
     finally:
         _discard_staging(staging)
     elapsed = time.perf_counter() - started
+    stages.summary(elapsed)
     click.echo(f"{len(result.rows['seed'])} result rows from {total} simulations in "
                f"{elapsed:.1f} s -> {out}/")
     for c in claims:
         click.echo(f"  {c.id}: {c.verdict}")
+
+
+class _Stages:
+    """Progress of the pipeline on stderr: a line when a stage starts, its time when it ends,
+    a bar for the figures; the stage times for the manifest."""
+
+    def __init__(self, *, enabled: bool) -> None:
+        self.enabled = enabled
+        self.seconds: dict[str, float] = {}
+        self.figure_cpu: dict[str, float] = {}
+        self._bar: Any = None
+
+    @contextmanager
+    def stage(self, name: str) -> Iterator[None]:
+        if self.enabled and name != "simulating":  # the simulation has its own bar
+            click.echo(f"{name} ...", err=True)
+        started = time.perf_counter()
+        yield
+        self.seconds[name] = time.perf_counter() - started
+
+    def figure_done(self, key: str, cpu_seconds: float) -> None:
+        self.figure_cpu[key] = cpu_seconds
+        if self._bar is not None:
+            self._bar.set_postfix_str(key, refresh=False)
+            self._bar.update(1)
+
+    @contextmanager
+    def figure_bar(self, renderer: FigureRenderer) -> Iterator[None]:
+        from tqdm import tqdm
+
+        renderer.poll()  # figures finished during the simulation count as done
+        with tqdm(total=len(renderer.submitted), initial=len(self.figure_cpu), unit="figure",
+                  disable=not self.enabled, file=sys.stderr, desc="figures",
+                  leave=False) as bar:
+            self._bar = bar
+            try:
+                yield
+            finally:
+                self._bar = None
+
+    def record(self) -> dict[str, float]:
+        """Stage -> wall seconds, and the figures' CPU seconds (summed over the workers)."""
+        out = {k: round(v, 3) for k, v in self.seconds.items()}
+        out["figures (CPU, all workers)"] = round(sum(self.figure_cpu.values()), 3)
+        return out
+
+    def summary(self, elapsed: float) -> None:
+        if not self.enabled:
+            return
+        parts = ", ".join(f"{k} {v:.1f} s" for k, v in self.seconds.items())
+        cpu = sum(self.figure_cpu.values())
+        click.echo(f"times: {parts} (figures: {cpu:.1f} s CPU in {len(self.figure_cpu)} "
+                   f"figures); total {elapsed:.1f} s", err=True)
 
 
 def _preflight_study(config: Any, config_path: str | None) -> None:
@@ -187,7 +264,7 @@ def _preflight_study(config: Any, config_path: str | None) -> None:
             _fail(f"{source} [study] trajectories: {exc}")
     if len(config.trajectories) > 1 and any(t.lower().endswith(".csv")
                                             for t in config.trajectories):
-        from ..report.figures import slug  # (imports matplotlib: only when files could clash)
+        from ..report.identity import slug
 
         for t, name in zip(config.trajectories, names, strict=True):
             for key in (f"figure {slug(t)!r}", f"name {name!r}"):

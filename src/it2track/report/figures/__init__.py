@@ -46,6 +46,7 @@ from ..identity import (
     slug,
     surface_limit,
 )
+from ..plan import figure_keys, figure_plan, paper_figures
 from .claims import _fig_win_rates
 from .integrals import _fig_integral_errors
 from .style import _RC, FIGURE_DPI, _Palette, _save
@@ -84,60 +85,15 @@ class _Inputs:
         return cls(result, _Summary(summary), ctrls, _Palette(result.config.fous, ctrls.values()))
 
 
-@dataclass(frozen=True)
-class _Figure:
-    """One figure: whether its data are present, and how to draw it."""
-
-    available: Callable[[_Inputs], bool]
-    draw: Callable[[_Inputs], Figure]
-
-
-def _paper_figure(traj: str) -> _Figure:
-    return _Figure(lambda i: traj in i.result.traces,
-                   lambda i: _fig_paper(i.result, traj, i.ctrls, i.pal))
-
-
-def _figures(result: StudyResult) -> dict[str, _Figure]:
-    """Every figure of the study by key, in report order."""
-    figs = {f"paper_{slug(t)}": _paper_figure(t) for t in result.config.trajectories}
-    figs["fou_comparison"] = _Figure(
-        lambda i: all(t in i.result.traces for t in i.result.config.trajectories),
-        lambda i: _fig_fou_comparison(i.result, i.ctrls, i.pal))
-    figs["integral_errors"] = _Figure(
-        lambda i: i.summ.has("paper"),
-        lambda i: _fig_integral_errors(i.result, i.summ, i.ctrls, i.pal))
-    figs["noise_sweep"] = _Figure(
-        lambda i: i.summ.has("noise"),
-        lambda i: _fig_noise_sweep(i.result, i.summ, i.ctrls, i.pal))
-    figs["fou_sweep"] = _Figure(
-        lambda i: i.summ.has("fou"),
-        lambda i: _fig_fou_sweep(i.result, i.summ, i.ctrls, i.pal))
-    figs["control_surfaces"] = _Figure(
-        lambda i: bool(i.result.surfaces),
-        lambda i: _fig_control_surfaces(i.result, i.ctrls))
-    figs["dead_zone"] = _Figure(
-        lambda i: bool(i.result.surfaces),
-        lambda i: _fig_dead_zone(i.result, i.ctrls, i.pal))
-    figs["win_rates"] = _Figure(
-        lambda i: i.summ.has("paper") and len(i.summ.controllers("paper")) > 1,
-        lambda i: _fig_win_rates(i.result, i.summ, i.ctrls))
-    return figs
-
-
-def figure_keys(result: StudyResult) -> list[str]:
-    """Every key :func:`write_figures` can produce for ``result`` (in report order)."""
-    return list(_figures(result))
-
-
-def figure_plan(result: StudyResult, summary: Sequence[Mapping[str, Any]]) -> list[str]:
-    """The keys of the figures whose data ``result`` and ``summary`` hold, in report order.
-
-    A result with traces and surfaces but no rows, and an empty summary, plans exactly the
-    figures that need no Monte Carlo (the time series, control surfaces and dead zone): they
-    can be drawn while the experiments still run.
-    """
-    inputs = _Inputs.of(result, summary)
-    return [key for key, fig in _figures(result).items() if fig.available(inputs)]
+_DRAW: dict[str, Callable[[_Inputs], Figure]] = {
+    "fou_comparison": lambda i: _fig_fou_comparison(i.result, i.ctrls, i.pal),
+    "integral_errors": lambda i: _fig_integral_errors(i.result, i.summ, i.ctrls, i.pal),
+    "noise_sweep": lambda i: _fig_noise_sweep(i.result, i.summ, i.ctrls, i.pal),
+    "fou_sweep": lambda i: _fig_fou_sweep(i.result, i.summ, i.ctrls, i.pal),
+    "control_surfaces": lambda i: _fig_control_surfaces(i.result, i.ctrls),
+    "dead_zone": lambda i: _fig_dead_zone(i.result, i.ctrls, i.pal),
+    "win_rates": lambda i: _fig_win_rates(i.result, i.summ, i.ctrls),
+}
 
 
 def draw_figure(key: str, result: StudyResult,
@@ -152,12 +108,14 @@ def draw_figure(key: str, result: StudyResult,
     KeyError
         ``key`` is not a figure of this study, or its data are absent.
     """
-    figs = _figures(result)
-    inputs = _Inputs.of(result, summary)
-    if key not in figs or not figs[key].available(inputs):
+    if key not in figure_plan(result, summary):
         raise KeyError(f"no figure {key!r} for this result (have: "
                        f"{', '.join(figure_plan(result, summary)) or 'none'})")
-    return figs[key].draw(inputs)
+    inputs = _Inputs.of(result, summary)
+    traj = paper_figures(result).get(key)
+    if traj is not None:
+        return _fig_paper(result, traj, inputs.ctrls, inputs.pal)
+    return _DRAW[key](inputs)
 
 
 def write_figure(key: str, result: StudyResult, summary: Sequence[Mapping[str, Any]],

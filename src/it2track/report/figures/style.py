@@ -123,13 +123,18 @@ def _save(fig: Figure, out_dir: Path, stem: str, *, svg: bool = True) -> Path:
 
 def _compact_png(data: bytes) -> bytes:
     """Re-encode as a 256-colour palette PNG (about a third of the size, visually identical for
-    these line and surface plots; the HTML report embeds the PNGs)."""
+    these line and surface plots; the HTML report embeds the PNGs).
+
+    Median cut, not the 7x faster octree: octree quantisation bands the control surfaces'
+    diverging colour map (the light colours near u = 0 all became white, widening the dead zone
+    to the eye). zlib level 6, not 9: level 9 took 3-6x as long for files about 5 % smaller.
+    """
     with PIL.Image.open(io.BytesIO(data)) as im:
         pal = im.convert("RGB").quantize(
             colors=256, method=PIL.Image.Quantize.MEDIANCUT, dither=PIL.Image.Dither.NONE
         )
     out = io.BytesIO()
-    pal.save(out, format="PNG", compress_level=9)
+    pal.save(out, format="PNG", compress_level=6)
     return out.getvalue()
 
 

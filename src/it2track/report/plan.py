@@ -1,0 +1,50 @@
+"""Which figures a study result can have, in report order: numpy only, so that the process that
+hands figures to workers (:mod:`.render`) never imports matplotlib itself.
+
+The drawing functions for these keys are in :mod:`it2track.report.figures`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from typing import Any
+
+from ..experiments.study import StudyResult
+from .identity import _Summary, slug
+
+__all__ = ["figure_keys", "figure_plan"]
+
+#: Figure key -> does the data hold what the figure shows (for the keys that are not per
+#: trajectory), in report order after the per-trajectory ``paper_<trajectory>`` figures.
+_AVAILABLE: dict[str, Callable[[StudyResult, _Summary], bool]] = {
+    "fou_comparison": lambda r, s: all(t in r.traces for t in r.config.trajectories),
+    "integral_errors": lambda r, s: s.has("paper"),
+    "noise_sweep": lambda r, s: s.has("noise"),
+    "fou_sweep": lambda r, s: s.has("fou"),
+    "control_surfaces": lambda r, s: bool(r.surfaces),
+    "dead_zone": lambda r, s: bool(r.surfaces),
+    "win_rates": lambda r, s: s.has("paper") and len(s.controllers("paper")) > 1,
+}
+
+
+def paper_figures(result: StudyResult) -> dict[str, str]:
+    """Key -> trajectory of the per-trajectory figures ``paper_<slug>`` (paper Figs. 7-9)."""
+    return {f"paper_{slug(t)}": t for t in result.config.trajectories}
+
+
+def figure_keys(result: StudyResult) -> list[str]:
+    """Every key :func:`~it2track.report.figures.write_figures` can produce for ``result``, in
+    report order."""
+    return [*paper_figures(result), *_AVAILABLE]
+
+
+def figure_plan(result: StudyResult, summary: Sequence[Mapping[str, Any]]) -> list[str]:
+    """The keys of the figures whose data ``result`` and ``summary`` hold, in report order.
+
+    A result with traces and surfaces but no rows, and an empty summary, plans exactly the
+    figures that need no Monte Carlo (the time series, control surfaces and dead zone): they
+    can be drawn while the experiments still run.
+    """
+    summ = _Summary(summary)
+    keys = [k for k, t in paper_figures(result).items() if t in result.traces]
+    return keys + [k for k, ok in _AVAILABLE.items() if ok(result, summ)]

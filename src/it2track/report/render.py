@@ -1,0 +1,208 @@
+"""Write the study's figures on worker processes while this process does other work.
+
+Drawing the figures costs about as much CPU time as the default study's simulations, on one
+core. :class:`FigureRenderer` hands each figure to a pool of worker processes as soon as its
+data exist (the time series and control surfaces before the Monte Carlo ends, the statistics
+figures after it), so that figures, simulation and the text outputs share the machine's cores.
+The files do not depend on where they were drawn (see
+:func:`it2track.report.figures.write_figure`).
+
+The workers start by ``forkserver`` where the platform has it, with the figure modules
+preloaded once in the server (``spawn`` elsewhere): they never inherit this process's threads,
+locks or matplotlib state.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+import time
+from collections.abc import Callable, Mapping, Sequence
+from concurrent.futures import Executor, Future, ProcessPoolExecutor, wait
+from pathlib import Path
+from types import TracebackType
+from typing import Any
+
+from ..experiments.study import StudyResult
+
+__all__ = ["FigureError", "FigureRenderer", "default_figure_workers"]
+
+#: Module the figure workers import before their first job.
+_PRELOAD = "it2track.report.figures"
+
+
+class FigureError(RuntimeError):
+    """A figure could not be drawn or written; the message names the figure."""
+
+
+def default_figure_workers() -> int:
+    """Worker processes for the figures: the cores this process may use, at most 4 (there are
+    about ten figures of very different cost); 0 (draw here) on a single core."""
+    try:
+        cores = len(os.sched_getaffinity(0))
+    except AttributeError:  # pragma: no cover - not Linux
+        cores = os.cpu_count() or 1
+    return 0 if cores < 2 else min(cores, 4)
+
+
+def _timed_write(key: str, result: StudyResult, summary: Sequence[Mapping[str, Any]],
+                 out_dir: Path, svg: bool) -> tuple[Path, float]:
+    """Worker job: write one figure; returns its PNG and the CPU seconds it took."""
+    from .figures import write_figure
+
+    started = time.process_time()
+    png = write_figure(key, result, summary, out_dir, svg=svg)
+    return png, time.process_time() - started
+
+
+def _warm_up() -> None:
+    """Worker job: import the figure modules (and matplotlib) before the first figure."""
+    import importlib
+
+    importlib.import_module(_PRELOAD)
+
+
+def _context() -> Any:
+    if "forkserver" in multiprocessing.get_all_start_methods():
+        ctx = multiprocessing.get_context("forkserver")
+        ctx.set_forkserver_preload([_PRELOAD])
+        return ctx
+    return multiprocessing.get_context("spawn")  # pragma: no cover - no forkserver here
+
+
+class FigureRenderer:
+    """Figures written into ``out_dir`` by worker processes, as their data become available.
+
+    Parameters
+    ----------
+    out_dir : Path
+        Folder for ``<key>.png`` (and ``<key>.svg``).
+    workers : int
+        Worker processes; 0 draws every figure in this process, at :meth:`submit`.
+    svg : bool, default True
+        Also write SVG files.
+    on_done : callable, optional
+        Called in this process as ``on_done(key, cpu_seconds)`` when a figure is written
+        (from :meth:`submit` without workers, from :meth:`results` with them).
+
+    Examples
+    --------
+    >>> with FigureRenderer(out, workers=2) as renderer:  # doctest: +SKIP
+    ...     renderer.submit(early_result, [])     # traces and surfaces only
+    ...     result = run_study(config)
+    ...     renderer.submit(result, summarise(result.rows))
+    ...     figures = renderer.results(result)
+    """
+
+    def __init__(self, out_dir: Path, *, workers: int, svg: bool = True,
+                 on_done: Callable[[str, float], object] | None = None) -> None:
+        if workers < 0:
+            raise ValueError(f"workers={workers} must be >= 0")
+        self.out_dir = Path(out_dir)
+        self.svg = svg
+        self.on_done = on_done
+        self.workers = workers
+        self._pool: Executor | None = None
+        self._futures: dict[str, Future[tuple[Path, float]]] = {}
+        self._done: dict[str, Path] = {}
+        self._reported: set[str] = set()
+
+    def __enter__(self) -> FigureRenderer:
+        if self.workers:
+            self._pool = ProcessPoolExecutor(self.workers, mp_context=_context())
+            for _ in range(self.workers):  # start the workers now, while the study runs
+                self._pool.submit(_warm_up)
+        return self
+
+    def __exit__(self, exc_type: type[BaseException] | None, exc: BaseException | None,
+                 tb: TracebackType | None) -> None:
+        self.close(cancel=exc_type is not None)
+
+    def close(self, *, cancel: bool = False) -> None:
+        """Stop the workers (after the figures submitted, unless ``cancel``)."""
+        if self._pool is not None:
+            self._pool.shutdown(wait=True, cancel_futures=cancel)
+            self._pool = None
+
+    @property
+    def submitted(self) -> list[str]:
+        """Keys of the figures submitted so far, in submission order."""
+        return [*self._done, *(k for k in self._futures if k not in self._done)]
+
+    def submit(self, result: StudyResult, summary: Sequence[Mapping[str, Any]]) -> list[str]:
+        """Submit every figure whose data ``result`` and ``summary`` hold and that was not
+        submitted before (see :func:`~it2track.report.figures.figure_plan`).
+
+        Returns
+        -------
+        list of str
+            The keys submitted by this call.
+        """
+        from .plan import figure_plan
+
+        keys = [k for k in figure_plan(result, summary)
+                if k not in self._futures and k not in self._done]
+        for key in keys:
+            if self._pool is None:
+                png, seconds = self._write_here(key, result, summary)
+                self._done[key] = png
+                self._report(key, seconds)
+            else:
+                self._futures[key] = self._pool.submit(_timed_write, key, result, summary,
+                                                       self.out_dir, self.svg)
+        return keys
+
+    def _write_here(self, key: str, result: StudyResult,
+                    summary: Sequence[Mapping[str, Any]]) -> tuple[Path, float]:
+        try:
+            return _timed_write(key, result, summary, self.out_dir, self.svg)
+        except Exception as exc:
+            raise FigureError(f"figure {key!r} failed: {type(exc).__name__}: {exc}") from exc
+
+    def _report(self, key: str, seconds: float) -> None:
+        if key not in self._reported:
+            self._reported.add(key)
+            if self.on_done is not None:
+                self.on_done(key, seconds)
+
+    def poll(self) -> None:
+        """Report the figures finished since the last call (without waiting)."""
+        for key, future in list(self._futures.items()):
+            if future.done() and key not in self._done:
+                self._collect(key, future)
+
+    def _collect(self, key: str, future: Future[tuple[Path, float]]) -> None:
+        try:
+            png, seconds = future.result()
+        except Exception as exc:
+            raise FigureError(f"figure {key!r} failed: {type(exc).__name__}: {exc}") from exc
+        self._done[key] = png
+        self._report(key, seconds)
+
+    def results(self, result: StudyResult) -> dict[str, Path]:
+        """Wait for every submitted figure.
+
+        Parameters
+        ----------
+        result : StudyResult
+            The whole result: its :func:`~it2track.report.figures.figure_keys` give the order.
+
+        Returns
+        -------
+        dict of str -> Path
+            Figure key -> PNG file, in report order.
+
+        Raises
+        ------
+        FigureError
+            A figure failed (the first one, in submission order).
+        """
+        from .plan import figure_keys
+
+        pending = {f: k for k, f in self._futures.items() if k not in self._done}
+        while pending:
+            finished, _ = wait(pending, return_when="FIRST_COMPLETED")
+            for future in sorted(finished, key=lambda f: list(self._futures).index(pending[f])):
+                self._collect(pending.pop(future), future)
+        order = {k: i for i, k in enumerate(figure_keys(result))}
+        return dict(sorted(self._done.items(), key=lambda kv: order.get(kv[0], len(order))))

@@ -1,0 +1,91 @@
+"""The reproduce pipeline: figures drawn by worker processes are the same files as drawn here,
+in report order, each reported once; a failing figure is named; stages are reported; nothing
+about labels is refused before simulating (the figures show them literally)."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import replace
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from it2track.cli.main import main
+from it2track.cli.reproduce import _preflight_study
+from it2track.experiments.analysis import summarise
+from it2track.experiments.specs import ControllerKind, ControllerSpec
+from it2track.experiments.study import PDTuning, StudyConfig, StudyResult, run_study
+from it2track.report.figures import figure_keys, write_figures
+from it2track.report.render import FigureError, FigureRenderer
+from it2track.tracking import LoopConfig
+
+
+@pytest.fixture(scope="module")
+def study() -> StudyResult:
+    return run_study(StudyConfig(
+        seeds=3, sweep_seeds=3, fou_sweep=(0.0, 0.2), noise_levels=(0.0, 0.1),
+        loop=LoopConfig(duration=2.0),
+        pd=PDTuning(seeds=2, kp_grid=(5.0, 20.0), kd_grid=(0.0, 0.1)),
+    ))
+
+
+@pytest.fixture(scope="module")
+def here(study, tmp_path_factory):
+    out = tmp_path_factory.mktemp("here")
+    return out, write_figures(study, summarise(study.rows), out)
+
+
+@pytest.mark.parametrize("workers", [0, 2])
+def test_workers_write_the_same_files_in_report_order(study, here, tmp_path, workers):
+    ref_dir, ref = here
+    done: list[str] = []
+    early = replace(study, rows={k: v[:0] for k, v in study.rows.items()}, pd=None,
+                    pd_tuning={})
+    with FigureRenderer(tmp_path, workers=workers,
+                        on_done=lambda key, cpu: done.append(key)) as renderer:
+        first = renderer.submit(early, [])  # what needs no Monte Carlo, submitted early
+        second = renderer.submit(study, summarise(study.rows))
+        figures = renderer.results(study)
+    assert set(first).isdisjoint(second), "no figure is submitted twice"
+    assert {"control_surfaces", "paper_straight"} <= set(first)
+    assert "integral_errors" in second
+    assert list(figures) == [k for k in figure_keys(study) if k in ref] == list(ref)
+    assert sorted(done) == sorted(ref), "every figure reported once"
+    for key, png in figures.items():
+        assert png == tmp_path / f"{key}.png"
+        for suffix in (".png", ".svg"):
+            assert png.with_suffix(suffix).read_bytes() == (ref_dir / key).with_suffix(
+                suffix).read_bytes(), f"{key}{suffix} differs from the one drawn here"
+
+
+@pytest.mark.parametrize("workers", [0, 1])
+def test_a_failing_figure_is_named(study, tmp_path, workers):
+    e, de, u = study.surfaces["FLC"]
+    broken = replace(study, surfaces={**study.surfaces, "FLC": (e, de, u[:3])})
+    with pytest.raises(FigureError, match="'control_surfaces' failed"):
+        with FigureRenderer(tmp_path, workers=workers, svg=False) as renderer:
+            renderer.submit(broken, summarise(study.rows))
+            renderer.results(broken)
+
+
+def test_labels_are_not_refused_before_simulating():
+    """A label with (even broken) mathtext is fine: the figures escape '$'."""
+    spec = ControllerSpec(kind=ControllerKind.PD, kp=5.0, kd=0.1,
+                          label="$\\undefinedmacro{x}$ PD")
+    _preflight_study(StudyConfig(extra_controllers=(spec,)), None)
+
+
+def test_quick_reports_its_stages_and_writes_svg_on_request(tmp_path):
+    result = CliRunner().invoke(main, ["reproduce", "--quick", "--svg", "--out",
+                                       str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    for stage in ("statistics and verdicts ...", "figures ...", "report.html ...", "times: "):
+        assert stage in result.stderr, f"no progress for {stage!r}"
+    pngs = sorted(tmp_path.glob("*.png"))
+    assert pngs and all(p.with_suffix(".svg").is_file() for p in pngs)
+    manifest = json.loads((tmp_path / "manifest.json").read_text())
+    stages = manifest["stage_s"]
+    assert {"simulating", "figures", "report.html"} <= set(stages)
+    assert all(np.isfinite(v) and v >= 0 for v in stages.values())
+    assert "--svg" in manifest["command"]
