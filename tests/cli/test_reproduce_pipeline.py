@@ -1,14 +1,17 @@
 """The reproduce pipeline: figures drawn by worker processes are the same files as drawn here,
-in report order, each reported once; a failing figure is named; stages are reported; nothing
-about labels is refused before simulating (the figures show them literally)."""
+in report order, each reported once; a failing figure is named; stages are reported; labels
+are checked before simulating without importing matplotlib here."""
 
 from __future__ import annotations
 
 import json
+import subprocess
+import sys
 from dataclasses import replace
 
 import numpy as np
 import pytest
+from click import ClickException
 from click.testing import CliRunner
 
 from it2track.cli.main import main
@@ -69,11 +72,31 @@ def test_a_failing_figure_is_named(study, tmp_path, workers):
             renderer.results(broken)
 
 
-def test_labels_are_not_refused_before_simulating():
-    """A label with (even broken) mathtext is fine: the figures escape '$'."""
-    spec = ControllerSpec(kind=ControllerKind.PD, kp=5.0, kd=0.1,
-                          label="$\\undefinedmacro{x}$ PD")
-    _preflight_study(StudyConfig(extra_controllers=(spec,)), None)
+def test_mathtext_labels_are_checked_before_simulating():
+    """A label with broken mathtext is refused before any simulation (naming it); valid
+    mathtext and plain labels pass."""
+    def config(label: str) -> StudyConfig:
+        return StudyConfig(extra_controllers=(
+            ControllerSpec(kind=ControllerKind.PD, kp=5.0, kd=0.1, label=label),))
+
+    with pytest.raises(ClickException, match=r"undefinedmacro.*cannot be drawn"):
+        _preflight_study(config("$\\undefinedmacro{x}$ PD"), None)
+    _preflight_study(config("$\\alpha$ PD"), None)
+    _preflight_study(config("my PD"), None)
+
+
+def test_the_main_process_does_not_import_matplotlib():
+    """The figures are drawn by workers: checking the default study and planning its figures
+    imports no matplotlib here (a plain label needs no test drawing)."""
+    code = ("import sys\n"
+            "from it2track.cli.reproduce import _preflight_study\n"
+            "from it2track.experiments.study import StudyConfig\n"
+            "import it2track.report.render, it2track.report.plan, it2track.report.html\n"
+            "_preflight_study(StudyConfig(), None)\n"
+            "print('matplotlib' in sys.modules)\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True, timeout=300)
+    assert out.stdout.strip() == "False"
 
 
 def test_quick_reports_its_stages_and_writes_svg_on_request(tmp_path):
