@@ -62,7 +62,7 @@ def _pack_controllers(controllers: Sequence[HeadingController]) -> tuple[FloatAr
     for c in controllers:
         if isinstance(c, PDHeadingController) and type(c) is PDHeadingController:
             parts.append(np.array([1.0, c.kp, c.kd, c.tf, c.u_max]))
-        elif type(c) is FuzzyHeadingController:
+        elif type(c) is FuzzyHeadingController and supported(c) is None:
             parts.append(np.concatenate([[0.0, c.ke, c.kde], fuzzy_kernels.pack(c.fls)]))
         else:
             parts.append(np.array([-1.0]))  # never referenced by a block

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from ..fuzzy import IT2Sugeno, T1Sugeno
+from ..fuzzy import IT2Mamdani, IT2Sugeno, T1Mamdani, T1Sugeno
 
 __all__ = ["FuzzyHeadingController", "HeadingController", "PDHeadingController"]
 
@@ -67,24 +67,43 @@ class FuzzyHeadingController(HeadingController):
 
     Parameters
     ----------
-    fls : IT2Sugeno or T1Sugeno
+    fls : IT2Sugeno, T1Sugeno, IT2Mamdani or T1Mamdani
         A two-input system (error, change of error); its inputs are clipped to its universes.
+        Sugeno and TSK systems with the paper's rule form run on the compiled engine where it
+        is available; every other system (Mamdani, or rules using NOT/OR/weights) runs on the
+        numpy evaluation.
     ke, kde : float
         Input gains (default 1, as in the paper).
     name : str
         Label used in results (default: the system's name).
+    fls_output : int or str, optional
+        For a system with several outputs, the one that drives the wheels (its index or name);
+        ``fls`` is then replaced by that one-output system (``fls.select_output(...)``).
+        A system with several outputs and no ``fls_output`` is refused.
     """
 
-    fls: IT2Sugeno | T1Sugeno
+    fls: IT2Sugeno | T1Sugeno | IT2Mamdani | T1Mamdani
     ke: float = 1.0
     kde: float = 1.0
     name: str = ""
+    fls_output: int | str | None = None
 
     def __post_init__(self) -> None:
-        if not isinstance(self.fls, IT2Sugeno | T1Sugeno):
-            raise ValueError(f"fls={self.fls!r} must be an IT2Sugeno or T1Sugeno")
+        if not isinstance(self.fls, IT2Sugeno | T1Sugeno | IT2Mamdani | T1Mamdani):
+            raise ValueError(
+                f"fls must be an IT2Sugeno, T1Sugeno, IT2Mamdani or T1Mamdani, got "
+                f"{type(self.fls).__name__}"
+            )
         if self.fls.n_inputs != 2:
             raise ValueError(f"fls must have 2 inputs (e, de), has {self.fls.n_inputs}")
+        if self.fls_output is not None:
+            object.__setattr__(self, "fls", self.fls.select_output(self.fls_output))
+        elif self.fls.n_outputs != 1:
+            raise ValueError(
+                f"fls {self.fls.name!r} has {self.fls.n_outputs} outputs "
+                f"({', '.join(self.fls.output_names)}); choose the one that drives the wheels "
+                "with fls_output=<name or index>"
+            )
         _check("FuzzyHeadingController", ke=self.ke, kde=self.kde)
         if not self.name:
             object.__setattr__(self, "name", self.fls.name or "fuzzy")
