@@ -2,16 +2,14 @@
 and type-1 defuzzification.
 
 Each member is a strategy with a documented formula; command lines and files name them by the
-member's value (``TNorm.from_name("prod")`` etc.). Their numpy forms (:meth:`TNorm.reduce`
+member's value (``TNorm.from_name("prod")`` etc.). Their numpy forms (:meth:`TNorm.pair`
 and friends) are the reference semantics the fuzzy systems use.
 
-============================  =====================================================
-``TNorm.PRODUCT`` / ``MINIMUM``  ``a b`` / ``min(a, b)`` (AND, and implication)
-``SNorm.MAXIMUM`` / ``PROBOR``   ``max(a, b)`` / ``a + b - a b`` (OR)
-``Implication.MINIMUM`` / ``PRODUCT``  clip / scale an output set by the firing
-``Aggregation.MAXIMUM`` / ``SUM`` / ``PROBOR``  combine the implied output sets
-``Defuzzifier``  type-1 Mamdani: centroid, bisector, mean/smallest/largest of maximum
-============================  =====================================================
+- ``TNorm.PRODUCT`` / ``TNorm.MINIMUM``: ``a b`` / ``min(a, b)`` (AND);
+- ``SNorm.MAXIMUM`` / ``SNorm.PROBOR``: ``max(a, b)`` / ``a + b - a b`` (OR);
+- ``Implication.MINIMUM`` / ``Implication.PRODUCT``: clip / scale an output set by the firing;
+- ``Aggregation.MAXIMUM`` / ``SUM`` / ``PROBOR``: combine the implied output sets;
+- ``Defuzzifier``: type-1 Mamdani centroid, bisector, mean / smallest / largest of maximum.
 """
 
 from __future__ import annotations

@@ -118,7 +118,7 @@ def _float_pair(value: object, what: str) -> tuple[float, float]:
 
 @dataclass(frozen=True, init=False)
 class Linear:
-    """First-order (TSK) consequent ``y = c0 + c1 x1 + ... + cn xn``.
+    """First-order (TSK) consequent ``y = c0 + sum_i ci xi``, crisp or interval.
 
     Each coefficient is a number or an interval ``(lo, hi)``. With interval coefficients the
     consequent is the interval of the linear function by interval arithmetic (on the clipped
@@ -196,7 +196,7 @@ def _consequent(value: object, what: str) -> Consequent:
 
 @dataclass(frozen=True, init=False)
 class Rule:
-    """``if x1 is A1 and/or ... then y1 = ..., y2 = ...`` with an optional weight.
+    """A rule: ``if x1 is A1 and x2 is A2 then y = c``, with AND or OR, NOT and a weight.
 
     Parameters
     ----------
