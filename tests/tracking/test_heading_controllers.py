@@ -118,7 +118,7 @@ def test_fuzzy_controller_dead_zone():
 
 
 def test_fuzzy_controller_rejects_bad_parameters():
-    with pytest.raises(ValueError, match="must be an IT2Sugeno or T1Sugeno"):
+    with pytest.raises(ValueError, match="must be an IT2Sugeno, T1Sugeno, IT2Mamdani or T1Mamdani"):
         FuzzyHeadingController(fls=lambda e, de: e)  # type: ignore[arg-type]
     one_input = T1Sugeno(
         inputs=[Input("e", (-1.0, 1.0), [IT2Set.type1(Triangle(-1, 0, 1), "Z")])],
