@@ -342,3 +342,25 @@ def test_batch_shapes_and_bit_identical_blocks() -> None:
     full = system(x[0], x[1])
     assert full.shape == (3, 700)
     np.testing.assert_array_equal(full[1, 200:260], system(x[0, 1, 200:260], x[1, 1, 200:260]))
+
+
+def test_vectorised_exhaustive_kernel_gives_the_loop_kernels_bits() -> None:
+    from it2track.fuzzy.reducers import _exhaustive_both, exhaustive_many_rows
+
+    rng = np.random.default_rng(11)
+    for rows, n in [(101, 1), (101, 64), (7, 300), (2, 5)]:
+        fl = rng.uniform(0, 1, (rows, n)) * (rng.random((rows, n)) < 0.6)
+        fu = fl + rng.uniform(0, 1, (rows, n)) * (rng.random((rows, n)) < 0.7)
+        fu[:, :1] = fl[:, :1] = 0.0  # a column with no firing: NaN in both
+        y = np.sort(rng.normal(size=rows))
+        for a, b in zip(_exhaustive_both(fl, fu, y, 0), exhaustive_many_rows(fl, fu, y),
+                        strict=True):
+            np.testing.assert_array_equal(a, b)
+
+
+def test_one_sample_calls_give_the_batch_bits() -> None:
+    system = _random_system(6)
+    x = np.random.default_rng(2).uniform(-1, 1, size=(2, 150))
+    batch = system(x[0], x[1])
+    one = [float(system(float(a), float(b))) for a, b in x.T]
+    np.testing.assert_array_equal(batch, one)
