@@ -6,6 +6,7 @@ Imports numpy only. One concept per module: :mod:`.membership` (type-1 MFs), :mo
 :mod:`.rules` (variables and rules), :mod:`.tables` (the lowering to arrays and the rule
 firing), :mod:`.reducers` (type reduction), :mod:`.sugeno` (Sugeno/TSK
 systems), :mod:`.mamdani` (Mamdani systems, centroid and centre-of-sets type reduction),
+:mod:`.system` (what every system shares: input checks, firing, outputs, zero firing),
 :mod:`.surface` (control surfaces).
 """
 

@@ -50,7 +50,8 @@ from numpy.typing import NDArray
 from .norms import Aggregation, Defuzzifier, Implication, TNorm
 from .reducers import EXHAUSTIVE, TypeReducer, _exhaustive_left, exhaustive_many_rows
 from .rules import Output, Rule
-from .sugeno import BLOCK, IT2Sugeno, T1Sugeno, _SystemBase
+from .sugeno import IT2Sugeno, T1Sugeno
+from .system import BLOCK, _SystemBase
 from .tables import SystemTables
 
 __all__ = [
