@@ -207,3 +207,12 @@ def test_missing_tools_name_their_debian_packages(monkeypatch):
         assert package in msg
     assert tools.missing_tools(["arm-none-eabi-gcc"]) == ["gcc-arm-none-eabi"]
     _ = dataclasses
+
+
+def test_cortex_m4f_gaussian_float_build_stays_single_precision(build_dir):
+    """-Wdouble-promotion with -Werror: expf, float literals, no implicit double anywhere."""
+    skip_without("arm-none-eabi-gcc", "arm-none-eabi-size", "newlib")
+    system = random_system(9, features=True, shapes=("gauss-std", "gauss-mean"))
+    code = generate_c(system, real=RealType.FLOAT)
+    assert "-Wdouble-promotion" in ARM_FLAGS
+    assert arm_sizes(code, build_dir=build_dir).text > 0

@@ -66,9 +66,11 @@ CONTROL_PERIOD_S = 0.01
 AVR_FLAGS: tuple[str, ...] = (
     f"-mmcu={AVR_MCU}", "-Os", "-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic",
 )
+#: ``-Wdouble-promotion``: a float build must not compute anything in double (the M4F's FPU is
+#: single precision; double would be software).
 ARM_FLAGS: tuple[str, ...] = (
     "-mcpu=cortex-m4", "-mthumb", "-mfloat-abi=hard", "-mfpu=fpv4-sp-d16", "-Os", "-std=c99",
-    "-Wall", "-Wextra", "-Werror", "-pedantic",
+    "-Wall", "-Wextra", "-Werror", "-pedantic", "-Wdouble-promotion",
 )
 AVR_TOOLS = ("avr-gcc", "avr-size", "avr-libc", "simavr")
 ARM_TOOLS = ("arm-none-eabi-gcc", "arm-none-eabi-size", "newlib")
