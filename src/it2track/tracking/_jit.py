@@ -31,7 +31,6 @@ from ..plant.drive import (
     _SINCOS_LIMIT,
     _TWO_OVER_PI,
 )
-from .libm import atan2_scalar
 
 LANES = 64  # runs per block
 #: Controller kinds in a packed controller (first value).
@@ -41,7 +40,6 @@ TS, V_LIM, HALF_R, W_SCALE, N_STEPS, K_START, PREVIOUS = range(7)
 N_METRICS = 14
 N_FIELDS = 17
 
-atan2 = _compiled(inline=True)(atan2_scalar)  # scalar arguments: calls cost no reference counting
 _PI = math.pi
 _TWO_PI = 2.0 * math.pi
 _S1, _S2, _S3, _S4, _S5, _S6 = _SIN_KERNEL
@@ -99,56 +97,180 @@ def _sincos(x):
     return ps * aa + pc * bb, pc * aa - ps * bb
 
 
+_BIG = 2.0**60
+_PIO2 = 1.5707963267948966192e00
+_PI_LO = 1.2246467991473531772e-16
+_AT0, _AT1, _AT2, _AT3, _AT4, _AT5, _AT6, _AT7, _AT8, _AT9, _AT10 = (
+    3.33333333333329318027e-01, -1.99999999998764832476e-01, 1.42857142725034663711e-01,
+    -1.11111104054623557880e-01, 9.09088713343650656196e-02, -7.69187620504482999495e-02,
+    6.66107313738753120669e-02, -5.83357013379057348645e-02, 4.97687799461593236017e-02,
+    -3.65315727442169155270e-02, 1.62858201153657823623e-02,
+)  # fmt: skip
+_H1, _H2, _H3, _H4 = (4.63647609000806093515e-01, 7.85398163397448278999e-01,
+                      9.82793723247329054082e-01, 1.57079632679489655800e00)  # fmt: skip
+_L1, _L2, _L3, _L4 = (2.26987774529616870924e-17, 3.06161699786838301793e-17,
+                      1.39033110312309984516e-17, 6.12323399573676603587e-17)  # fmt: skip
+
+
 @_compiled(inline=True)
-def _sincos_small(x):
-    """drive._sincos_small for one value."""
-    if abs(x) > _KERNEL_LIMIT:
-        return _sincos(x)
-    return _kernels(x)
+def _atan2_lanes(W, ry, rx, rout, L):
+    """W[rout] = atan2(W[ry], W[rx]) for the lanes: tracking.libm.atan2's elementwise form
+    (branch-free, so it vectorises), then the C library for non-finite lanes."""
+    for j in range(L):
+        y = W[ry, j]
+        x = W[rx, j]
+        ay = abs(y)
+        ax = abs(x)
+        t = ay / ax
+        t = 0.0 if ay == 0.0 else t
+        big = t >= _BIG
+        t = 0.0 if big else t
+        c1 = t >= 0.4375
+        c2 = t >= 0.6875
+        c3 = t >= 1.1875
+        c4 = t >= 2.4375
+        a_ = 0.0 if c4 else (1.0 if c2 else (2.0 if c1 else 1.0))
+        b_ = -1.0 if c4 else (-1.5 if c3 else (-1.0 if c1 else 0.0))
+        c_ = 1.0 if c4 else (1.5 if c3 else (1.0 if c1 else 0.0))
+        d_ = 0.0 if c4 else (1.0 if c2 else (2.0 if c1 else 1.0))
+        hi = _H4 if c4 else (_H3 if c3 else (_H2 if c2 else (_H1 if c1 else 0.0)))
+        lo = _L4 if c4 else (_L3 if c3 else (_L2 if c2 else (_L1 if c1 else 0.0)))
+        r = a_ * t
+        r = r + b_
+        den = c_ * t
+        den = den + d_
+        r = r / den
+        z = r * r
+        w = z * z
+        s1 = _AT8 + w * _AT10
+        s1 = _AT6 + w * s1
+        s1 = _AT4 + w * s1
+        s1 = _AT2 + w * s1
+        s1 = z * (_AT0 + w * s1)
+        s2 = _AT7 + w * _AT9
+        s2 = _AT5 + w * s2
+        s2 = _AT3 + w * s2
+        s2 = w * (_AT1 + w * s2)
+        a = hi - ((r * (s1 + s2) - lo) - r)
+        a = _PIO2 if big else a
+        neg = (x < 0.0 or (ay == 0.0 and math.copysign(1.0, x) < 0.0)) and not big
+        a = _PI - (a - _PI_LO) if neg else a
+        rv = -a if math.copysign(1.0, y) < 0.0 else a
+        W[rout, j] = rv
+    for j in range(L):
+        if not (math.isfinite(W[rx, j]) and math.isfinite(W[ry, j])):
+            W[rout, j] = math.atan2(W[ry, j], W[rx, j])
+
+
+@_compiled(inline=True)
+def _wrap_lanes(W, row, L):
+    """_wrap on W[row] (nothing to do for the usual angle in (-pi, pi])."""
+    for j in range(L):
+        a = W[row, j]
+        if a <= -_PI or a > _PI:
+            W[row, j] = _wrap(a)
+
+
+@_compiled(inline=True)
+def _sincos_lanes(W, rx, rs, rc, L, small):
+    """W[rs], W[rc] = sin, cos of W[rx]: drive._sincos (``small``: drive._sincos_small) for
+    the lanes, branch-free where it vectorises, then the rare lanes through the scalar path."""
+    for j in range(L):
+        x = W[rx, j]
+        if small:
+            r = x
+        else:
+            k = np.rint(x * _TWO_OVER_PI)
+            r = x - k * _PIO2_HI
+            r = r - k * _PIO2_LO
+        z = r * r
+        s = z * _S6
+        s = (s + _S5) * z
+        s = (s + _S4) * z
+        s = (s + _S3) * z
+        s = (s + _S2) * z
+        s = (s + _S1) * z
+        s = s * r
+        ps = s + r
+        c = z * _C6
+        c = (c + _C5) * z
+        c = (c + _C4) * z
+        c = (c + _C3) * z
+        c = (c + _C2) * z
+        c = (c + _C1) * z
+        c = c * z
+        t = z * 0.5
+        t = t - c
+        pc = 1.0 - t
+        if small:
+            W[rs, j] = ps
+            W[rc, j] = pc
+        else:
+            h = math.floor(k * 0.5)
+            b0 = h * -2.0 + k
+            b1 = math.floor(h * 0.5) * -2.0 + h
+            sgn = b1 * -2.0 + 1.0
+            bb = b0 * sgn
+            aa = sgn - bb
+            W[rs, j] = ps * aa + pc * bb
+            W[rc, j] = pc * aa - ps * bb
+    limit = _KERNEL_LIMIT if small else _SINCOS_LIMIT
+    for j in range(L):
+        x = W[rx, j]
+        if abs(x) > limit:
+            sv, cv = _sincos(x)
+            W[rs, j] = sv
+            W[rc, j] = cv
 
 
 @_compiled()
-def _plant_step(W, j, plant, n_nodes, VR, VL):
-    """DifferentialDrive.step for lane ``j`` of the state rows W[0:7] = x, y, theta, i_R,
-    omega_R, i_L, omega_L. ``plant`` = wheel map (6), heading map (3), then per node the
-    speed (3) and heading (3) maps."""
-    x, y, th = W[0, j], W[1, j], W[2, j]
-    i_r, w_r, i_l, w_l = W[3, j], W[4, j], W[5, j], W[6, j]
-    s_i = i_r + i_l
-    s_w = w_r + w_l
-    s_v = VR + VL
-    d_i = i_r - i_l
-    d_w = w_r - w_l
-    d_v = VR - VL
-    sin0, cos0 = _sincos(th)
-    acc_c = 0.0
-    acc_s = 0.0
+def _plant_lanes(W, L, plant, n_nodes, VR, VL):
+    """DifferentialDrive.step for the lanes (rows as in _loop; VR, VL: row indices)."""
+    for j in range(L):
+        i_r, w_r, i_l, w_l = W[3, j], W[4, j], W[5, j], W[6, j]
+        W[24, j] = i_r + i_l  # s_i
+        W[25, j] = w_r + w_l  # s_w
+        W[26, j] = W[VR, j] + W[VL, j]  # s_v
+        W[27, j] = i_r - i_l  # d_i
+        W[28, j] = w_r - w_l  # d_w
+        W[29, j] = W[VR, j] - W[VL, j]  # d_v
+    _sincos_lanes(W, 2, 30, 31, L, False)  # sin0, cos0
     for n in range(n_nodes):
         q = 9 + 6 * n
-        weight = s_i * plant[q]
-        weight = weight + s_w * plant[q + 1]
-        weight = weight + s_v * plant[q + 2]
-        delta = d_i * plant[q + 3]
-        delta = delta + d_w * plant[q + 4]
-        delta = delta + d_v * plant[q + 5]
-        sn, cs = _sincos_small(delta)
+        w0, w1, w2 = plant[q], plant[q + 1], plant[q + 2]
+        a0, a1, a2 = plant[q + 3], plant[q + 4], plant[q + 5]
+        for j in range(L):
+            weight = W[24, j] * w0
+            weight = weight + W[25, j] * w1
+            W[32, j] = weight + W[26, j] * w2
+            delta = W[27, j] * a0
+            delta = delta + W[28, j] * a1
+            W[33, j] = delta + W[29, j] * a2
+        _sincos_lanes(W, 33, 34, 35, L, True)
         if n == 0:
-            acc_c = cs * weight
-            acc_s = sn * weight
+            for j in range(L):
+                W[36, j] = W[35, j] * W[32, j]
+                W[37, j] = W[34, j] * W[32, j]
         else:
-            acc_c = acc_c + cs * weight
-            acc_s = acc_s + sn * weight
-    W[0, j] = x + (cos0 * acc_c - sin0 * acc_s)
-    W[1, j] = y + (sin0 * acc_c + cos0 * acc_s)
-    delta = d_i * plant[6]
-    delta = delta + d_w * plant[7]
-    delta = delta + d_v * plant[8]
-    W[2, j] = th + delta
+            for j in range(L):
+                W[36, j] = W[36, j] + W[35, j] * W[32, j]
+                W[37, j] = W[37, j] + W[34, j] * W[32, j]
+    h0, h1, h2 = plant[6], plant[7], plant[8]
     a00, a01, b0, a10, a11, b1 = plant[0], plant[1], plant[2], plant[3], plant[4], plant[5]
-    W[3, j] = (i_r * a00 + w_r * a01) + VR * b0
-    W[4, j] = (i_r * a10 + w_r * a11) + VR * b1
-    W[5, j] = (i_l * a00 + w_l * a01) + VL * b0
-    W[6, j] = (i_l * a10 + w_l * a11) + VL * b1
+    for j in range(L):
+        sin0, cos0, acc_c, acc_s = W[30, j], W[31, j], W[36, j], W[37, j]
+        W[0, j] = W[0, j] + (cos0 * acc_c - sin0 * acc_s)
+        W[1, j] = W[1, j] + (sin0 * acc_c + cos0 * acc_s)
+        delta = W[27, j] * h0
+        delta = delta + W[28, j] * h1
+        delta = delta + W[29, j] * h2
+        W[2, j] = W[2, j] + delta
+        i_r, w_r, i_l, w_l = W[3, j], W[4, j], W[5, j], W[6, j]
+        vr, vl = W[VR, j], W[VL, j]
+        W[3, j] = (i_r * a00 + w_r * a01) + vr * b0
+        W[4, j] = (i_r * a10 + w_r * a11) + vr * b1
+        W[5, j] = (i_l * a00 + w_l * a01) + vl * b0
+        W[6, j] = (i_l * a10 + w_l * a11) + vl * b1
 
 
 @_compiled(inline=True)
@@ -171,8 +293,8 @@ def _integrals(A, base, j, e, t, end):
 
 
 # Rows of the lane state W: pose and wheels (0-6), previous x, y (7, 8), e_prev (9), de (10),
-# PD derivative (11), then per-step values.
-_W_ROWS = 24
+# PD derivative (11), per-step values (12-23), plant work rows (24-37).
+_W_ROWS = 40
 # Rows of the accumulators A: true integrals (0-7), measured (8-15), dist_sq, dist_max,
 # dist_final, effort_sum, effort_ends, u_prev, u_tv, sat_steps (16-23).
 _A_ROWS = 24
@@ -228,24 +350,25 @@ def _loop(C, c_off, blocks, tidx, std, zinv, Z, hold, xref, yref, v0ref, start, 
                 tj = tidx[g]
                 xr = xref[k, tj]
                 yr_ = yref[k, tj]
-                dx = xr - W[0, j]
-                dy = yr_ - W[1, j]
+                W[12, j] = xr - W[0, j]  # dx
+                W[13, j] = yr_ - W[1, j]  # dy
                 if previous:
-                    theta_d = atan2(yr_ - W[8, j], xr - W[7, j])
+                    W[20, j] = xr - W[7, j]
+                    W[21, j] = yr_ - W[8, j]
                 else:
-                    theta_d = atan2(dy, dx)
-                th = W[2, j]
-                theta_meas = th + Z[zinv[g], h] * std[g]
-                e_true = _wrap(theta_d - th)
-                e_meas = _wrap(theta_d - theta_meas)
-                if k:
-                    W[10, j] = _wrap(e_meas - W[9, j])
-                W[12, j] = dx
-                W[13, j] = dy
-                W[14, j] = theta_d
-                W[15, j] = theta_meas
-                W[16, j] = e_true
-                W[17, j] = e_meas
+                    W[20, j] = W[12, j]
+                    W[21, j] = W[13, j]
+                W[15, j] = W[2, j] + Z[zinv[g], h] * std[g]  # theta_meas
+            _atan2_lanes(W, 21, 20, 14, L)  # theta_d
+            for j in range(L):
+                W[16, j] = W[14, j] - W[2, j]
+                W[17, j] = W[14, j] - W[15, j]
+            _wrap_lanes(W, 16, L)  # e_true
+            _wrap_lanes(W, 17, L)  # e_meas
+            if k:
+                for j in range(L):
+                    W[10, j] = W[17, j] - W[9, j]
+                _wrap_lanes(W, 10, L)  # de
             if kind == FUZZY:
                 for j in range(L):
                     X[0, j] = min(max(W[17, j] * ke, P[int(P[12])]), P[int(P[13])])
@@ -267,7 +390,9 @@ def _loop(C, c_off, blocks, tidx, std, zinv, Z, hold, xref, yref, v0ref, start, 
                     W[11, j] = d
                     u = kp * W[17, j] + kd * d
                     W[18, j] = min(max(u, -u_max), u_max)
-            for j in range(L):  # voltages, metrics, record, plant
+            lim_step = k < n_steps
+            integ = k >= k_start
+            for j in range(L):  # voltages, metrics, record
                 g = first + j
                 tj = tidx[g]
                 u = W[18, j]
@@ -276,9 +401,11 @@ def _loop(C, c_off, blocks, tidx, std, zinv, Z, hold, xref, yref, v0ref, start, 
                 vl_req = v0 - u
                 VR = min(max(vr_req, -v_lim), v_lim)
                 VL = min(max(vl_req, -v_lim), v_lim)
+                W[22, j] = VR
+                W[23, j] = VL
                 dx, dy = W[12, j], W[13, j]
                 dist = math.sqrt(dx * dx + dy * dy)
-                if k >= k_start:
+                if integ:
                     _integrals(A, 0, j, W[16, j], t, end)
                     _integrals(A, 8, j, W[17, j], t, end)
                 A[16, j] += dist * dist
@@ -292,8 +419,8 @@ def _loop(C, c_off, blocks, tidx, std, zinv, Z, hold, xref, yref, v0ref, start, 
                 if k > 0:
                     A[22, j] += abs(u - A[21, j])
                 A[21, j] = u
-                if k < n_steps and (abs(vr_req) > v_lim or abs(vl_req) > v_lim):
-                    A[23, j] += 1.0
+                if lim_step:
+                    A[23, j] += 1.0 if (abs(vr_req) > v_lim or abs(vl_req) > v_lim) else 0.0
                 if record:
                     wr, wl = W[4, j], W[6, j]
                     rec[0, g, k] = W[0, j]
@@ -313,12 +440,13 @@ def _loop(C, c_off, blocks, tidx, std, zinv, Z, hold, xref, yref, v0ref, start, 
                     rec[14, g, k] = wl
                     rec[15, g, k] = half_r * (wr + wl)
                     rec[16, g, k] = w_scale * (wr - wl)
-                if k < n_steps:
-                    if previous:
+                W[9, j] = W[17, j]  # e_prev
+            if lim_step:
+                if previous:
+                    for j in range(L):
                         W[7, j] = W[0, j]
                         W[8, j] = W[1, j]
-                    _plant_step(W, j, plant, n_nodes, VR, VL)
-                W[9, j] = W[17, j]  # e_prev
+                _plant_lanes(W, L, plant, n_nodes, 22, 23)
         if failed:
             continue
         for j in range(L):
