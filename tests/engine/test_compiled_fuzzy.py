@@ -38,8 +38,9 @@ def reference(fls, *xs):
 
 
 def same(a, b):
-    a, b = np.asarray(a), np.asarray(b)
-    return a.shape == b.shape and bool(np.all((a == b) | (np.isnan(a) & np.isnan(b))))
+    """The same 64 bits (signed zeros told apart)."""
+    a, b = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
+    return a.shape == b.shape and bool(np.all(a.view(np.int64) == b.view(np.int64)))
 
 
 def points(n, seed, n_inputs=2, spread=1.4):

@@ -79,6 +79,12 @@ for _red in Reducer:
                         else TNorm.PRODUCT))  # fmt: skip
 
 
+def assert_bits(got, ref, name):
+    """The same 64 bits (signed zeros told apart), not only equal values."""
+    np.testing.assert_array_equal(got, ref, err_msg=name)
+    assert np.array_equal(np.asarray(got).view(np.int64), np.asarray(ref).view(np.int64)), name
+
+
 def compare(controllers, trajs, runs, config, *, series=True):
     assert all(compiled.supported(c) is None for c in controllers)
     engine = _Engine(trajs, config)
@@ -87,11 +93,11 @@ def compare(controllers, trajs, runs, config, *, series=True):
         trace = simulate(controllers, trajs, runs, config)
         got_m, got_s = trace.metrics, trace.series
         for name, ref in ref_s.items():
-            np.testing.assert_array_equal(got_s[name], ref, err_msg=name)
+            assert_bits(got_s[name], ref, name)
     else:
         got_m = simulate_metrics(controllers, trajs, runs, config, batch_size=97)
     for name, ref in ref_m.items():
-        np.testing.assert_array_equal(got_m[name], ref, err_msg=name)
+        assert_bits(got_m[name], ref, name)
 
 
 @pytest.mark.parametrize("name", list(CONTROLLERS))
