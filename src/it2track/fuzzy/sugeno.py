@@ -64,7 +64,7 @@ class IT2Sugeno(_SystemBase):
 
     Examples
     --------
-    >>> from it2track.fuzzy import IT2Set, Triangle
+    >>> from it2track.fuzzy import Input, IT2Set, Rule, Triangle
     >>> sets = [IT2Set.from_fou(Triangle(-1, -1, 1), 0.2, "N"),
     ...         IT2Set.from_fou(Triangle(-1, 1, 1), 0.2, "P")]
     >>> fls = IT2Sugeno(inputs=[Input("x", (-1, 1), sets)],
@@ -177,7 +177,7 @@ class T1Sugeno(_SystemBase):
     --------
     A first-order rule ``y = 2 x + 1`` and a zero-order one, joined by OR/NOT:
 
-    >>> from it2track.fuzzy import Linear, Triangle
+    >>> from it2track.fuzzy import Input, Linear, Rule, Triangle
     >>> x = Input("x", (0, 1), [("lo", Triangle(0, 0, 1)), ("hi", Triangle(0, 1, 1))])
     >>> fls = T1Sugeno(inputs=[x], rules=[Rule(["lo"], Linear([2.0], 1.0)),
     ...                                    Rule(["lo"], 0.0, negated=[True])])
