@@ -9,6 +9,7 @@ Build it from the repository root (the built site is not committed)::
 
 from __future__ import annotations
 
+import ast
 import importlib
 import importlib.util
 import inspect
@@ -172,6 +173,28 @@ class CliReference(SphinxDirective):
         return sections
 
 
+class ScriptDocstrings(SphinxDirective):
+    """One section per script of a repository folder (e.g. ``benchmarks``): its file name and
+    its module docstring, parsed as reST (so a script added later appears by itself)."""
+
+    required_arguments = 1
+
+    def run(self):
+        folder = HERE.parent / self.arguments[0]
+        sections: list[nodes.Node] = []
+        for script in sorted(folder.glob("*.py")):
+            self.env.note_dependency(str(script))
+            doc = ast.get_docstring(ast.parse(script.read_text(encoding="utf-8"))) or ""
+            name = f"{self.arguments[0]}/{script.name}"
+            section = nodes.section(ids=[nodes.make_id(name)],
+                                    names=[nodes.fully_normalize_name(name)])
+            section += nodes.title(name, "", nodes.literal(name, name))
+            section += self.parse_text_to_nodes(f"```{{eval-rst}}\n{doc}\n```\n")
+            self.state.document.note_implicit_target(section)
+            sections.append(section)
+        return sections
+
+
 def _skip_foreign_inherited(app, what, name, obj, skip, options):
     """Leave out methods a class inherits from Python itself (``int.to_bytes`` of an IntEnum,
     ``Exception.add_note``): Python documents those, and their docstrings are not reST."""
@@ -188,4 +211,5 @@ def _skip_foreign_inherited(app, what, name, obj, skip, options):
 def setup(app):
     app.add_directive("guide-toctree", GuideTocTree)
     app.add_directive("cli-reference", CliReference)
+    app.add_directive("script-docstrings", ScriptDocstrings)
     app.connect("autodoc-skip-member", _skip_foreign_inherited)
