@@ -121,3 +121,24 @@ def test_example_docstring_starts_with_a_gallery_title(script: Path) -> None:
             f"{script.name}: the docstring must start with a title underlined by '=' (the "
             f"gallery's page title), e.g.\n\"\"\"\nMy example\n==========\n\nWhat it shows.\n"
             f"\"\"\"\nfound: {lines[:2]}")
+
+
+def _commands(text: str, start: str) -> list[str]:
+    return [line.strip() for line in text.splitlines() if line.strip().startswith(start)]
+
+
+def test_install_guide_and_ci_give_readmes_commands() -> None:
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    guide = (ROOT / "docs" / "guide" / "install.md").read_text(encoding="utf-8")
+    for start in ("python3 -m venv .venv && .venv/bin/pip install -e '.[test]'",
+                  "python3 -m venv .venv && .venv/bin/pip install -e . &&"):
+        ours, theirs = _commands(guide, start), _commands(readme, start)
+        assert len(theirs) == 1 and ours == theirs, (
+            f"docs/guide/install.md and README.md differ on the command starting {start!r}:\n"
+            f"guide:  {ours}\nREADME: {theirs}")
+    test_command = _commands(readme, "python3 -m venv .venv && .venv/bin/pip install -e '.[test]'")
+    steps = [s.strip() for s in test_command[0].split("&&")][2:]  # after venv and install
+    ci = (ROOT / ".ci" / "run").read_text(encoding="utf-8")
+    ci_steps = [line.strip() for line in ci.split("keep in sync", 1)[1].splitlines()[1:]
+                if line.strip() and not line.lstrip().startswith("#")]
+    assert ci_steps == steps, f".ci/run runs {ci_steps}, README's test command {steps}"
