@@ -4,6 +4,7 @@ zero firing, control surfaces."""
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import threading
 
@@ -551,3 +552,18 @@ def test_systems_pickle_and_evaluate_identically():
         copy = pickle.loads(pickle.dumps(fls))
         assert np.array_equal(copy(e, de), fls(e, de))
         assert copy(0.3, -0.1) == fls(0.3, -0.1)
+
+
+@pytest.mark.parametrize("engine", ["numpy", "auto"])
+@pytest.mark.parametrize("reducer", ["km", "ekm", "eiasc", "exhaustive", "nie-tan", "wu-mendel"])
+def test_a_scalar_call_returns_a_python_float_on_every_engine_and_reducer(
+        monkeypatch, engine, reducer):
+    # The engine is chosen when a system is first evaluated, so the system is built after
+    # the environment is set.
+    from it2track.fuzzy import Reducer
+
+    monkeypatch.setenv("IT2TRACK_ENGINE", engine)
+    fls = dataclasses.replace(heading_fls(0.2), reducer=Reducer.from_name(reducer).value)
+    u = fls(0.3, -0.1)
+    assert type(u) is float
+    assert u == float(fls(np.array([0.3]), np.array([-0.1]))[0])

@@ -176,7 +176,7 @@ def _entry(system: Any) -> FloatArray | None:
     except KeyError:
         pass
     packed = None
-    if supported(system) is None and load_jit() is not None:
+    if engine() != "numpy" and supported(system) is None and load_jit() is not None:
         packed = pack(system)
     object.__setattr__(system, "_kernel_pack", packed)  # immutable system: a derived cache
     return packed
