@@ -391,14 +391,14 @@ class _SystemBase:
         x, shape = self._prepare(xs)
         compiled = _kernels.interval(self, x, crisp=True)
         if compiled is not None:
-            u = compiled[0].reshape(shape)
+            out = compiled[0].reshape(shape)
         else:
             yl, yr = self._interval_blocks(x)
             np.add(yl, yr, out=yl)
             yl *= 0.5
-            u = yl.reshape(self._out_shape(shape))
+            out = yl.reshape(self._out_shape(shape))
         # Scalar inputs give a Python float whatever the engine, reducer or path took them.
-        return float(u) if scalars is not None and u.shape == () else u
+        return float(out) if scalars is not None and out.shape == () else out
 
     def evaluate(self, x: ArrayLike) -> FloatArray:
         """Crisp output for inputs stacked on the last axis, shape ``(..., n_inputs)``."""
