@@ -19,6 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 __all__ = [
     "MAX_NOISE_STD",
     "HeadingNoise",
+    "NoiseRows",
     "held_sample_index",
     "noise_samples_needed",
     "run_generator",
@@ -158,7 +159,9 @@ def run_generator(seed: int, index: int) -> np.random.Generator:
     return np.random.default_rng(np.random.SeedSequence(s, spawn_key=(i,)))
 
 
-def standard_noise(seed: int, indices: ArrayLike, n_samples: int) -> NDArray[np.float64]:
+def standard_noise(
+    seed: int, indices: ArrayLike, n_samples: int, *, out: NDArray[np.float64] | None = None
+) -> NDArray[np.float64]:
     """Standard-normal noise rows for the given runs.
 
     Parameters
@@ -169,6 +172,8 @@ def standard_noise(seed: int, indices: ArrayLike, n_samples: int) -> NDArray[np.
         Run indices, each >= 0 (repeats allowed).
     n_samples : int
         Samples per run, >= 0.
+    out : ndarray, shape (n_runs, n_samples), optional
+        C-contiguous float64 array to fill (and return) instead of a new one.
 
     Returns
     -------
@@ -189,10 +194,84 @@ def standard_noise(seed: int, indices: ArrayLike, n_samples: int) -> NDArray[np.
         raise ValueError(f"indices must be 1-D, got shape {idx.shape}")
     if idx.size and (not np.issubdtype(idx.dtype, np.integer) or idx.min() < 0):
         raise ValueError(f"indices must be integers >= 0, got {indices!r}")
-    out = np.empty((idx.size, n))
+    if out is None:
+        out = np.empty((idx.size, n))
+    elif out.shape != (idx.size, n) or out.dtype != np.float64 or not out.flags.c_contiguous:
+        raise ValueError(f"out must be a C-contiguous float64 array of shape {(idx.size, n)}, "
+                         f"got {out.dtype} {out.shape}")
     for row, i in enumerate(idx.tolist()):
-        out[row] = run_generator(s, i).standard_normal(n)
+        run_generator(s, i).standard_normal(out=out[row])  # the same draws as (n)
     return out
+
+
+class NoiseRows:
+    """The standard-normal rows of a set of seed indices, drawn once and shared.
+
+    Common random numbers: every run with seed index ``i`` uses the row
+    ``standard_noise(seed, [i], n_samples)[0]`` scaled by its own ``std``, so a study of many
+    controllers, trajectories and noise levels on the same seeds needs each row once. Runs
+    with ``std == 0`` use a row of zeros (no draw): their noise ``0 * 0.0`` is ``+0.0``.
+
+    Parameters
+    ----------
+    seed : int
+        Base seed, >= 0.
+    indices : array_like of int, shape (n,)
+        Seed indices to draw (repeats allowed; each distinct index is drawn once).
+    n_samples : int
+        Samples per row, >= 0.
+
+    Attributes
+    ----------
+    seeds : ndarray of int64, shape (m,)
+        The distinct indices, sorted.
+    rows : ndarray, shape (m + 1, n_samples)
+        Row ``j < m`` is seed ``seeds[j]``'s noise; row ``m`` is zeros. Memory
+        ``8 (m + 1) n_samples`` bytes.
+
+    Examples
+    --------
+    >>> table = NoiseRows(7, [3, 1, 3], 4)
+    >>> rows, index = table.lookup([3, 9], [0.1, 0.0])
+    >>> index.tolist(), bool((rows[index[0]] == standard_noise(7, [3], 4)[0]).all())
+    ([1, 2], True)
+    """
+
+    def __init__(self, seed: int, indices: ArrayLike, n_samples: int) -> None:
+        idx = np.asarray(indices)
+        if idx.ndim != 1:
+            raise ValueError(f"indices must be 1-D, got shape {idx.shape}")
+        self.seeds: NDArray[np.int64] = np.unique(idx).astype(np.int64)
+        n = _nonneg_int(n_samples, "n_samples")
+        self.rows: NDArray[np.float64] = np.empty((self.seeds.size + 1, n))
+        standard_noise(seed, self.seeds, n, out=self.rows[: self.seeds.size])
+        self.rows[self.seeds.size] = 0.0
+
+    @staticmethod
+    def nbytes(n_indices: int, n_samples: int) -> int:
+        """Bytes of the rows of ``n_indices`` distinct indices."""
+        return 8 * (n_indices + 1) * n_samples
+
+    def lookup(
+        self, indices: ArrayLike, std: ArrayLike
+    ) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+        """Rows for runs: ``(rows, index)`` with ``rows[index[r]]`` run ``r``'s standard noise
+        (the zero row where ``std[r] == 0``).
+
+        Raises
+        ------
+        ValueError
+            If a run with ``std > 0`` has an index this table did not draw.
+        """
+        idx = np.asarray(indices, dtype=np.int64)
+        noisy = np.asarray(std) > 0.0
+        index = np.full(idx.size, self.seeds.size, dtype=np.int64)
+        pos = np.searchsorted(self.seeds, idx[noisy])
+        pos_ok = np.minimum(pos, max(self.seeds.size - 1, 0))
+        if pos.size and (self.seeds.size == 0 or (self.seeds[pos_ok] != idx[noisy]).any()):
+            raise ValueError("NoiseRows.lookup: a noisy run's seed index was not drawn")
+        index[noisy] = pos
+        return self.rows, index
 
 
 def held_sample_index(times: ArrayLike, rate: float) -> NDArray[np.int64]:

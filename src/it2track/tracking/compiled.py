@@ -27,7 +27,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..fuzzy import kernels as fuzzy_kernels
-from ..plant import standard_noise
+from ..plant.noise import NoiseRows
 from .controllers import FuzzyHeadingController, HeadingController, PDHeadingController
 
 if TYPE_CHECKING:
@@ -85,23 +85,25 @@ def run(
     runs: RunTable,
     *,
     record: bool,
+    noise: NoiseRows | None = None,
 ) -> tuple[dict[str, FloatArray], dict[str, FloatArray] | None, NDArray[np.int8]]:
     """Simulate ``runs`` (all with supported controllers) with the compiled kernel.
 
     Returns the metrics and (if ``record``) the series like ``_Engine.run``, in the order of
     ``runs``, and a status per run: not 0 where the fuzzy reference would raise (that run's
-    numbers are then meaningless and the caller re-runs it with numpy).
+    numbers are then meaningless and the caller re-runs it with numpy). ``noise``: rows drawn
+    beforehand for the noisy runs' seeds (else drawn here; runs with sigma = 0 draw none).
     """
     from .metrics import METRIC_NAMES
-    from .simulate import TRACE_FIELDS, PoseTiming
+    from .simulate import TRACE_FIELDS, PoseTiming, noise_rows
 
     cfg = engine.config
     n = len(runs)
     n_steps = cfg.n_steps
     order = np.argsort(runs.controller, kind="stable")
     ctrl = runs.controller[order]
-    uniq, inverse = np.unique(runs.seed[order], return_inverse=True)
-    z = standard_noise(cfg.seed, uniq, engine.n_noise)  # (n_unique, n_noise)
+    std = np.ascontiguousarray(runs.noise_std[order])
+    z, inverse = noise_rows(cfg.seed, engine.n_noise, runs.seed[order], std, noise)
     blocks = []
     lanes = jit.LANES
     a = 0
@@ -124,7 +126,7 @@ def run(
     blocks_arr = np.array(blocks, dtype=np.int64).reshape(-1, 3)
     shared = (
         np.ascontiguousarray(runs.trajectory[order]),
-        np.ascontiguousarray(runs.noise_std[order]), inverse.astype(np.int64), z,
+        std, inverse, z,
         np.ascontiguousarray(engine.hold, dtype=np.int64), engine.x_ref, engine.y_ref,
         engine.v0, np.ascontiguousarray(engine.start), _plant_vector(engine), vec,
         metrics, rec, record, status,

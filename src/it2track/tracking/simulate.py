@@ -20,7 +20,9 @@ At control instant ``k`` (``t_k = k ts``, ``k = 0 ... N``) every run:
 
 Noise uses common random numbers: the standard-normal sequence ``z`` of a run depends only on
 ``(config.seed, run seed index)``, so every controller, trajectory and noise level with the same
-seed index sees the same sequence, scaled by its ``sigma``. Every operation is elementwise over
+seed index sees the same sequence, scaled by its ``sigma``; each distinct seed's sequence is
+drawn once per call (:class:`~it2track.plant.noise.NoiseRows`), and not at all for
+``sigma = 0`` runs, whose noise is ``+0.0``. Every operation is elementwise over
 the batch, so a run's numbers are bit-for-bit the same whatever the batch it is computed in.
 
 Outputs: :func:`simulate` returns a :class:`Trace` of time series (arrays ``(B, N+1)``, runs
@@ -43,9 +45,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .._limits import ResourceLimitError, check_memory, loop_bytes
-from ..plant import DifferentialDrive, RobotParams, held_sample_index, standard_noise
+from ..plant import DifferentialDrive, RobotParams, held_sample_index
 from ..plant.drive import MAX_QUADRATURE_NODES, check_stiffness
-from ..plant.noise import MAX_NOISE_STD
+from ..plant.noise import MAX_NOISE_STD, NoiseRows
 from . import compiled as _compiled
 from .controllers import HeadingController
 from .libm import atan2
@@ -535,6 +537,23 @@ def _check_inputs(
     )
 
 
+#: Most bytes :func:`simulate_metrics` keeps for the noise rows its chunks share (each distinct
+#: seed index of a noisy run drawn once per call: 8 kB per seed at 1001 samples, so 64 MiB is
+#: ~8000 seeds). Beyond it every chunk draws its own seeds' rows.
+NOISE_TABLE_BYTES = 64 << 20
+
+
+def noise_rows(
+    seed: int, n_noise: int, seeds: IntArray, std: FloatArray, table: NoiseRows | None = None
+) -> tuple[FloatArray, IntArray]:
+    """Standard-noise rows for runs with seed indices ``seeds`` and noise levels ``std``:
+    ``(rows, index)``, run ``r``'s row ``rows[index[r]]`` (zeros where ``std[r] == 0``, which
+    draws nothing). ``table``: rows drawn beforehand for these seeds (else drawn here)."""
+    if table is None:
+        table = NoiseRows(seed, seeds[std > 0.0], n_noise)
+    return table.lookup(seeds, std)
+
+
 @functools.lru_cache(maxsize=32)
 def _drive(robot: RobotParams, ts: float, nodes: int) -> DifferentialDrive:
     """Plant maps for one robot and period, built once (about 30 small matrix exponentials,
@@ -574,7 +593,10 @@ class _Engine:
         runs: RunTable,
         *,
         record: bool,
+        noise: NoiseRows | None = None,
     ) -> tuple[dict[str, FloatArray], dict[str, FloatArray] | None]:
+        """Simulate ``runs`` (the reference engine); ``noise``: rows drawn beforehand for
+        their noisy runs' seeds (:func:`noise_rows`)."""
         cfg = self.config
         n = len(runs)
         n_steps = cfg.n_steps
@@ -585,15 +607,14 @@ class _Engine:
         one_traj = bool((tidx == tidx[0]).all()) if n else True
         std = runs.noise_std[order]
         seeds = runs.seed[order]
-        uniq, inverse = np.unique(seeds, return_inverse=True)
-        z_unique = standard_noise(cfg.seed, uniq, self.n_noise)  # (n_unique, n_noise)
-        # z[j] = std * z_unique[inverse, j]: (n_noise, B), row j contiguous. Built in blocks
+        z_rows, inverse = noise_rows(cfg.seed, self.n_noise, seeds, std, noise)
+        # z[j] = std * z_rows[inverse, j]: (n_noise, B), row j contiguous. Built in blocks
         # of runs so the transposing copy stays in cache (~3x faster than one big gather).
         z = np.empty((self.n_noise, n))
         for a in range(0, n, 256):
             b = min(a + 256, n)
-            np.multiply(z_unique[inverse[a:b]].T, std[a:b], out=z[:, a:b])  # noise in rad
-        del z_unique
+            np.multiply(z_rows[inverse[a:b]].T, std[a:b], out=z[:, a:b])  # noise in rad
+        del z_rows
         bounds = np.flatnonzero(np.diff(ctrl)) + 1
         starts = np.concatenate([[0], bounds])
         stops = np.concatenate([bounds, [n]])
@@ -692,24 +713,26 @@ def _run(
     runs: RunTable,
     *,
     record: bool,
+    noise: NoiseRows | None = None,
 ) -> tuple[dict[str, FloatArray], dict[str, FloatArray] | None]:
-    """``engine.run`` with every run the compiled engine supports done by it (same bits)."""
+    """``engine.run`` with every run the compiled engine supports done by it (same bits);
+    ``noise``: rows drawn beforehand for the noisy runs' seeds (else drawn here)."""
     jit = _compiled.load() if len(runs) else None
     if jit is None:
-        return engine.run(controllers, runs, record=record)
+        return engine.run(controllers, runs, record=record, noise=noise)
     fast = np.array([_compiled.supported(c) is None for c in controllers], dtype=bool)
     fast_run = fast[runs.controller]
     if not fast_run.any():
-        return engine.run(controllers, runs, record=record)
+        return engine.run(controllers, runs, record=record, noise=noise)
     idx = np.flatnonzero(fast_run)
     metrics, series, status = _compiled.run(jit, engine, controllers, runs.take(idx),
-                                            record=record)  # fmt: skip
+                                            record=record, noise=noise)  # fmt: skip
     slow = np.flatnonzero(~fast_run)
     if status.any():  # the fuzzy reference raises on these runs: let it
         slow = np.sort(np.concatenate([slow, idx[status != 0]]))
     if slow.size == 0:
         return metrics, series
-    m_slow, s_slow = engine.run(controllers, runs.take(slow), record=record)
+    m_slow, s_slow = engine.run(controllers, runs.take(slow), record=record, noise=noise)
     n = len(runs)
     out = {name: np.empty(n) for name in metrics}
     for name, value in metrics.items():
@@ -792,10 +815,18 @@ def simulate_metrics(
     _check_inputs(controllers, trajectories, runs, config, batch_size=batch_size)
     engine = _Engine(trajectories, config)
     n = len(runs)
+    # Common random numbers: draw each noisy seed's row once for all chunks (memory bounded
+    # by NOISE_TABLE_BYTES; beyond it each chunk draws its own, as simulate does).
+    table = None
+    if n > batch_size:
+        noisy = np.unique(runs.seed[runs.noise_std > 0.0])
+        if NoiseRows.nbytes(noisy.size, engine.n_noise) <= NOISE_TABLE_BYTES:
+            table = NoiseRows(config.seed, noisy, engine.n_noise)
     out: dict[str, FloatArray] | None = None
     for start in range(0, n, batch_size):
         stop = min(start + batch_size, n)
-        metrics, _ = _run(engine, controllers, runs.take(slice(start, stop)), record=False)
+        metrics, _ = _run(engine, controllers, runs.take(slice(start, stop)), record=False,
+                          noise=table)  # fmt: skip
         if out is None:
             out = {name: np.empty(n) for name in metrics}
         for name, value in metrics.items():
