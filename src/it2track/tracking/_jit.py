@@ -157,18 +157,28 @@ def _atan2_lanes(W, ry, rx, rout, L):
         a = _PI - (a - _PI_LO) if neg else a
         rv = -a if math.copysign(1.0, y) < 0.0 else a
         W[rout, j] = rv
+    odd = 0  # counted by a branch-free pass: a loop with a rare call costs ~10 ns per lane
     for j in range(L):
-        if not (math.isfinite(W[rx, j]) and math.isfinite(W[ry, j])):
-            W[rout, j] = math.atan2(W[ry, j], W[rx, j])
+        odd += 0 if (abs(W[rx, j]) < math.inf and abs(W[ry, j]) < math.inf) else 1
+    if odd:
+        for j in range(L):
+            if not (math.isfinite(W[rx, j]) and math.isfinite(W[ry, j])):
+                W[rout, j] = math.atan2(W[ry, j], W[rx, j])
 
 
 @_compiled(inline=True)
 def _wrap_lanes(W, row, L):
-    """_wrap on W[row] (nothing to do for the usual angle in (-pi, pi])."""
+    """_wrap on W[row] (nothing to do for the usual angle in (-pi, pi]: one branch-free
+    counting pass, then the rare angles outside)."""
+    out = 0
     for j in range(L):
         a = W[row, j]
-        if a <= -_PI or a > _PI:
-            W[row, j] = _wrap(a)
+        out += 1 if (a <= -_PI or a > _PI) else 0
+    if out:
+        for j in range(L):
+            a = W[row, j]
+            if a <= -_PI or a > _PI:
+                W[row, j] = _wrap(a)
 
 
 @_compiled(inline=True)
@@ -215,12 +225,16 @@ def _sincos_lanes(W, rx, rs, rc, L, small):
             W[rs, j] = ps * aa + pc * bb
             W[rc, j] = pc * aa - ps * bb
     limit = _KERNEL_LIMIT if small else _SINCOS_LIMIT
+    big = 0
     for j in range(L):
-        x = W[rx, j]
-        if abs(x) > limit:
-            sv, cv = _sincos(x)
-            W[rs, j] = sv
-            W[rc, j] = cv
+        big += 1 if abs(W[rx, j]) > limit else 0
+    if big:
+        for j in range(L):
+            x = W[rx, j]
+            if abs(x) > limit:
+                sv, cv = _sincos(x)
+                W[rs, j] = sv
+                W[rc, j] = cv
 
 
 @_compiled()
@@ -375,11 +389,15 @@ def _loop(C, c_off, blocks, tidx, std, zinv, Z, hold, xref, yref, v0ref, start, 
                     X[1, j] = min(max(W[10, j] * kde, P[int(P[12]) + 1]), P[int(P[13]) + 1])
                 eval_block(P, X, L, S, yl, yr, st)
                 for j in range(L):
-                    if st[j] != OK:
-                        status[first + j] = st[j]
-                        failed = True
                     W[18, j] = (yl[j] + yr[j]) * 0.5
-                if failed:
+                bad = 0
+                for j in range(L):
+                    bad += 0 if st[j] == OK else 1
+                if bad:
+                    for j in range(L):
+                        if st[j] != OK:
+                            status[first + j] = st[j]
+                    failed = True
                     break
             else:
                 kp, kd, tf, u_max = C[off + 1], C[off + 2], C[off + 3], C[off + 4]
