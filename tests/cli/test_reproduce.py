@@ -194,3 +194,51 @@ def test_reproduce_with_a_local_worker_writes_the_same_numbers(quick_run, tmp_pa
     assert manifest["simulations"] == study_run_count(_quick(StudyConfig()))
     with (tmp_path / "metrics.csv").open() as fh:
         assert manifest["rows"] == sum(1 for _ in fh) - 1
+
+
+def _tiny_study():
+    from dataclasses import replace
+
+    from it2track.tracking import LoopConfig
+
+    cfg = StudyConfig()
+    return replace(cfg, loop=LoopConfig(duration=0.5), seeds=2, sweep_seeds=2,
+                   noise_levels=(0.0, 0.05), fou_sweep=(0.0, 0.2), pd=None)
+
+
+def test_default_command_line_is_recorded_exactly_and_reruns_byte_for_byte(
+        tmp_path, monkeypatch):
+    # The default command line (no --quick), with the study made tiny through the hook that
+    # supplies the default config: every option is parsed exactly as in a real default run.
+    import shlex
+
+    import it2track.cli.reproduce as cli
+
+    monkeypatch.setattr(cli, "_default_study_config", _tiny_study)
+    first = tmp_path / "first"
+    result = CliRunner().invoke(main, ["reproduce", "--out", str(first)], prog_name="it2track")
+    assert result.exit_code == 0, result.output
+    command = json.loads((first / "manifest.json").read_text())["command"]
+    assert command == f"it2track reproduce --out {shlex.quote(str(first))}"
+    # Rerun the recorded command (into another folder): the same metrics, byte for byte.
+    second = tmp_path / "second dir"
+    args = shlex.split(command)[1:]
+    args[args.index("--out") + 1] = str(second)
+    result = CliRunner().invoke(main, args, prog_name="it2track")
+    assert result.exit_code == 0, result.output
+    assert (second / "metrics.csv").read_bytes() == (first / "metrics.csv").read_bytes()
+    recorded = json.loads((second / "manifest.json").read_text())["command"]
+    assert recorded == f"it2track reproduce --out {shlex.quote(str(second))}"
+
+
+def test_recorded_command_keeps_given_options_in_declaration_order(tmp_path, monkeypatch):
+    import it2track.cli.reproduce as cli
+
+    monkeypatch.setattr(cli, "_default_study_config", _tiny_study)
+    out = tmp_path / "o"
+    # --workers 0 is the default value but was given: it is part of the command as given.
+    result = CliRunner().invoke(main, ["reproduce", "--no-progress", "--seeds", "3", "--workers",
+                                       "0", "--out", str(out)], prog_name="it2track")
+    assert result.exit_code == 0, result.output
+    command = json.loads((out / "manifest.json").read_text())["command"]
+    assert command == f"it2track reproduce --out {out} --seeds 3 --workers 0 --no-progress"

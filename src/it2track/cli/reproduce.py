@@ -72,7 +72,6 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
     from ..experiments.specs import ConfigError
     from ..experiments.study import (
         ROW_KEYS,
-        StudyConfig,
         load_study_config,
         run_study,
         study_run_count,
@@ -84,7 +83,7 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
 
     started = time.perf_counter()
     try:
-        config = load_study_config(config_path) if config_path else StudyConfig()
+        config = load_study_config(config_path) if config_path else _default_study_config()
         if quick:
             config = _quick(config)
         if seeds is not None:
@@ -299,15 +298,38 @@ def _undrawable(text: str) -> str | None:
 
 
 def _command_line(ctx: click.Context) -> str:
-    """The command that reproduces this run, from the parsed options (not ``sys.argv``)."""
+    """The command that reproduces this run: the options given on the command line (or from
+    the environment), in the command's declaration order, with their parsed values.
+
+    Options left at their defaults are not recorded, whatever their value: click's parameter
+    source says which were given (comparing values with ``param.default`` fails for flags,
+    whose default is a sentinel in recent click releases).
+    """
+    from click.core import ParameterSource
+
+    given = (ParameterSource.COMMANDLINE, ParameterSource.ENVIRONMENT)
     parts = [ctx.command_path]
     for param in ctx.command.params:
-        value = ctx.params.get(param.name or "")
-        if value is None or value == param.default or not isinstance(param, click.Option):
+        name = param.name or ""
+        if not isinstance(param, click.Option) or ctx.get_parameter_source(name) not in given:
             continue
+        value = ctx.params.get(name)
         flag = param.opts[0]
-        parts.append(flag if param.is_flag else f"{flag} {shlex.quote(str(value))}")
+        if param.is_flag:
+            if value:
+                parts.append(flag)
+            elif param.secondary_opts:
+                parts.append(param.secondary_opts[0])
+            continue
+        parts.append(f"{flag} {shlex.quote(str(value))}")
     return " ".join(parts)
+
+
+def _default_study_config() -> Any:
+    """The study ``reproduce`` runs without ``--config`` (a hook the tests replace)."""
+    from ..experiments.study import StudyConfig
+
+    return StudyConfig()
 
 
 def _claims_preamble(config: Any) -> str:
