@@ -13,7 +13,8 @@ from it2track.experiments.specs import ControllerKind, ControllerSpec
 from it2track.experiments.study import StudyConfig
 from it2track.tracking import METRIC_NAMES, RunTable, get_trajectory, simulate
 
-EXPECTED = ("metrics.csv", "summary.csv", "claims.md", "report.html", "manifest.json")
+EXPECTED = ("metrics.csv", "summary.csv", "claims.md", "report.html", "manifest.json",
+            "robustness.csv", "sensitivity.csv")
 
 
 @pytest.fixture(scope="module")
@@ -46,9 +47,21 @@ def test_every_output_exists_and_parses(quick_run):
         summary = list(csv.DictReader(fh))
     assert {"mean", "ci_low", "ci_high", "win_rate"} <= set(summary[0])
     claims = (out / "claims.md").read_text()
-    for cid in ("C1", "C2", "C3", "D1"):
+    for cid in ("C1", "C2", "C3", "D1", "D2"):
         assert f"| {cid} |" in claims
         assert f"{cid}:" in stdout
+    for section in ("## Verdicts per trajectory", "## Robustness to the paper's open modelling",
+                    "### Global sensitivity", "## Tuned against tuned",
+                    "## How likely were the paper's single-run figures?", "docs/model.md",
+                    "Holm-Bonferroni"):
+        assert section in claims, section
+    with (out / "robustness.csv").open() as fh:
+        rob = list(csv.DictReader(fh))
+    assert {"claim", "choice", "value", "sigma", "trajectory", "verdict", "n", "estimate",
+            "ci_low", "ci_high", "p_holm", "outcome"} <= set(rob[0])
+    assert {r["choice"] for r in rob} >= {"baseline", "half_track", "noise_reading"}
+    zero = [r for r in summary if r["noise_std"] == "0.0"]
+    assert zero and all(r["n"] == "1" and r["ci_low"] == "" for r in zero)
     HTMLParser().feed((out / "report.html").read_text())
 
 
@@ -60,7 +73,9 @@ def test_metrics_agree_with_a_direct_closed_loop_call(quick_run):
                 and r["trajectory"] == "sinusoidal" and r["seed"] == "3"]
     assert len(rows) == 1
     row = rows[0]
-    cfg = StudyConfig()
+    from it2track.cli.main import _quick
+
+    cfg = _quick(StudyConfig())
     controller = ControllerSpec(kind=ControllerKind.IT2, fou=0.2).build()
     trace = simulate([controller], [get_trajectory("sinusoidal")],
                      RunTable(0, 0, float(row["noise_std"]), 3), cfg.loop)
@@ -203,7 +218,8 @@ def _tiny_study():
 
     cfg = StudyConfig()
     return replace(cfg, loop=LoopConfig(duration=0.5), seeds=2, sweep_seeds=2,
-                   noise_levels=(0.0, 0.05), fou_sweep=(0.0, 0.2), pd=None)
+                   noise_levels=(0.0, 0.05), fou_sweep=(0.0, 0.2), pd=None, tuning=None,
+                   robustness=None)
 
 
 def test_default_command_line_is_recorded_exactly_and_reruns_byte_for_byte(

@@ -53,7 +53,7 @@ def test_config_values_are_applied(tmp_path):
     path = write(
         tmp_path,
         "[simulation]\nduration = 2.0\n[robot]\nhalf_track = 0.3\n[study]\nseeds = 5\n"
-        "fous = [0.3]\nmain_fou = 0.3\npd_baseline = false\n"
+        "fous = [0.3]\nmain_fou = 0.3\npd_baseline = false\nrobustness = false\n"
         "[[controllers]]\nkind = 'it2'\nfou = 0.5\nke = 2.0\n",
     )
     cfg = load_study_config(path)
@@ -76,15 +76,24 @@ def test_file_controller_path_is_relative_to_the_config(tmp_path):
 
 
 def test_experiment_sizes_count_runs():
-    cfg = replace(StudyConfig(), seeds=2, sweep_seeds=3, pd=None)
+    cfg = replace(StudyConfig(), seeds=2, sweep_seeds=3, pd=None, tuning=None)
     sizes = experiment_sizes(cfg)
-    # paper: FLC + 3 IT2 + 3 matched = 7 controllers x 3 trajectories x 2 seeds
-    assert sizes["paper"] == 7 * 3 * 2
-    # noise: FLC + 3 IT2 + 1 matched = 5 x 3 trajectories x 7 levels x 3 seeds
-    assert sizes["noise"] == 5 * 3 * 7 * 3
+    # paper: FLC + 3 IT2 + 3 slope-matched + 3 dead-zone-matched = 10 controllers x 3
+    # trajectories x 2 seeds
+    assert sizes["paper"] == 10 * 3 * 2
+    # noise: FLC + 3 IT2 + 2 matched = 6 x 3 trajectories x (6 noisy levels x 3 seeds + one
+    # noise-free run)
+    assert sizes["noise"] == 6 * 3 * (6 * 3 + 1)
     # fou: w = 0 (FLC) + 20 widths x (IT2 + matched) = 41 x 3 x 3
     assert sizes["fou"] == 41 * 3 * 3
-    assert sizes["pd_tuning"] == 0
+    assert sizes["pd_tuning"] == sizes["fuzzy_tuning"] == 0
+    tuned = replace(StudyConfig(), seeds=2, sweep_seeds=3)
+    sizes = experiment_sizes(tuned)
+    # PD grid 15 x 11 plus the 4 paper fuzzy controllers (effort limit), 16 seeds, 3 paths;
+    # each of the 4 tuned fuzzy controllers: 165 candidates on the same runs
+    assert sizes["pd_tuning"] == (15 * 11 + 4) * 3 * 16
+    assert sizes["fuzzy_tuning"] == 4 * 165 * 3 * 16
+    assert sizes["paper"] == (10 + 1 + 4) * 3 * 2  # + the PD and the 4 tuned controllers
 
 
 @pytest.mark.parametrize(
@@ -127,12 +136,22 @@ def test_pd_tuning_matches_the_fuzzy_controllers_effort():
     # The tuned PD may not work harder than the most active paper fuzzy controller on the same
     # tuning runs, and is the lowest-ISE grid point that obeys that.
     from it2track.experiments.study import PDTuning, tune_pd
-    from it2track.tracking import LoopConfig
+    from it2track.tracking import LoopConfig, get_trajectory, run_grid, simulate_metrics
 
-    cfg = replace(StudyConfig(), loop=LoopConfig(duration=2.0), fous=(0.2,), main_fou=0.2,
-                  pd=PDTuning(seeds=2, kp_grid=(2.0, 6.0, 20.0, 80.0), kd_grid=(0.0, 0.5)))
+    cfg = replace(StudyConfig(), loop=LoopConfig(duration=2.0), fous=(0.1, 0.3), main_fou=0.3,
+                  pd=PDTuning(seeds=2, kp_grid=(2.0, 6.0, 20.0, 80.0), kd_grid=(0.0, 0.5)),
+                  tuning=None, robustness=None)
     spec, rec = tune_pd(cfg)
     assert rec["effort_limit_rule"].startswith("largest mean effort")
+    # The limit, computed independently: the paper's fuzzy controllers on the tuning runs
+    # (seeds 1_000_000 + i at the study's sigma), the MOST active one's mean effort.
+    fuzzy = [ControllerSpec(kind=ControllerKind.FLC).build()] + [
+        ControllerSpec(kind=ControllerKind.IT2, fou=w).build() for w in (0.1, 0.3)]
+    runs = run_grid(3, 3, [cfg.noise_std], [1_000_000, 1_000_001])
+    m = simulate_metrics(fuzzy, [get_trajectory(t) for t in cfg.trajectories], runs, cfg.loop)
+    means = m["effort"].reshape(3, -1).mean(axis=1)
+    assert means.min() < means.max(), "the controllers' efforts must differ"
+    assert rec["effort_limit"] == pytest.approx(means.max(), rel=1e-12)
     assert rec["effort"] <= rec["effort_limit"]
     feasible = [g for g in rec["grid"] if g[3] <= rec["effort_limit"]]
     assert (spec.kp, spec.kd) == tuple(min(feasible, key=lambda g: g[2])[:2])
@@ -164,5 +183,5 @@ def test_quick_keeps_the_users_pd_settings():
     quick = _quick(cfg).pd
     assert (quick.match_effort, quick.effort_limit, quick.tf) == (False, 30.0, 0.05)
     assert quick.seeds == 2
-    given = replace(StudyConfig(), pd=PDTuning(kp=5.0, kd=0.1))
+    given = replace(StudyConfig(), pd=PDTuning(kp=5.0, kd=0.1), tuning=None)
     assert _quick(given).pd == given.pd

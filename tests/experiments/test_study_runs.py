@@ -18,7 +18,8 @@ from it2track.tracking import METRIC_NAMES, LoopConfig, RunTable, get_trajectory
 @pytest.fixture(scope="module")
 def small():
     cfg = replace(StudyConfig(), loop=LoopConfig(duration=1.0), seeds=4, sweep_seeds=3,
-                  noise_levels=(0.0, 0.05, 0.2), fou_sweep=(0.0, 0.2, 0.3), pd=None)
+                  noise_levels=(0.0, 0.05, 0.2), fou_sweep=(0.0, 0.2, 0.3), pd=None,
+                  tuning=None, robustness=None)
     return cfg, run_study(cfg)
 
 
@@ -31,7 +32,8 @@ def test_every_row_equals_a_direct_simulation_of_it(small):
     picks |= set(np.flatnonzero((rows["noise_std"] == 0.0) & (rows["seed"] > 0))[:5].tolist())
     labels = {s.label: s for s in [
         ControllerSpec(kind=ControllerKind.FLC),
-        *(ControllerSpec(kind=k, fou=w) for k in (ControllerKind.IT2, ControllerKind.T1_MATCHED)
+        *(ControllerSpec(kind=k, fou=w) for k in (ControllerKind.IT2, ControllerKind.T1_MATCHED,
+                                                   ControllerKind.T1_SLOPE_MATCHED)
           for w in (0.1, 0.2, 0.3)),
     ]}
     for i in sorted(picks):
@@ -67,12 +69,16 @@ def test_local_workers_give_the_same_rows(small):
 
 def test_run_study_simulates_exactly_the_distinct_runs():
     cfg = replace(StudyConfig(), loop=LoopConfig(duration=0.5), seeds=3, sweep_seeds=2,
-                  noise_levels=(0.0, 0.05), fou_sweep=(0.0, 0.2), pd=None)
+                  noise_levels=(0.0, 0.05), fou_sweep=(0.0, 0.2), pd=None, tuning=None,
+                  robustness=None)
     done = []
     result = run_study(cfg, progress=done.append)
-    # paper: 7 controllers (FLC, 3 IT2, 3 matched) x 3 trajectories x seeds 0-2 = 63 rows, all
-    # distinct. noise: 5 controllers x 3 trajectories x 2 levels x seeds 0-1 = 60 rows; at
-    # sigma = 0 the two seeds are one run (15 new), at sigma = 0.05 all repeat paper runs.
-    # fou: FLC, IT2 0.2, matched 0.2 x 3 x seeds 0-1 = 18 rows, all repeats.
-    assert len(result.rows["seed"]) == 63 + 60 + 18
-    assert sum(done) == study_run_count(cfg) == 63 + 15
+    # paper: 10 controllers (FLC, 3 IT2, 3 slope-matched, 3 dead-zone-matched) x 3
+    # trajectories x seeds 0-2 = 90 rows, all distinct. noise: 6 controllers x 3 trajectories
+    # x (one noise-free run + seeds 0-1 at sigma = 0.05) = 54 rows; the 18 noise-free runs are
+    # new, the others repeat paper runs. fou: FLC, IT2 0.2, matched 0.2 x 3 x seeds 0-1 = 18
+    # rows, all repeats.
+    assert len(result.rows["seed"]) == 90 + 54 + 18
+    assert sum(done) == study_run_count(cfg) == 90 + 18
+    zero = result.rows["noise_std"] == 0.0
+    assert set(result.rows["seed"][zero].tolist()) == {0}  # one row per noise-free cell

@@ -51,6 +51,8 @@ def small_config() -> StudyConfig:
         noise_levels=(0.0, 0.1),
         loop=LoopConfig(duration=2.0),
         pd=PDTuning(seeds=2, kp_grid=(5.0, 20.0), kd_grid=(0.0, 0.1)),
+        tuning=None,  # the fuzzy tuning and the robustness experiment have their own tests
+        robustness=None,
     )
 
 

@@ -28,13 +28,9 @@ __all__ = ["reproduce"]
 
 
 def _quick(config: Any) -> Any:
-    from dataclasses import replace
+    from ..experiments.study import quick_config
 
-    pd = config.pd
-    if pd is not None and pd.kp is None:  # keep the user's PD settings, tune on a small grid
-        pd = replace(pd, seeds=2, kp_grid=(2.0, 6.0, 20.0), kd_grid=(0.0, 0.2, 1.0))
-    return replace(config, seeds=6, sweep_seeds=4, noise_levels=(0.0, 0.05, 0.2),
-                   fou_sweep=(0.0, 0.1, 0.2, 0.3), pd=pd)
+    return quick_config(config)
 
 
 @click.command()
@@ -61,7 +57,8 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
     """Regenerate every result of the paper, with statistics and verdicts on its claims.
 
     Writes figures (PNG, and SVG unless --quick or --no-svg), metrics.csv, summary.csv,
-    claims.md, report.html and manifest.json into OUT. Files appear only when complete.
+    robustness.csv, sensitivity.csv, claims.md, report.html and manifest.json into OUT. Files
+    appear only when complete.
     Figures are drawn by worker processes while the study runs.
     """
     from dataclasses import replace
@@ -133,8 +130,14 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
                 outputs.write_metrics_csv(staging / "metrics.csv", result.rows,
                                           [*ROW_KEYS, *METRIC_NAMES])
                 outputs.write_summary_csv(staging / "summary.csv", summary)
-                preamble = _claims_preamble(config)
-                outputs.write_claims_md(staging / "claims.md", claims, preamble=preamble)
+                if result.robustness is not None:
+                    outputs.write_robustness_csv(staging / "robustness.csv", result.robustness)
+                    if result.robustness.sensitivity:
+                        outputs.write_sensitivity_csv(staging / "sensitivity.csv",
+                                                      result.robustness)
+                outputs.write_claims_md(staging / "claims.md", claims,
+                                        preamble=outputs.claims_preamble(config),
+                                        sections=outputs.study_sections(result, claims))
             with stages.stage("figures"), stages.figure_bar(renderer):
                 try:
                     figures = renderer.results(result)
@@ -143,6 +146,8 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
         command = _command_line(click.get_current_context())
         cfg = config.to_dict()
         cfg["pd_tuning"] = {k: v for k, v in result.pd_tuning.items() if k != "grid"}
+        cfg["fuzzy_tuning"] = {label: {k: v for k, v in rec.items() if k != "grid"}
+                               for label, rec in result.tuning.items()}
         manifest = outputs.manifest(
             config=cfg, command=command.strip(), elapsed_s=time.perf_counter() - started,
             extra={"rows": len(result.rows["seed"]), "simulations": total,
@@ -237,7 +242,7 @@ def _preflight_study(config: Any, config_path: str | None) -> None:
             _fail(f"{source} [study] {key}: {big[0]!r} exceeds {MAX_NOISE_STD:g} rad, the largest "
                   "heading-noise standard deviation allowed")
     sizes = experiment_sizes(config)
-    rows = sum(v for k, v in sizes.items() if k != "pd_tuning")
+    rows = sum(v for k, v in sizes.items() if k not in ("pd_tuning", "fuzzy_tuning"))
     loop = config.loop
     n_traced = 1 + len(config.fous)
     try:
@@ -330,21 +335,3 @@ def _default_study_config() -> Any:
     from ..experiments.study import StudyConfig
 
     return StudyConfig()
-
-
-def _claims_preamble(config: Any) -> str:
-    levels = ", ".join(f"{s:g}" for s in config.noise_levels)
-    return (
-        "# Claims of the paper, tested\n\n"
-        "Computed by `it2track reproduce` from the `noise` experiment: "
-        f"{config.sweep_seeds} noise realisations per cell (common random numbers across "
-        f"controllers), noise levels sigma = {levels} rad, trajectories "
-        f"{', '.join(config.trajectories)}, {config.loop.duration:g} s at "
-        f"{1 / config.loop.ts:g} Hz. Intervals are 95 % Student-t intervals of paired "
-        "per-seed differences. A comparison cell *supports* a claim when its interval lies on "
-        "the claimed side of zero, *contradicts* it when it lies on the other side, and is "
-        "*inconclusive* otherwise (an interval containing zero, e.g. exact ties); a noise level "
-        "holds when every cell supports the claim, is contradicted when any cell contradicts "
-        "it, and is *not shown* otherwise. Every verdict below is computed from the data in "
-        "metrics.csv."
-    )

@@ -50,6 +50,7 @@ class ControllerKind(enum.Enum):
     FLC = "flc"  # the paper's type-1 FLC (FoU 0)
     IT2 = "it2"  # the paper's IT2FLC with FoU width `fou`
     T1_MATCHED = "t1-matched"  # type-1 FLC with the dead zone of the IT2FLC of width `fou`
+    T1_SLOPE_MATCHED = "t1-slope-matched"  # ... with its dead zone and its edge slope
     PD = "pd"  # PD heading controller with a filtered derivative
     FILE = "file"  # a fuzzy system loaded from a .t2fis / .fis / .toml file
 
@@ -62,9 +63,14 @@ class ControllerSpec:
     ----------
     kind : ControllerKind
     fou : float
-        FoU width for ``IT2`` and ``T1_MATCHED`` (``0 <= fou < 1.6``).
+        FoU width for ``IT2``, ``T1_MATCHED`` and ``T1_SLOPE_MATCHED`` (``0 <= fou < 1.6``;
+        ``0 < fou <= 0.4`` for ``T1_SLOPE_MATCHED``).
     ke, kde : float
         Input gains of the fuzzy controllers (``ke > 0``, ``kde >= 0``).
+    output_gain : float
+        Output gain of the fuzzy controllers (> 0), applied by scaling the rule consequents
+        (:func:`~it2track.experiments.baselines.scaled_consequents`): a new system, not a
+        controller parameter.
     reducer : str
         Type-reducer name (``km``, ``ekm``, ``eiasc``, ``exhaustive``, ``nie-tan``,
         ``wu-mendel``) for IT2 systems.
@@ -92,6 +98,7 @@ class ControllerSpec:
     fou: float = 0.0
     ke: float = 1.0
     kde: float = 1.0
+    output_gain: float = 1.0
     reducer: str = "exhaustive"
     tnorm: str = "product"
     kp: float = 0.0
@@ -103,7 +110,7 @@ class ControllerSpec:
     def __post_init__(self) -> None:
         if not isinstance(self.kind, ControllerKind):
             raise ValueError(f"controller kind={self.kind!r} must be a ControllerKind")
-        for key in ("fou", "ke", "kde", "kp", "kd", "tf"):
+        for key in ("fou", "ke", "kde", "output_gain", "kp", "kd", "tf"):
             value = getattr(self, key)
             if isinstance(value, bool) or not isinstance(value, int | float):
                 raise ValueError(f"controller {key}={value!r} must be a number")
@@ -120,6 +127,11 @@ class ControllerSpec:
             raise ValueError("controller kind 'flc' is the FoU-0 FLC; use kind 'it2' with fou")
         if self.kind is ControllerKind.IT2 and self.fou == 0.0:
             raise ValueError("controller kind 'it2' needs fou > 0 (fou 0 is kind 'flc')")
+        if self.kind is ControllerKind.T1_SLOPE_MATCHED and not 0.0 < self.fou <= 0.4:
+            raise ValueError(f"controller kind 't1-slope-matched' needs 0 < fou <= 0.4 (a dead "
+                             f"zone to match), got fou={self.fou!r}")
+        if self.output_gain <= 0.0:
+            raise ValueError(f"controller output_gain={self.output_gain!r} must be > 0")
         # Canonical spellings, so that "KM" and "km" are one controller (labels, hashes).
         object.__setattr__(self, "reducer", Reducer.from_name(self.reducer).value.name)
         object.__setattr__(self, "tnorm", TNorm.from_name(self.tnorm).value)
@@ -155,6 +167,8 @@ class ControllerSpec:
     def _default_label(self) -> str:
         k = self.kind
         gains = "" if (self.ke, self.kde) == (1.0, 1.0) else f" Ke {self.ke:g} Kde {self.kde:g}"
+        if self.output_gain != 1.0:
+            gains += f" G {self.output_gain:g}"
         if self.tnorm != "product" and k is not ControllerKind.PD:
             gains += f" {self.tnorm} t-norm"
         if self.reducer != "exhaustive" and k is ControllerKind.IT2:
@@ -165,6 +179,8 @@ class ControllerSpec:
             return f"IT2FLC FoU {self.fou:g}" + gains
         if k is ControllerKind.T1_MATCHED:
             return f"T1 dead-zone-matched {self.fou:g}" + gains
+        if k is ControllerKind.T1_SLOPE_MATCHED:
+            return f"T1 slope-matched {self.fou:g}" + gains
         if k is ControllerKind.PD:
             return f"PD kp {self.kp:.3g} kd {self.kd:.3g}"
         return Path(self.path).name + gains
@@ -181,22 +197,32 @@ class ControllerSpec:
             fls = heading_fls(self.fou, reducer=Reducer.from_name(self.reducer).value, tnorm=tnorm)
         elif k is ControllerKind.T1_MATCHED:
             fls = dead_zone_matched_fls(self.fou, tnorm=tnorm)
+        elif k is ControllerKind.T1_SLOPE_MATCHED:
+            from .baselines import slope_matched_fls
+
+            fls = slope_matched_fls(self.fou, tnorm=tnorm)
         else:
             from ..io import load
 
             fls = load(self.path)
+        if self.output_gain != 1.0:
+            from .baselines import scaled_consequents
+
+            fls = scaled_consequents(fls, self.output_gain)
         return FuzzyHeadingController(fls=fls, ke=self.ke, kde=self.kde, name=self.label)
 
     def to_dict(self) -> dict[str, Any]:
         """Plain values (TOML/JSON-ready), only the fields that matter for the kind."""
         keep = {"kind", "label"}
         k = self.kind
-        if k in (ControllerKind.IT2, ControllerKind.T1_MATCHED):
+        if k in (ControllerKind.IT2, ControllerKind.T1_MATCHED, ControllerKind.T1_SLOPE_MATCHED):
             keep |= {"fou"}
         if k is ControllerKind.IT2:
             keep |= {"reducer"}
         if k is not ControllerKind.PD:
             keep |= {"ke", "kde", "tnorm"}
+            if self.output_gain != 1.0:  # only when used: older records stay identical
+                keep |= {"output_gain"}
         else:
             keep |= {"kp", "kd", "tf"}
         if k is ControllerKind.FILE:
@@ -249,16 +275,18 @@ class ControllerSpec:
             raise ConfigError(f"{where}: {exc}") from None
 
 
-_FUZZY = (ControllerKind.FLC, ControllerKind.IT2, ControllerKind.T1_MATCHED)
+_FUZZY = (ControllerKind.FLC, ControllerKind.IT2, ControllerKind.T1_MATCHED,
+          ControllerKind.T1_SLOPE_MATCHED)
 #: Which fields apply to which kinds: any other kind must leave them at their defaults
 #: (a configuration must not even give them): a value that would be silently ignored -- and
 #: would still change a sweep's identity -- is an error.
 _APPLIES_TO: dict[str, tuple[ControllerKind, ...]] = {
-    "fou": (ControllerKind.IT2, ControllerKind.T1_MATCHED),
+    "fou": (ControllerKind.IT2, ControllerKind.T1_MATCHED, ControllerKind.T1_SLOPE_MATCHED),
     "reducer": (ControllerKind.IT2,),
     "tnorm": _FUZZY,
     "ke": (*_FUZZY, ControllerKind.FILE),
     "kde": (*_FUZZY, ControllerKind.FILE),
+    "output_gain": (*_FUZZY, ControllerKind.FILE),
     "kp": (ControllerKind.PD,),
     "kd": (ControllerKind.PD,),
     "tf": (ControllerKind.PD,),

@@ -11,10 +11,17 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 from scipy import stats as _st
 
-__all__ = ["Interval", "mean_interval", "paired_comparison"]
+__all__ = [
+    "Interval",
+    "binomial_interval",
+    "holm_adjust",
+    "mean_interval",
+    "paired_comparison",
+    "t_tail",
+]
 
 
 @dataclass(frozen=True)
@@ -86,3 +93,77 @@ def paired_comparison(a: ArrayLike, b: ArrayLike, level: float = 0.95) -> Paired
     d = xa - xb
     ties = float(np.mean(xa == xb))
     return PairedComparison(mean_interval(d, level), float(np.mean(xa < xb)) + 0.5 * ties, ties)
+
+
+def t_tail(values: ArrayLike, threshold: float = 0.0, *, side: str = "greater") -> float:
+    """One-sided p-value of Student's t test of the mean of ``values`` against ``threshold``.
+
+    ``side = "greater"``: evidence that the mean exceeds ``threshold`` (H0: mean <= threshold);
+    ``"less"``: that it lies below. Consistent with :func:`mean_interval`: the two-sided
+    ``1 - 2 a`` interval lies wholly above ``threshold`` exactly when the ``"greater"`` p-value
+    is below ``a``. Zero spread gives 0 (the mean is on the tested side) or 1; fewer than two
+    values give 1 (no test).
+
+    Examples
+    --------
+    >>> round(t_tail([1.0, 2.0, 3.0], 0.0), 4)   # t = 2 sqrt(3) on 2 d.o.f.
+    0.0371
+    """
+    x = np.asarray(values, dtype=np.float64).ravel()
+    if side not in ("greater", "less"):
+        raise ValueError(f"side={side!r} must be 'greater' or 'less'")
+    if not np.isfinite(x).all():
+        raise ValueError("t_tail: values contain NaN or inf")
+    n = int(x.size)
+    if n < 2:
+        return 1.0
+    excess = float(np.mean(x)) - threshold
+    if side == "less":
+        excess = -excess
+    sd = float(np.std(x, ddof=1))
+    if sd == 0.0:
+        return 0.0 if excess > 0.0 else 1.0
+    return float(_st.t.sf(excess / (sd / math.sqrt(n)), n - 1))
+
+
+def holm_adjust(pvalues: ArrayLike) -> NDArray[np.float64]:
+    """Holm-Bonferroni adjusted p-values (step-down; family-wise error control).
+
+    Rejecting every hypothesis whose adjusted p-value is at most ``a`` keeps the probability of
+    any false rejection in the family at most ``a``, whatever the dependence between the tests.
+    ``adj_(i) = max_{j <= i} min(1, (m - j) p_(j))`` over the p-values sorted ascending
+    (``j = 0 ... m-1``), returned in the input order.
+
+    Examples
+    --------
+    >>> holm_adjust([0.01, 0.04, 0.03]).tolist()
+    [0.03, 0.06, 0.06]
+    """
+    p = np.asarray(pvalues, dtype=np.float64).ravel()
+    if p.size and (not np.isfinite(p).all() or p.min() < 0.0 or p.max() > 1.0):
+        raise ValueError("holm_adjust: p-values must lie in [0, 1]")
+    m = p.size
+    order = np.argsort(p, kind="stable")
+    scaled = np.minimum(1.0, (m - np.arange(m)) * p[order])
+    adjusted = np.empty(m)
+    adjusted[order] = np.maximum.accumulate(scaled)
+    return adjusted
+
+
+def binomial_interval(k: int, n: int, level: float = 0.95) -> tuple[float, float]:
+    """Exact (Clopper-Pearson) interval of a binomial proportion ``k / n``.
+
+    Its coverage is at least ``level`` for every true proportion.
+
+    Examples
+    --------
+    >>> lo, hi = binomial_interval(0, 10)
+    >>> lo, round(hi, 4)     # 1 - 0.025 ** (1 / 10)
+    (0.0, 0.3085)
+    """
+    if isinstance(k, bool) or isinstance(n, bool) or n < 1 or not 0 <= k <= n:
+        raise ValueError(f"binomial_interval: need 0 <= k <= n and n >= 1, got k={k}, n={n}")
+    a = 1.0 - level
+    low = 0.0 if k == 0 else float(_st.beta.ppf(a / 2.0, k, n - k + 1))
+    high = 1.0 if k == n else float(_st.beta.ppf(1.0 - a / 2.0, k + 1, n - k))
+    return low, high

@@ -80,6 +80,8 @@ _FLC, _IT2, _T1M, _PD = (ControllerKind.FLC, ControllerKind.IT2, ControllerKind.
                          ControllerKind.PD)
 #: The paper's fuzzy controllers (the sets of DESIGN.md sec. 3, dead zone 0.2 - w/2).
 _PAPER_FUZZY = (_FLC, _IT2, _T1M)
+#: Kinds whose ``fou`` names the IT2FLC they belong to (the matched type-1 baselines).
+_FOU_KINDS = (_IT2, _T1M, ControllerKind.T1_SLOPE_MATCHED)
 
 
 def _kind_of(value: Any) -> ControllerKind | None:
@@ -101,7 +103,7 @@ def _controller_table(result: StudyResult) -> dict[str, _Ctrl]:
     for i in sorted(first):
         table[labels[i]] = _Ctrl(labels[i], _kind_of(rows["kind"][i]), float(rows["fou"][i]))
     for label, spec in controller_specs(result).items():
-        fou = spec.fou if spec.kind in (_IT2, _T1M) else 0.0
+        fou = spec.fou if spec.kind in _FOU_KINDS else 0.0
         table[label] = _Ctrl(label, spec.kind, fou, spec)
     return table
 
@@ -114,7 +116,7 @@ def _trace_info(result: StudyResult, i: int) -> _Ctrl:
     """Identity of the controller of trace run ``i`` (from ``trace_specs``)."""
     spec = result.trace_specs[i]
     return _Ctrl(result.trace_controllers[i], spec.kind,
-                 spec.fou if spec.kind in (_IT2, _T1M) else 0.0, spec)
+                 spec.fou if spec.kind in _FOU_KINDS else 0.0, spec)
 
 
 def _surface_info(result: StudyResult, ctrls: Mapping[str, _Ctrl], label: str) -> _Ctrl:
@@ -122,7 +124,7 @@ def _surface_info(result: StudyResult, ctrls: Mapping[str, _Ctrl], label: str) -
     spec = result.surface_specs.get(label)
     if spec is None:
         return _info(ctrls, label)
-    return _Ctrl(label, spec.kind, spec.fou if spec.kind in (_IT2, _T1M) else 0.0, spec)
+    return _Ctrl(label, spec.kind, spec.fou if spec.kind in _FOU_KINDS else 0.0, spec)
 
 
 def _order_key(c: _Ctrl) -> tuple[int, float, str]:

@@ -59,7 +59,8 @@ def _controller_rows(result: StudyResult) -> list[tuple[str, str]]:
         spec = specs.get(lb)
         if spec is not None:
             kind = spec.kind.value
-            w = spec.fou if spec.kind in (ControllerKind.IT2, ControllerKind.T1_MATCHED) else 0.0
+            w = spec.fou if spec.kind in (ControllerKind.IT2, ControllerKind.T1_MATCHED,
+                                            ControllerKind.T1_SLOPE_MATCHED) else 0.0
         opts = _fuzzy_options(spec)
         if kind == ControllerKind.FLC.value:
             desc = ("the paper's type-1 FLC: sets N [−1 −1 −0.2], Z [−0.8 0 0.8], P [0.2 1 1] "
@@ -72,6 +73,10 @@ def _controller_rows(result: StudyResult) -> list[tuple[str, str]]:
             desc = (f"fair baseline: type-1 FLC built from the upper MFs of the IT2FLC with "
                     f"w = {w:g}, so its dead zone (|e| < {0.2 - w / 2:g}) equals the "
                     f"IT2FLC's{opts}")
+        elif kind == ControllerKind.T1_SLOPE_MATCHED.value:
+            desc = (f"fair baseline: type-1 FLC with the dead zone (|e| < {0.2 - w / 2:g}) and "
+                    f"the slope just outside it of the IT2FLC with w = {w:g} (docs/model.md"
+                    f"#fair-baselines){opts}")
         elif kind == ControllerKind.PD.value:
             pd = spec if spec is not None else result.pd
             gains = "" if pd is None else (
