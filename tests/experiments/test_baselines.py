@@ -73,7 +73,7 @@ def test_output_gain_builds_a_scaled_system_not_a_controller_parameter():
     assert float(ctrl.fls(0.5, 0.1)) == pytest.approx(0.5 * float(heading_fls(0.2)(0.5, 0.1)))
     assert spec.to_dict()["output_gain"] == 0.5
     assert "output_gain" not in ControllerSpec(kind=ControllerKind.FLC).to_dict()
-    with pytest.raises(ValueError, match="output_gain=2.0 does not apply to kind .pd."):
+    with pytest.raises(ValueError, match=r"output_gain=2\.0 does not apply to kind 'pd'"):
         ControllerSpec(kind=ControllerKind.PD, kp=1.0, output_gain=2.0)
 
 
