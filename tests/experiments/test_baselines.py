@@ -109,3 +109,12 @@ def test_tuned_fuzzy_controllers_obey_the_pds_effort_limit():
         assert (spec.ke, spec.kde, spec.output_gain) == tuple(best[:3])
         assert rec["untuned"]["effort"] == pd_rec["fuzzy_effort"][label]
         assert any(g[4] > rec["effort_limit"] for g in rec["grid"]), "limit binds nowhere"
+
+
+def test_scaled_consequents_refuses_non_zero_order_consequents():
+    from it2track.fuzzy import Input, Linear, Rule, T1Sugeno, Triangle
+
+    fls = T1Sugeno(inputs=[Input("x", (-1, 1), [("A", Triangle(-1, 0, 1))])],
+                   rules=[Rule(["A"], Linear([1.0]))])
+    with pytest.raises(ValueError, match="not a zero-order Sugeno consequent"):
+        scaled_consequents(fls, 2.0)

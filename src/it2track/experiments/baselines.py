@@ -60,9 +60,23 @@ def scaled_consequents(fls: IT2Sugeno | T1Sugeno, gain: float) -> IT2Sugeno | T1
         raise ValueError(f"output gain={gain!r} must be finite and > 0")
     if gain == 1.0:
         return fls
-    rules = tuple(Rule(r.antecedent, (r.consequent[0] * gain, r.consequent[1] * gain))
+
+    def scale(c: object) -> object:
+        if c is None:
+            return None
+        if isinstance(c, tuple) and len(c) == 2 and all(isinstance(v, float) for v in c):
+            return (c[0] * gain, c[1] * gain)
+        raise ValueError(f"output gain: consequent {c!r} is not a zero-order Sugeno "
+                         "consequent (a number or an interval)")
+
+    rules = tuple(Rule(r.antecedent, consequents=[scale(c) for c in r.consequents],
+                       weight=r.weight, connective=r.connective, negated=r.negated)
                   for r in fls.rules)
-    zero = None if fls.on_zero_firing is None else fls.on_zero_firing * gain
+    zero = fls.on_zero_firing
+    if isinstance(zero, tuple):
+        zero = tuple(v * gain for v in zero)
+    elif zero is not None:
+        zero = zero * gain
     return dataclasses.replace(fls, rules=rules, on_zero_firing=zero,
                                name=f"{fls.name} x {gain:g}".strip())
 
