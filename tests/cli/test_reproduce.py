@@ -73,7 +73,7 @@ def test_metrics_agree_with_a_direct_closed_loop_call(quick_run):
                 and r["trajectory"] == "sinusoidal" and r["seed"] == "3"]
     assert len(rows) == 1
     row = rows[0]
-    from it2track.cli.main import _quick
+    from it2track.cli.reproduce import _quick
 
     cfg = _quick(StudyConfig())
     controller = ControllerSpec(kind=ControllerKind.IT2, fou=0.2).build()
