@@ -175,6 +175,23 @@ def test_bad_pd_tuning_names_the_section(tmp_path, text, needle):
     assert "[pd]" in str(info.value) and needle in str(info.value), str(info.value)
 
 
+@pytest.mark.parametrize("text", [
+    "[study]\npd_baseline = false\ntuning = true\n",
+    "[pd]\nkp = 5.0\n[tuning]\nke_grid = [1.0]\n",
+])
+def test_an_explicit_fuzzy_tuning_needs_the_pd_tuning(tmp_path, text):
+    path = write(tmp_path, text)
+    with pytest.raises(ConfigError, match="tuning needs the PD tuning"):
+        load_study_config(path)
+
+
+def test_without_a_pd_tuning_the_fuzzy_controllers_stay_untuned(tmp_path):
+    assert load_study_config(write(tmp_path, "[study]\npd_baseline = false\n")).tuning is None
+    assert replace(StudyConfig(), pd=None).tuning is None
+    cfg = replace(StudyConfig(), pd=None)
+    assert "tuning" not in {c.name for c in cfg.robustness.choices}
+
+
 def test_quick_keeps_the_users_pd_settings():
     from it2track.cli.reproduce import _quick
     from it2track.experiments.study import PDTuning

@@ -252,8 +252,9 @@ class StudyConfig:
                 dup = next(v for v in values if values.count(v) > 1)
                 raise bad(key, f"lists {dup!r} twice (repeats would pool as extra samples)")
         if self.tuning is not None and (self.pd is None or self.pd.kp is not None):
-            raise bad("tuning", "needs the PD tuning (its seeds and effort limit): set [pd] "
-                      "without kp/kd, or tuning = false")
+            # The fuzzy tuning uses the PD tuning's seeds and effort limit: without a PD
+            # tuning there is none (load_study_config refuses an explicit [tuning] then).
+            object.__setattr__(self, "tuning", None)
         if self.robustness is not None:
             if self.robustness.choices == DEFAULT_CHOICES:  # the implied list: rebase it
                 implied = rebase(DEFAULT_CHOICES, self.loop)
@@ -462,7 +463,12 @@ def load_study_config(path: str | Path, **overrides: Any) -> StudyConfig:
     use_robustness = study_t.get("robustness", bool, True)
     study_t.done()
     tuning_t = root.sub("tuning")
-    if use_tuning and not use_pd and "tuning" not in study_t and "tuning" not in root:
+    pd_tuned = use_pd and "kp" not in root.sub("pd")
+    if not pd_tuned and use_tuning:
+        if "tuning" in study_t or "tuning" in root:
+            raise ConfigError(f"{study_t.where}: tuning needs the PD tuning (its seeds and "
+                              "effort limit): set [pd] without kp/kd and pd_baseline = true, "
+                              "or tuning = false")
         use_tuning = False  # the fuzzy tuning needs the PD's: off with it unless asked for
     if use_tuning:
         tv: dict[str, Any] = {}
