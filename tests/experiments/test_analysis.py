@@ -410,3 +410,15 @@ def test_summary_rows_pair_with_the_flc():
     assert by_ctrl["IT2FLC FoU 0.3"]["win_rate"] == 1.0
     assert by_ctrl["IT2FLC FoU 0.3"]["diff_mean"] < 0
     assert by_ctrl["IT2FLC FoU 0.3"]["n"] == 10
+
+
+def test_c3_sigma_range_starts_from_an_exactly_zero_ise():
+    # Below sigma = 0.05 the best controller never leaves its dead zone (ISE exactly 0): the
+    # crossing into the band is interpolated linearly from 0 (a logarithm would fail).
+    ise = {0.02: 0.0, 0.05: 0.002, 0.1: 0.02}
+    rows = synthetic_rows(lambda c, s: ise[s] if c == "IT2FLC FoU 0.3" else 1.0,
+                          levels=(0.02, 0.05, 0.1), metric_fn=lambda c, s, m: 1.0, n_seeds=60)
+    rng = c3_sigma_range(claims(rows)["C3"])
+    lo = 0.003 / np.sqrt(10)
+    assert rng["enters"]["sigma"] == pytest.approx(0.02 + lo / 0.002 * 0.03, rel=0.05)
+    assert rng["levels_in_band"] == [0.05]

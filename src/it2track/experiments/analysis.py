@@ -591,12 +591,16 @@ def c3_sigma_range(claim: ClaimResult) -> dict[str, Any]:
 
     def crossing(col: int, level: float) -> float | None:
         """First sigma at which column ``col`` rises through ``level`` (log-log linear, exact
-        for a power law ``ISE = c sigma^k``)."""
+        for a power law ``ISE = c sigma^k``; linear from a value of 0, e.g. a controller that
+        never leaves its dead zone)."""
         for (s0, *v0), (s1, *v1) in itertools.pairwise(pts):
             a, b = v0[col], v1[col]
-            if a < level <= b and a > 0.0:
+            if not a < level <= b:
+                continue
+            if a > 0.0:
                 f = (math.log(level) - math.log(a)) / (math.log(b) - math.log(a))
                 return math.exp(math.log(s0) + f * (math.log(s1) - math.log(s0)))
+            return s0 + (level - a) / (b - a) * (s1 - s0)
         return None
 
     def with_range(level: float) -> dict[str, Any] | None:

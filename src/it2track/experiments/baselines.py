@@ -181,7 +181,7 @@ class FuzzyTuning:
     controllers: tuple[str, ...] = ("flc", "it2")
     ke_grid: tuple[float, ...] = (0.5, 1.0, 2.0, 4.0, 8.0)
     kde_grid: tuple[float, ...] = (0.0, 0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0, 128.0)
-    gain_grid: tuple[float, ...] = (0.5, 1.0, 2.0)
+    gain_grid: tuple[float, ...] = (0.25, 0.5, 1.0)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "ke_grid", _grid(self.ke_grid, "ke_grid", positive=True))

@@ -115,7 +115,7 @@ class SensitivityConfig:
         SensitivityFactor(name="metric_start", path="simulation.metric_start",
                           levels=(0.0, 0.5, 1.0, 2.0)),
     )
-    trajectories: int = 8
+    trajectories: int = 6
     seeds: int = 8
     seed: int = 0
 

@@ -171,8 +171,8 @@ def study_sections(result: Any, claims: Sequence[Any]) -> str:
                 a, b = cross["range"]
                 span = (f" (from the interval bounds: {_f(a)} to {_f(b)})"
                         if a is not None and b is not None else "")
-                text += (f" Interpolating (log-log) between levels, the mean {what} the band "
-                         f"at sigma = {_f(cross['sigma'])} rad{span}.")
+                text += (f" Interpolating between levels (log-log; linearly from an ISE of 0), "
+                         f"the mean {what} the band at sigma = {_f(cross['sigma'])} rad{span}.")
         out += [text, ""]
     if result.ordering:
         out += ["## How likely were the paper's single-run figures?", "",
