@@ -50,10 +50,13 @@ def _compiled(*, inline: bool = False) -> Any:
 exp = _compiled()(exp_scalar)  # scalar arguments: a call costs no reference counting
 
 
+WORK_ROWS = 13  # work rows of the reducers in a block's scratch
+
+
 def scratch_rows(P: np.ndarray) -> int:
     """Rows of the scratch array :func:`eval_block` needs: memberships (``M + 1``), lower and
-    upper firing (``R`` each) and 3 work rows."""
-    return int(P[N_ROWS]) + 1 + 2 * int(P[N_RULES]) + 3
+    upper firing (``R`` each) and :data:`WORK_ROWS` work rows."""
+    return int(P[N_ROWS]) + 1 + 2 * int(P[N_RULES]) + WORK_ROWS
 
 
 @_compiled()
@@ -156,121 +159,194 @@ def _exhaustive(P, L, S, flb, fub, tb, oy, o_idx, left, out):
         out[j] = S[best, j]
 
 
-@_compiled(inline=True)
-def _theta(S, flb, fub, g, j, n, k, left):
-    if (n < k) == left:
-        return S[fub + g, j]
-    return S[flb + g, j]
-
-
-@_compiled(inline=True)
-def _centroid_k(P, S, j, flb, fub, oy, o_idx, n_rules, k, left):
+@_compiled()
+def _centroid_lanes(P, L, S, flb, fub, oy, o_idx, left, krow, onum, oden):
+    """``S[onum]`` = centroid of the lanes with ``S[krow]`` rules (from the bottom) at upper
+    firing for ``yl`` (at lower firing for ``yr``): reducers' ``_centroid(theta(k, ...))``,
+    the sums in rule order."""
+    n_rules = int(P[N_RULES])
     g = _row(P, o_idx, 0)
-    t = _theta(S, flb, fub, g, j, 0, k, left)
-    num = t * P[oy]
-    den = t
+    y = P[oy]
+    for j in range(L):  # both loads before the select: a conditional load does not vectorise
+        u, lo = S[fub + g, j], S[flb + g, j]
+        t = u if (S[krow, j] > 0.0) == left else lo
+        S[onum, j] = t * y
+        S[oden, j] = t
     for n in range(1, n_rules):
         g = _row(P, o_idx, n)
-        t = _theta(S, flb, fub, g, j, n, k, left)
-        num += t * P[oy + n]
-        den += t
-    return num / den
-
-
-@_compiled(inline=True)
-def _search(P, oy, n_rules, v, right):
-    """numpy.searchsorted on the sorted consequents (NaN sorts last)."""
-    if v != v:
-        return n_rules
-    k = 0
-    for n in range(n_rules):
         y = P[oy + n]
-        if y < v or (right and y == v):
-            k = n + 1
-        else:
-            break
-    return k
+        for j in range(L):
+            u, lo = S[fub + g, j], S[flb + g, j]
+            t = u if (S[krow, j] > n) == left else lo
+            S[onum, j] += t * y
+            S[oden, j] += t
+    for j in range(L):
+        S[onum, j] = S[onum, j] / S[oden, j]
 
 
 @_compiled()
-def _switch(P, S, j, flb, fub, oy, o_idx, left, k0, tol):
-    """KM (``k0 < 0``) / EKM iterations for lane ``j``, as reducers._switch_iterations."""
+def _switch_lanes(P, L, S, flb, fub, tb, oy, o_idx, left, k0, tol, out, st):
+    """reducers._switch_iterations (KM: ``k0 < 0``; EKM: start at ``k0``) for the lanes,
+    vectorised: every lane makes the reference's iterations, with its tie resolution (a
+    consequent within ``tol`` of the centroid: both placements evaluated), as branch-free
+    selects, until its switch point stops moving. ``out[j]``: the centroid; ``st[j]`` becomes
+    NOT_CONVERGED where it is OK and the lane does not converge. Work rows ``tb .. tb + 12``.
+
+    ``searchsorted(y, v, "right")`` on the sorted consequents is the count of ``y_n <= v``
+    (``"left"``: ``y_n < v``; NaN: all), and the reference's tie test
+    ``min(c - below, above - c) <= tol`` holds exactly when some ``|c - y_n| <= tol``.
+    """
     n_rules, max_iter = int(P[N_RULES]), int(P[MAX_ITER])
-    all_upper = n_rules if left else 0
-    if k0 < 0:
+    all_upper = float(n_rules if left else 0)
+    num, den, kk, act, tie, tk, ty = tb, tb + 1, tb + 2, tb + 3, tb + 4, tb + 5, tb + 6
+    ka, kb, an, ad, bn, bd = tb + 7, tb + 8, tb + 9, tb + 10, tb + 11, tb + 12
+    if k0 < 0:  # KM: start from the centroid of the interval midpoints
         g = _row(P, o_idx, 0)
-        t = 0.5 * (S[flb + g, j] + S[fub + g, j])
-        num = t * P[oy]
-        den = t
+        y = P[oy]
+        for j in range(L):
+            t = 0.5 * (S[flb + g, j] + S[fub + g, j])
+            S[num, j] = t * y
+            S[den, j] = t
         for n in range(1, n_rules):
             g = _row(P, o_idx, n)
-            t = 0.5 * (S[flb + g, j] + S[fub + g, j])
-            num += t * P[oy + n]
-            den += t
-        c = num / den
-        k = _search(P, oy, n_rules, c, True)
-        if not left and c != c:
-            k = all_upper
+            y = P[oy + n]
+            for j in range(L):
+                t = 0.5 * (S[flb + g, j] + S[fub + g, j])
+                S[num, j] += t * y
+                S[den, j] += t
+        for j in range(L):
+            S[num, j] = S[num, j] / S[den, j]
+            S[kk, j] = 0.0
+        for n in range(n_rules):
+            y = P[oy + n]
+            for j in range(L):
+                S[kk, j] += 1.0 if y <= S[num, j] else 0.0
+        for j in range(L):
+            c = S[num, j]
+            S[kk, j] = (float(n_rules) if left else all_upper) if c != c else S[kk, j]
     else:
-        k = k0
-    tie_y = math.nan
-    tie_k = -1
+        for j in range(L):
+            S[kk, j] = float(k0)
+    for j in range(L):
+        S[act, j] = 1.0
+        S[tk, j] = -1.0
+        S[ty, j] = math.nan
+        out[j] = math.nan
     for _ in range(max_iter):
-        c_new = _centroid_k(P, S, j, flb, fub, oy, o_idx, n_rules, k, left)
-        k_new = _search(P, oy, n_rules, c_new, True)
-        undefined = False
-        if c_new != c_new:
-            undefined = k == all_upper
-            k_new = all_upper
-        below = -math.inf if k_new == 0 else P[oy + k_new - 1]
-        above = math.inf if k_new == n_rules else P[oy + k_new]
-        ga = c_new - below
-        gb = above - c_new
-        gap = ga if ga <= gb else gb
-        if gap <= tol:
-            if k == tie_k and abs(c_new - tie_y) <= tol:
-                k_new = k
-            else:
-                ka = _search(P, oy, n_rules, c_new - tol, False)
-                kb = _search(P, oy, n_rules, c_new + tol, True)
-                ca = _centroid_k(P, S, j, flb, fub, oy, o_idx, n_rules, ka, left)
-                cb = _centroid_k(P, S, j, flb, fub, oy, o_idx, n_rules, kb, left)
-                a_better = ((ca < cb) if left else (ca > cb)) or cb != cb
-                take_a = a_better or (ca == cb and k == ka)
-                k_new = ka if take_a else kb
-                tie_k = k_new
-                tie_y = P[oy + (kb - 1 if kb > 0 else n_rules - 1)]
-        if k_new == k or undefined:
-            return c_new, OK
-        k = k_new
-    return math.nan, NOT_CONVERGED
+        _centroid_lanes(P, L, S, flb, fub, oy, o_idx, left, kk, num, den)  # c_new
+        for j in range(L):
+            S[den, j] = 0.0  # k_new
+            S[tie, j] = 0.0
+        for n in range(n_rules):
+            y = P[oy + n]
+            for j in range(L):
+                c = S[num, j]
+                S[den, j] += 1.0 if y <= c else 0.0
+                S[tie, j] = 1.0 if abs(c - y) <= tol else S[tie, j]
+        # (every load before the selects, bitwise & on the flags, integer counts: what the
+        # loop vectoriser needs)
+        ties = 0
+        for j in range(L):
+            c, k, kn, tj, aj = S[num, j], S[kk, j], S[den, j], S[tie, j], S[act, j]
+            tkj, tyj = S[tk, j], S[ty, j]
+            k_new = all_upper if c != c else kn
+            near = (tj != 0.0) & (aj != 0.0)
+            settled = near & (k == tkj) & (abs(c - tyj) <= tol)
+            S[den, j] = k if settled else k_new
+            t = near & ~settled
+            S[tie, j] = 1.0 if t else 0.0
+            ties += 1 if t else 0
+        if ties:  # resolve the ties: both placements, keep the better
+            for j in range(L):
+                S[ka, j] = 0.0
+                S[kb, j] = 0.0
+            for n in range(n_rules):
+                y = P[oy + n]
+                for j in range(L):
+                    c = S[num, j]
+                    S[ka, j] += 1.0 if y < c - tol else 0.0
+                    S[kb, j] += 1.0 if y <= c + tol else 0.0
+            _centroid_lanes(P, L, S, flb, fub, oy, o_idx, left, ka, an, ad)
+            _centroid_lanes(P, L, S, flb, fub, oy, o_idx, left, kb, bn, bd)
+            for j in range(L):
+                ca, cb, kaj, kbj, kj = S[an, j], S[bn, j], S[ka, j], S[kb, j], S[kk, j]
+                t, dj, tkj = S[tie, j] != 0.0, S[den, j], S[tk, j]
+                better = (ca < cb) if left else (ca > cb)
+                take_a = better | (cb != cb) | ((ca == cb) & (kj == kaj))
+                pick = kaj if take_a else kbj
+                S[den, j] = pick if t else dj
+                S[tk, j] = pick if t else tkj
+                S[kb, j] = kbj - 1.0 if kbj > 0.0 else float(n_rules - 1)  # y[kb - 1]
+            for n in range(n_rules):
+                y = P[oy + n]
+                for j in range(L):
+                    tj, kbj, tyj = S[tie, j], S[kb, j], S[ty, j]
+                    S[ty, j] = y if ((tj != 0.0) & (kbj == n)) else tyj
+        active = 0
+        for j in range(L):
+            c, k, k_new, aj, oj = S[num, j], S[kk, j], S[den, j], S[act, j], out[j]
+            done = (k_new == k) | ((c != c) & (k == all_upper))
+            a = aj != 0.0
+            out[j] = c if (a & done) else oj
+            still = a & ~done
+            S[act, j] = 1.0 if still else 0.0
+            S[kk, j] = k_new
+            active += 1 if still else 0
+        if active == 0:
+            return
+    for j in range(L):  # not converged in max_iter
+        if S[act, j] != 0.0:
+            out[j] = math.nan
+            st[j] = st[j] if st[j] != OK else NOT_CONVERGED
 
 
-@_compiled(inline=True)
-def _eiasc(P, S, j, flb, fub, oy, o_idx, left):
+@_compiled()
+def _eiasc_lanes(P, L, S, flb, fub, tb, oy, o_idx, left, out, st):
+    """reducers' EIASC for the lanes, vectorised: the same sums in the same order; a lane keeps
+    the first centroid that stops it. Work rows ``tb .. tb + 2``."""
     n_rules, max_iter = int(P[N_RULES]), int(P[MAX_ITER])
+    sa, sb, act = tb, tb + 1, tb + 2
     g = _row(P, o_idx, 0)
-    a = S[flb + g, j] * P[oy]
-    b = S[flb + g, j]
+    y = P[oy]
+    for j in range(L):
+        S[sa, j] = S[flb + g, j] * y
+        S[sb, j] = S[flb + g, j]
+        S[act, j] = 1.0
     for n in range(1, n_rules):
         g = _row(P, o_idx, n)
-        a += S[flb + g, j] * P[oy + n]
-        b += S[flb + g, j]
+        y = P[oy + n]
+        for j in range(L):
+            S[sa, j] += S[flb + g, j] * y
+            S[sb, j] += S[flb + g, j]
     for it in range(n_rules):
         if it >= max_iter:
-            return math.nan, NOT_CONVERGED
+            for j in range(L):
+                if S[act, j] != 0.0:
+                    out[j] = math.nan
+                    st[j] = st[j] if st[j] != OK else NOT_CONVERGED
+            return
         n = it if left else n_rules - 1 - it
         g = _row(P, o_idx, n)
-        step = S[fub + g, j] - S[flb + g, j]
-        a += P[oy + n] * step
-        b += step
-        c = a / b
-        if left:
-            if n + 1 >= n_rules or c <= P[oy + n + 1]:
-                return c, OK
-        elif n == 0 or c >= P[oy + n - 1]:
-            return c, OK
-    return math.nan, OK  # unreachable: the last rule always stops
+        y = P[oy + n]
+        last = n + 1 >= n_rules if left else n == 0
+        nxt = 0.0 if last else P[oy + n + 1] if left else P[oy + n - 1]
+        active = 0
+        for j in range(L):  # loads first, bitwise flags, an integer count: vectorises
+            u, lo, aj, oj = S[fub + g, j], S[flb + g, j], S[act, j], out[j]
+            step = u - lo
+            a_ = S[sa, j] + y * step
+            b_ = S[sb, j] + step
+            S[sa, j] = a_
+            S[sb, j] = b_
+            c = a_ / b_
+            stop = last | ((c <= nxt) if left else (c >= nxt))
+            a = aj != 0.0
+            out[j] = c if (a & stop) else oj
+            still = a & ~stop
+            S[act, j] = 1.0 if still else 0.0
+            active += 1 if still else 0
+        if active == 0:
+            return
 
 
 @_compiled()
@@ -366,19 +442,14 @@ def eval_block(P, X, L, S, yl, yr, st):
             yr[j] = yl[j]
     elif red == WU_MENDEL:
         _wu_mendel(P, L, S, flb, fub, tb, yl, yr)
-    elif red == EIASC:
-        for j in range(L):
-            yl[j], s1 = _eiasc(P, S, j, flb, fub, ylo, -1, True)
-            yr[j], s2 = _eiasc(P, S, j, flb, fub, yhs, ohi, False)
-            st[j] = s1 if s1 != OK else s2
+    elif red == EIASC:  # status: the left side's failure first, as s1 if s1 != OK else s2
+        _eiasc_lanes(P, L, S, flb, fub, tb, ylo, -1, True, yl, st)
+        _eiasc_lanes(P, L, S, flb, fub, tb, yhs, ohi, False, yr, st)
     else:  # KM, EKM
         k0l = -1 if red == KM else int(P[K0_L])
         k0r = -1 if red == KM else int(P[K0_R])
-        tol_l, tol_r = P[TOL_L], P[TOL_R]
-        for j in range(L):
-            yl[j], s1 = _switch(P, S, j, flb, fub, ylo, -1, True, k0l, tol_l)
-            yr[j], s2 = _switch(P, S, j, flb, fub, yhs, ohi, False, k0r, tol_r)
-            st[j] = s1 if s1 != OK else s2
+        _switch_lanes(P, L, S, flb, fub, tb, ylo, -1, True, k0l, P[TOL_L], yl, st)
+        _switch_lanes(P, L, S, flb, fub, tb, yhs, ohi, False, k0r, P[TOL_R], yr, st)
     # Zero firing (as IT2Sugeno/T1Sugeno._interval_blocks): the reference raises where the
     # status is not OK. Lanes to look at are counted first by a branch-free pass (a loop with
     # a rare branch costs ~10 ns per lane even when the branch is never taken).
@@ -414,7 +485,7 @@ def scalar2(P, a, b):
     (a non-finite input, zero firing without a value, ...): the caller then asks it."""
     if not (math.isfinite(a) and math.isfinite(b)):
         return math.nan
-    rows = int(P[N_ROWS]) + 4 + 2 * int(P[N_RULES])
+    rows = int(P[N_ROWS]) + 1 + 2 * int(P[N_RULES]) + WORK_ROWS
     buf = np.empty(rows + 4)  # one allocation: scratch, the point, yl and yr
     S = buf[:rows].reshape((rows, 1))
     X = buf[rows : rows + 2].reshape((2, 1))
@@ -436,7 +507,7 @@ def batch(P, X, out_a, out_b, status, crisp, first, last):
     ``(yl + yr) / 2`` to ``out_a``, otherwise ``yl`` and ``yr`` to ``out_a``/``out_b``;
     ``status`` per point. Releases the GIL: threads may run disjoint ranges at once."""
     n_in = X.shape[0]
-    rows = int(P[N_ROWS]) + 4 + 2 * int(P[N_RULES])
+    rows = int(P[N_ROWS]) + 1 + 2 * int(P[N_RULES]) + WORK_ROWS
     S = np.empty((rows, BLOCK))
     xb = np.empty((n_in, BLOCK))
     yl = np.empty(BLOCK)

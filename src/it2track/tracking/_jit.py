@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-from ..fuzzy._jit import N_ROWS, N_RULES, OK, _compiled, eval_block
+from ..fuzzy._jit import N_ROWS, N_RULES, OK, WORK_ROWS, _compiled, eval_block
 from ..plant.drive import (
     _COS_KERNEL,
     _KERNEL_LIMIT,
@@ -338,7 +338,7 @@ def _loop(C, c_off, blocks, tidx, std, zinv, Z, hold, xref, yref, v0ref, start, 
         if kind == FUZZY:
             ke, kde = C[off + 1], C[off + 2]
             P = C[off + 3 : c_off[ci + 1]]
-            S = np.empty((int(P[N_ROWS]) + 4 + 2 * int(P[N_RULES]), LANES))
+            S = np.empty((int(P[N_ROWS]) + 1 + 2 * int(P[N_RULES]) + WORK_ROWS, LANES))
         else:
             ke, kde = 0.0, 0.0
             P = C[off : off + 1]
