@@ -47,7 +47,20 @@ def _compiled(*, inline: bool = False) -> Any:
                 inline="always" if inline else "never")
 
 
-exp = _compiled()(exp_scalar)  # scalar arguments: a call costs no reference counting
+exp = _compiled()(exp_scalar)
+
+
+@_compiled(inline=True)
+def fmax(a, b):
+    """Python's (and numba's) ``max(a, b)`` for floats, ``b if b > a else a``, as a plain
+    select: numba's builtin calls a comparison the loop vectoriser does not see through."""
+    return b if b > a else a
+
+
+@_compiled(inline=True)
+def fmin(a, b):
+    """Python's ``min(a, b)`` for floats, ``b if b < a else a`` (see :func:`fmax`)."""
+    return b if b < a else a  # scalar arguments: a call costs no reference counting
 
 
 WORK_ROWS = 13  # work rows of the reducers in a block's scratch
@@ -72,7 +85,7 @@ def _memberships(P, X, L, S):
         if kind == 0:  # trapezoid (a, wl, d, wr, h); min/max: branch-free, never NaN here
             for j in range(L):
                 v = X[i, j]
-                S[k, j] = max(min(min((v - a) / b, (c - v) / d), 1.0), 0.0) * h
+                S[k, j] = fmax(fmin(fmin((v - a) / b, (c - v) / d), 1.0), 0.0) * h
         elif kind == 1:  # Gaussian (mean, sigma, h)
             for j in range(L):
                 z = (X[i, j] - a) / b
@@ -80,7 +93,7 @@ def _memberships(P, X, L, S):
         elif kind == 2:  # uncertain-mean Gaussian, upper (m1, m2, sigma, h)
             for j in range(L):
                 v = X[i, j]
-                z = ((v - min(max(v, a), b)) - 0.0) / c
+                z = ((v - fmin(fmax(v, a), b)) - 0.0) / c
                 S[k, j] = d * exp((-0.5 * z) * z)
         else:  # uncertain-mean Gaussian, lower
             mid = 0.5 * (a + b)
@@ -113,8 +126,8 @@ def _firing(P, L, S, flb, fub):
                     S[flb + r, j] = S[flb + r, j] * S[lw, j]
             else:
                 for j in range(L):
-                    S[fub + r, j] = min(S[fub + r, j], S[u, j])
-                    S[flb + r, j] = min(S[flb + r, j], S[lw, j])
+                    S[fub + r, j] = fmin(S[fub + r, j], S[u, j])
+                    S[flb + r, j] = fmin(S[flb + r, j], S[lw, j])
 
 
 @_compiled(inline=True)
@@ -476,7 +489,7 @@ def eval_block(P, X, L, S, yl, yr, st):
 @_compiled(inline=True)
 def clip_input(P, i, v):
     """Input ``i`` clipped to its universe, as ``np.minimum(np.maximum(v, lo), hi)``."""
-    return min(max(v, P[int(P[O_LO]) + i]), P[int(P[O_HI]) + i])
+    return fmin(fmax(v, P[int(P[O_LO]) + i]), P[int(P[O_HI]) + i])
 
 
 @_compiled()

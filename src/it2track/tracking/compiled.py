@@ -100,8 +100,9 @@ def run(
     cfg = engine.config
     n = len(runs)
     n_steps = cfg.n_steps
-    order = np.argsort(runs.controller, kind="stable")
+    order = np.lexsort((runs.trajectory, runs.controller))  # blocks: one controller, one path
     ctrl = runs.controller[order]
+    traj = runs.trajectory[order]
     std = np.ascontiguousarray(runs.noise_std[order])
     z, inverse = noise_rows(cfg.seed, engine.n_noise, runs.seed[order], std, noise)
     blocks = []
@@ -109,9 +110,9 @@ def run(
     a = 0
     while a < n:
         b = a
-        while b < n and b - a < lanes and ctrl[b] == ctrl[a]:
+        while b < n and b - a < lanes and ctrl[b] == ctrl[a] and traj[b] == traj[a]:
             b += 1
-        blocks.append((a, b, int(ctrl[a])))
+        blocks.append((a, b, int(ctrl[a]), int(traj[a])))
         a = b
     packed, offsets = _pack_controllers(controllers)
     robot = cfg.robot
@@ -123,9 +124,9 @@ def run(
     metrics = np.empty((n, jit.N_METRICS))
     rec = np.empty((jit.N_FIELDS, n, n_steps + 1) if record else (jit.N_FIELDS, 0, 0))
     status = np.zeros(n, dtype=np.int8)
-    blocks_arr = np.array(blocks, dtype=np.int64).reshape(-1, 3)
+    blocks_arr = np.array(blocks, dtype=np.int64).reshape(-1, 4)
     shared = (
-        np.ascontiguousarray(runs.trajectory[order]),
+        np.ascontiguousarray(traj),
         std, inverse, z,
         np.ascontiguousarray(engine.hold, dtype=np.int64), engine.x_ref, engine.y_ref,
         engine.v0, np.ascontiguousarray(engine.start), _plant_vector(engine), vec,
