@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import multiprocessing
 import os
+import threading
 import time
 from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import Executor, Future, ProcessPoolExecutor, wait
@@ -103,6 +104,8 @@ class FigureRenderer:
         self.on_done = on_done
         self.workers = workers
         self._pool: Executor | None = None
+        self._starter: threading.Thread | None = None
+        self._start_error: BaseException | None = None
         self._futures: dict[str, Future[tuple[Path, float]]] = {}
         self._done: dict[str, Path] = {}
         self._reported: set[str] = set()
@@ -110,9 +113,32 @@ class FigureRenderer:
     def __enter__(self) -> FigureRenderer:
         if self.workers:
             self._pool = ProcessPoolExecutor(self.workers, mp_context=_context())
-            for _ in range(self.workers):  # start the workers now, while the study runs
-                self._pool.submit(_warm_up)
+            # Start the workers now, while the study runs, from a thread: the first start
+            # waits for the fork server to import matplotlib and the figures (seconds).
+            self._starter = threading.Thread(target=self._start_workers, daemon=True,
+                                             name="figure-workers")
+            self._starter.start()
         return self
+
+    def _start_workers(self) -> None:
+        pool = self._pool
+        if pool is None:
+            return
+        try:
+            for _ in range(self.workers):
+                pool.submit(_warm_up)
+        except Exception as exc:  # reported by the first real submission
+            self._start_error = exc
+
+    def _started(self) -> Executor:
+        """The pool, once its workers have been started (re-raises a start-up failure)."""
+        if self._starter is not None:
+            self._starter.join()
+            self._starter = None
+        if self._start_error is not None:
+            raise FigureError(f"the figure workers did not start: {self._start_error}")
+        assert self._pool is not None
+        return self._pool
 
     def __exit__(self, exc_type: type[BaseException] | None, exc: BaseException | None,
                  tb: TracebackType | None) -> None:
@@ -120,6 +146,9 @@ class FigureRenderer:
 
     def close(self, *, cancel: bool = False) -> None:
         """Stop the workers (after the figures submitted, unless ``cancel``)."""
+        if self._starter is not None:
+            self._starter.join()
+            self._starter = None
         if self._pool is not None:
             self._pool.shutdown(wait=True, cancel_futures=cancel)
             self._pool = None
@@ -148,8 +177,8 @@ class FigureRenderer:
                 self._done[key] = png
                 self._report(key, seconds)
             else:
-                self._futures[key] = self._pool.submit(_timed_write, key, result, summary,
-                                                       self.out_dir, self.svg)
+                self._futures[key] = self._started().submit(_timed_write, key, result,
+                                                            summary, self.out_dir, self.svg)
         return keys
 
     def _write_here(self, key: str, result: StudyResult,
