@@ -266,3 +266,39 @@ def test_svg_is_optional(study, tmp_path):
     figures = write_figures(study, summary, tmp_path, svg=False)
     assert set(figures) == EXPECTED
     assert sorted(p.suffix for p in tmp_path.iterdir()) == [".png"] * len(EXPECTED)
+
+
+def test_tuned_and_slope_matched_controllers_have_their_own_place_and_look(study):
+    """Tuned controllers are known from ``StudyResult.tuned`` (not their labels) and grouped
+    apart; the slope-matched type-1 FLC sits with the IT2FLC of its width, styled apart from
+    the dead-zone-matched one."""
+    from it2track.report.figures.integrals import _bar_groups
+
+    tuned_flc = ControllerSpec(kind=ControllerKind.FLC, ke=2.0, kde=0.5, output_gain=0.5,
+                               label="opaque A")
+    tuned_it2 = ControllerSpec(kind=ControllerKind.IT2, fou=0.2, ke=2.0, label="opaque B")
+    slope = ControllerSpec(kind=ControllerKind.T1_SLOPE_MATCHED, fou=0.2, label="opaque C")
+    other = replace(study, tuned={"FLC": tuned_flc, "IT2FLC FoU 0.2": tuned_it2},
+                    surface_specs={**study.surface_specs, slope.label: slope},
+                    surfaces={**study.surfaces, slope.label: study.surfaces["FLC"]})
+    ctrls = _controller_table(other)
+    assert ctrls["opaque A"].tuned and ctrls["opaque B"].tuned and not ctrls["FLC"].tuned
+    labels = ["FLC", "IT2FLC FoU 0.2", "T1 dead-zone-matched 0.2", "opaque C", "opaque A",
+              "opaque B", study.pd.label]
+    groups = dict(_bar_groups(labels, ctrls))
+    assert groups["w = 0.2"] == ["IT2FLC FoU 0.2", "T1 dead-zone-matched 0.2", "opaque C"]
+    assert groups["tuned"] == ["opaque A", "opaque B"]
+    assert list(groups) == ["FLC", "w = 0.2", "tuned", study.pd.label]
+    pal = _Palette(study.config.fous, ctrls.values())
+    flc, it2 = pal.style(ctrls["FLC"]), pal.style(ctrls["IT2FLC FoU 0.2"])
+    t_flc, t_it2 = pal.style(ctrls["opaque A"]), pal.style(ctrls["opaque B"])
+    assert (t_flc.color, t_it2.color) == (flc.color, it2.color), "tuned keeps its colour"
+    assert t_flc.hatch == t_it2.hatch == "++" and flc.hatch is None
+    s = pal.style(ctrls["opaque C"])
+    dz = pal.style(ctrls["T1 dead-zone-matched 0.2"])
+    assert s.color == dz.color == it2.color and s.hatch != dz.hatch and s.ls != dz.ls
+    from it2track.report.figures.surfaces import _surface_layout
+
+    grid = _surface_layout(other, ctrls)
+    assert ["opaque C" in row for row in grid] == [False, False, True], grid
+    assert grid[2][grid[0].index("IT2FLC FoU 0.2")] == "opaque C", "under its IT2FLC"

@@ -50,7 +50,8 @@ def slug(name: str) -> str:
 
 def controller_specs(result: StudyResult) -> dict[str, ControllerSpec]:
     """Label -> :class:`ControllerSpec` of every controller ``result`` knows the spec of: the
-    traced ones, those with a control surface, the PD baseline and the user's extras.
+    traced ones, those with a control surface, the PD baseline, the tuned fuzzy controllers and
+    the user's extras.
 
     Controllers seen only in the metrics table (e.g. the FoU sweep's widths) have no entry;
     their ``kind`` and ``fou`` are columns of ``result.rows``.
@@ -60,6 +61,8 @@ def controller_specs(result: StudyResult) -> dict[str, ControllerSpec]:
         specs[spec.label] = spec
     if result.pd is not None:
         specs[result.pd.label] = result.pd
+    for spec in result.tuned.values():
+        specs[spec.label] = spec
     for label, spec in result.surface_specs.items():
         specs[label] = spec
     for label, spec in zip(result.trace_controllers, result.trace_specs, strict=False):
@@ -73,15 +76,19 @@ class _Ctrl:
     kind: ControllerKind | None  # None: unknown
     fou: float
     spec: ControllerSpec | None = None
-
+    tuned: bool = False  # one of the study's tuned fuzzy controllers (StudyResult.tuned)
 
 
 _FLC, _IT2, _T1M, _PD = (ControllerKind.FLC, ControllerKind.IT2, ControllerKind.T1_MATCHED,
                          ControllerKind.PD)
-#: The paper's fuzzy controllers (the sets of DESIGN.md sec. 3, dead zone 0.2 - w/2).
-_PAPER_FUZZY = (_FLC, _IT2, _T1M)
+_T1S = ControllerKind.T1_SLOPE_MATCHED
+#: The paper's fuzzy controllers and their type-1 baselines: the sets of docs/model.md (or,
+#: slope-matched, their dead zone 0.2 - w/2 and slope; docs/model.md, fair baselines).
+_PAPER_FUZZY = (_FLC, _IT2, _T1M, _T1S)
+#: The type-1 baselines matched to the IT2FLC of the same width.
+_MATCHED = (_T1M, _T1S)
 #: Kinds whose ``fou`` names the IT2FLC they belong to (the matched type-1 baselines).
-_FOU_KINDS = (_IT2, _T1M, ControllerKind.T1_SLOPE_MATCHED)
+_FOU_KINDS = (_IT2, _T1M, _T1S)
 
 
 def _kind_of(value: Any) -> ControllerKind | None:
@@ -102,9 +109,10 @@ def _controller_table(result: StudyResult) -> dict[str, _Ctrl]:
     _, first = np.unique(labels, return_index=True)
     for i in sorted(first):
         table[labels[i]] = _Ctrl(labels[i], _kind_of(rows["kind"][i]), float(rows["fou"][i]))
+    tuned = {s.label for s in result.tuned.values()}
     for label, spec in controller_specs(result).items():
         fou = spec.fou if spec.kind in _FOU_KINDS else 0.0
-        table[label] = _Ctrl(label, spec.kind, fou, spec)
+        table[label] = _Ctrl(label, spec.kind, fou, spec, tuned=label in tuned)
     return table
 
 
@@ -127,9 +135,12 @@ def _surface_info(result: StudyResult, ctrls: Mapping[str, _Ctrl], label: str) -
     return _Ctrl(label, spec.kind, spec.fou if spec.kind in _FOU_KINDS else 0.0, spec)
 
 
-def _order_key(c: _Ctrl) -> tuple[int, float, str]:
-    rank = {_FLC: 0, _IT2: 1, _T1M: 2, _PD: 3}.get(c.kind, 4) if c.kind is not None else 4
-    return rank, c.fou, c.label
+def _order_key(c: _Ctrl) -> tuple[int, int, float, str]:
+    """Report order: the paper's controllers and their type-1 baselines, the tuned fuzzy
+    controllers, the PD, then anything else; by kind and FoU width within each."""
+    rank = {_FLC: 0, _IT2: 1, _T1M: 2, _T1S: 3, _PD: 4}.get(c.kind, 5) if c.kind else 5
+    group = 1 if c.tuned else {4: 2, 5: 3}.get(rank, 0)
+    return group, rank, c.fou, c.label
 
 
 # ---------------------------------------------------------------------------------------------

@@ -24,6 +24,9 @@ _AVAILABLE: dict[str, Callable[[StudyResult, _Summary], bool]] = {
     "control_surfaces": lambda r, s: bool(r.surfaces),
     "dead_zone": lambda r, s: bool(r.surfaces),
     "win_rates": lambda r, s: s.has("paper") and len(s.controllers("paper")) > 1,
+    "robustness": lambda r, s: r.robustness is not None and bool(r.robustness.verdicts),
+    "sensitivity": lambda r, s: (r.robustness is not None
+                                 and bool(r.robustness.sensitivity_ranking)),
 }
 
 
@@ -32,10 +35,16 @@ def paper_figures(result: StudyResult) -> dict[str, str]:
     return {f"paper_{slug(t)}": t for t in result.config.trajectories}
 
 
+#: Figures whose data are in the result itself, not in the summary.
+_FROM_RESULT = ("robustness", "sensitivity")
+
+
 def figure_keys(result: StudyResult) -> list[str]:
     """Every key :func:`~it2track.report.figures.write_figures` can produce for ``result``, in
-    report order."""
-    return [*paper_figures(result), *_AVAILABLE]
+    report order (the robustness figures only when ``result`` has their data)."""
+    empty = _Summary([])
+    return [*paper_figures(result), *(k for k, ok in _AVAILABLE.items()
+                                      if k not in _FROM_RESULT or ok(result, empty))]
 
 
 def figure_plan(result: StudyResult, summary: Sequence[Mapping[str, Any]]) -> list[str]:

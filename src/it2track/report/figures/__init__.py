@@ -19,6 +19,10 @@ as PNG and SVG, each written atomically (see :mod:`.style`). One module per figu
 :mod:`.claims`
     ``win_rates``: paired win rate against the FLC, the fraction of noise realisations with a
     smaller error, ties counting half (0.5 = no difference).
+:mod:`.robustness`
+    ``robustness``: every claim's status under each alternative of the paper's open modelling
+    choices (a heat map, per noise level and trajectory); ``sensitivity``: the Morris ranking
+    of the continuous choices.
 
 Controllers are identified by their :class:`~it2track.experiments.specs.ControllerSpec` or by
 the ``kind`` and ``fou`` columns of the metrics table, never by the text of their labels (see
@@ -49,6 +53,7 @@ from ..identity import (
 from ..plan import figure_keys, figure_plan, paper_figures
 from .claims import _fig_win_rates
 from .integrals import _fig_integral_errors
+from .robustness import _fig_robustness, _fig_sensitivity
 from .style import _RC, FIGURE_DPI, _Palette, _save
 from .surfaces import _fig_control_surfaces, _fig_dead_zone
 from .sweeps import _fig_fou_sweep, _fig_noise_sweep
@@ -93,6 +98,8 @@ _DRAW: dict[str, Callable[[_Inputs], Figure]] = {
     "control_surfaces": lambda i: _fig_control_surfaces(i.result, i.ctrls),
     "dead_zone": lambda i: _fig_dead_zone(i.result, i.ctrls, i.pal),
     "win_rates": lambda i: _fig_win_rates(i.result, i.summ, i.ctrls),
+    "robustness": lambda i: _fig_robustness(i.result.robustness, i.result.config.trajectories),
+    "sensitivity": lambda i: _fig_sensitivity(i.result.robustness),
 }
 
 

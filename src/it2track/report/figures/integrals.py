@@ -16,7 +16,19 @@ from matplotlib.patches import Patch, Rectangle
 
 from ...experiments.analysis import INTEGRALS
 from ...experiments.study import StudyResult
-from ..identity import _FLC, _IT2, _PAPER_FUZZY, _T1M, _Ctrl, _info, _num, _order_key, _Summary
+from ..identity import (
+    _FLC,
+    _IT2,
+    _MATCHED,
+    _PAPER_FUZZY,
+    _T1M,
+    _T1S,
+    _Ctrl,
+    _info,
+    _num,
+    _order_key,
+    _Summary,
+)
 from .style import _FLC_COLOR, _metric_label, _Palette
 
 # ---------------------------------------------------------------------------------------------
@@ -25,21 +37,25 @@ from .style import _FLC_COLOR, _metric_label, _Palette
 
 
 def _bar_groups(labels: Sequence[str], ctrls: Mapping[str, _Ctrl]) -> list[tuple[str, list[str]]]:
-    """FLC | one group per FoU width (IT2FLC and matched type-1 side by side) | PD | others."""
+    """FLC | one group per FoU width (IT2FLC and its matched type-1 baselines side by side) |
+    the tuned fuzzy controllers | PD | others."""
     groups: list[tuple[str, list[str]]] = []
     infos = sorted((_info(ctrls, c) for c in labels), key=_order_key)
     by_fou: dict[float, list[str]] = {}
     for c in infos:
-        if c.kind in (_IT2, _T1M):
+        if c.kind in (_IT2, *_MATCHED) and not c.tuned:
             by_fou.setdefault(round(c.fou, 12), []).append(c.label)
     for c in infos:
-        if c.kind is _FLC:
+        if c.kind is _FLC and not c.tuned:
             groups.append((c.label, [c.label]))
     for w in sorted(by_fou):
         members = sorted(by_fou[w], key=lambda lb: _order_key(_info(ctrls, lb)))
         groups.append((f"w = {w:g}", members))
+    tuned = [c.label for c in infos if c.tuned]
+    if tuned:
+        groups.append(("tuned", tuned))
     for c in infos:
-        if c.kind not in _PAPER_FUZZY:
+        if c.kind not in _PAPER_FUZZY and not c.tuned:
             groups.append((c.label, [c.label]))
     return groups
 
@@ -102,18 +118,24 @@ def _fig_integral_errors(result: StudyResult, summ: _Summary, ctrls: Mapping[str
     handles: list[Any] = [Patch(facecolor=_FLC_COLOR, edgecolor=_FLC_COLOR, label="FLC")]
     for w in cfg.fous:
         handles.append(Patch(facecolor=pal.fou_color(w), label=f"IT2FLC FoU {w:g}"))
-    if any(c.kind is _T1M for c in (ctrls.get(lb) for lb in labels) if c):
-        handles.append(Patch(facecolor="white", edgecolor="#444444", hatch="///",
-                             label="T1 dead-zone-matched (same colour = same w)"))
+    shown = [c for c in (ctrls.get(lb) for lb in labels) if c]
+    for kind, hatch, name in ((_T1M, "///", "T1 dead-zone-matched"),
+                              (_T1S, "xx", "T1 dead-zone- and slope-matched")):
+        if any(c.kind is kind for c in shown):
+            handles.append(Patch(facecolor="white", edgecolor="#444444", hatch=hatch,
+                                 label=f"{name} (same colour = same w)"))
+    if any(c.tuned for c in shown):
+        handles.append(Patch(facecolor="white", edgecolor="#444444", hatch="++",
+                             label="tuned Ke, Kde, gain (colour: the untuned one's)"))
     for lb in labels:
         c = _info(ctrls, lb)
-        if c.kind not in _PAPER_FUZZY:
+        if c.kind not in _PAPER_FUZZY and not c.tuned:
             st = pal.style(c)
             handles.append(Patch(facecolor="white", edgecolor=st.color, hatch=st.hatch,
                                  label=lb))
     handles.append(Line2D([], [], color="black", marker="|", ls="none", ms=8,
                           label="95 % interval of the mean"))
-    fig.legend(handles=handles, loc="outside lower center", ncols=min(len(handles), 7),
+    fig.legend(handles=handles, loc="outside lower center", ncols=min(len(handles), 5),
                frameon=False)
     n_seeds = next((int(r["n"]) for k, r in summ.rows.items() if k[0] == "paper"), 0)
     fig.suptitle(f"Integral heading errors (cf. paper Fig. 11): mean over {n_seeds} noise "

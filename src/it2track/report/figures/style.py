@@ -20,7 +20,7 @@ import PIL.Image
 from matplotlib.figure import Figure
 
 from ...atomicfile import atomic_open
-from ..identity import _FLC, _IT2, _PD, _T1M, INTEGRAL_UNITS, _Ctrl, _order_key
+from ..identity import _FLC, _IT2, _PD, _T1M, _T1S, INTEGRAL_UNITS, _Ctrl, _order_key
 
 __all__ = ["FIGURE_DPI"]
 
@@ -55,14 +55,16 @@ _EXTRA_COLORS = ("#ff7f0e", "#8c564b", "#e377c2", "#bcbd22", "#17becf", "#1f77b4
 @dataclass(frozen=True)
 class _Style:
     color: str
-    ls: str
+    ls: str | tuple[float, tuple[float, ...]]
     hatch: str | None
     marker: str
 
 
 class _Palette:
-    """Consistent colours: FLC red, IT2FLC(w) along viridis by width (the matched type-1 of the
-    same width shares the colour, dashed / hatched), PD grey, other controllers tab colours.
+    """Consistent colours: FLC red, IT2FLC(w) along viridis by width (the type-1 baselines of
+    the same width share the colour: dead-zone-matched dashed / hatched ``///``, slope-matched
+    dotted / ``xx``; a tuned controller its untuned colour, dash-dotted / ``++``), PD grey,
+    other controllers tab colours.
 
     The other controllers' colours are fixed up front from ``controllers`` (in
     :func:`~it2track.report.identity._order_key` order), so that a controller has one colour in
@@ -73,7 +75,7 @@ class _Palette:
         self.fous = sorted({float(w) for w in fous if w > 0})
         self.extra: dict[str, str] = {}
         for c in sorted(controllers, key=_order_key):
-            if c.kind not in (_FLC, _IT2, _T1M, _PD):
+            if c.kind not in (_FLC, _IT2, _T1M, _T1S, _PD):
                 self.style(c)
 
     def fou_color(self, w: float) -> str:
@@ -87,12 +89,17 @@ class _Palette:
         return f"#{round(r * 255):02x}{round(g * 255):02x}{round(b * 255):02x}"
 
     def style(self, c: _Ctrl) -> _Style:
+        if c.tuned and c.kind in (_FLC, _IT2):
+            color = _FLC_COLOR if c.kind is _FLC else self.fou_color(c.fou)
+            return _Style(color, (0, (5, 1.5, 1, 1.5)), "++", "P")
         if c.kind is _FLC:
             return _Style(_FLC_COLOR, "-", None, "o")
         if c.kind is _IT2:
             return _Style(self.fou_color(c.fou), "-", None, "s")
         if c.kind is _T1M:
             return _Style(self.fou_color(c.fou), "--", "///", "^")
+        if c.kind is _T1S:
+            return _Style(self.fou_color(c.fou), ":", "xx", "v")
         if c.kind is _PD:
             return _Style(_PD_COLOR, "-.", "..", "D")
         if c.label not in self.extra:

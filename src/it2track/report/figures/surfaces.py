@@ -5,6 +5,7 @@ with the dead-zone edges ``|e| < 0.2 - w/2`` that the FoU narrows.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
 from matplotlib.figure import Figure
@@ -15,8 +16,9 @@ from ...tracking import FuzzyHeadingController
 from ..identity import (
     _FLC,
     _IT2,
+    _MATCHED,
     _PAPER_FUZZY,
-    _T1M,
+    _T1S,
     _Ctrl,
     _dead_zone,
     _input_gains,
@@ -32,26 +34,25 @@ from .style import _Palette
 
 
 def _surface_layout(result: StudyResult, ctrls: Mapping[str, _Ctrl]) -> list[list[str | None]]:
-    """Columns by FoU width (0 = FLC); row 0 the IT2FLCs, row 1 the matched type-1 FLCs;
-    anything else in a further row."""
+    """Columns by FoU width (0 = FLC); row 0 the IT2FLCs, then a row of dead-zone-matched and
+    a row of slope-matched type-1 FLCs (when there are any); anything else in further rows."""
     infos = [_surface_info(result, ctrls, lb) for lb in result.surfaces]
-    widths = sorted({round(c.fou, 12) for c in infos if c.kind in (_IT2, _T1M)})
+    widths = sorted({round(c.fou, 12) for c in infos if c.kind in (_IT2, *_MATCHED)})
     cols = [0.0, *widths]
     top: list[str | None] = [None] * len(cols)
-    bottom: list[str | None] = [None] * len(cols)
+    matched: dict[Any, list[str | None]] = {kind: [None] * len(cols) for kind in _MATCHED}
     others: list[str] = []
     for c in infos:
         if c.kind is _FLC and top[0] is None:
             top[0] = c.label
         elif c.kind is _IT2:
             top[cols.index(round(c.fou, 12))] = c.label
-        elif c.kind is _T1M:
-            bottom[cols.index(round(c.fou, 12))] = c.label
+        elif c.kind in matched:
+            matched[c.kind][cols.index(round(c.fou, 12))] = c.label
         else:
             others.append(c.label)
     grid = [top]
-    if any(b is not None for b in bottom):
-        grid.append(bottom)
+    grid += [row for row in matched.values() if any(b is not None for b in row)]
     ncol = len(cols)
     for k in range(0, len(others), ncol):
         row: list[str | None] = list(others[k:k + ncol])
@@ -139,7 +140,7 @@ def _fig_dead_zone(result: StudyResult, ctrls: Mapping[str, _Ctrl], pal: _Palett
         a_full.plot(x, u, color=st.color, ls=st.ls, label=c.label)
         a_zoom.plot(x, u, color=st.color, ls=st.ls, label=c.label)
         d = _dead_zone(c)
-        if d is not None and c.kind is not _T1M:
+        if d is not None and c.kind not in _MATCHED:
             for sgn in (-1.0, 1.0):
                 a_zoom.axvline(sgn * d, color=st.color, lw=0.8, ls=":")
             a_zoom.annotate(f"{d:g}", (d, 1.0), xycoords=("data", "axes fraction"),
@@ -156,7 +157,9 @@ def _fig_dead_zone(result: StudyResult, ctrls: Mapping[str, _Ctrl], pal: _Palett
     a_zoom.set_ylim(-3.0, 3.0)
     a_zoom.set_title("zoom: dead-zone edges ±(0.2 − w/2) dotted")
     a_full.legend(loc="upper left", fontsize=7.5)
+    matched = ("dashed: type-1 FLC with the same dead zone"
+               + ("; dotted: and the same slope outside it" if any(c.kind is _T1S for c in infos)
+                  else ""))
     fig.suptitle("Dead zone: near e = 0 only the Z sets fire and u = 0; the FoU narrows the dead "
-                 "zone from 0.2 to 0.2 − w/2 (dashed: type-1 FLC with the same dead zone)",
-                 fontsize=10)
+                 f"zone from 0.2 to 0.2 − w/2\n({matched})", fontsize=10)
     return fig

@@ -6,6 +6,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
+from ...experiments.specs import ControllerKind
 from ...experiments.study import StudyResult
 from ..identity import PAPER_FIGURE_NUMBER, slug, surface_limit
 from .facts import _gains_text, _gap_sentence
@@ -89,9 +90,13 @@ def figure_captions(result: StudyResult, summary: Sequence[Mapping[str, Any]]
         "The slice u(e, Δe = 0) of each controller as built from its specification (reducer and "
         "t-norm included). Left: the whole universe; right: zoom with the dead-zone edges "
         "±(0.2 − w/2) dotted. The FLC does nothing while |Ke·e| < 0.2 (0.2 rad = 11.5° for "
-        "Ke = 1); an FoU of width w shrinks this to 0.2 − w/2 (DESIGN.md §3). Dashed: the "
+        "Ke = 1); an FoU of width w shrinks this to 0.2 − w/2 (docs/model.md). Dashed: the "
         "type-1 FLCs with the same dead zones; just outside the dead zone they are steeper than "
-        "the IT2FLCs, whose type-reduced output averages the lower and upper firing.",
+        "the IT2FLCs, whose type-reduced output averages the lower and upper firing."
+        + (" Dotted: the type-1 FLCs with the same dead zone and the same slope just outside "
+           "it (docs/model.md#fair-baselines)." if any(
+               s.kind is ControllerKind.T1_SLOPE_MATCHED for s in result.surface_specs.values())
+           else ""),
     )
     caps["win_rates"] = (
         "Paired win rates",
@@ -102,11 +107,40 @@ def figure_captions(result: StudyResult, summary: Sequence[Mapping[str, Any]]
         "which are not losses; blue: better than the FLC; red: worse. Cells with ties give "
         "their share.",
     )
+    rob = result.robustness
+    if rob is not None:
+        levels = ", ".join(f"{s:g}" for s in rob.config.noise_levels)
+        trajs = ", ".join(cfg.trajectories)
+        caps["robustness"] = (
+            "Robustness of the verdicts to the open modelling choices",
+            "One row per variant: the paper-faithful baseline, each alternative of each open "
+            "choice one at a time (docs/model.md), and the factorial cells (rows with ' x '). "
+            f"One column per claim; each cell is split into the noise levels σ = {levels} rad "
+            "(left to right) and coloured by the claim's status there: holds (green), "
+            "contradicted (red, Holm-controlled), not shown (grey); white: not evaluated "
+            "under that variant. A noise reading is judged at its own σ (one strip, its σ "
+            "beside the row). Thick outline: the variant flips the claim against the "
+            "baseline (a level goes from holds to contradicted or back); dashed: it changes "
+            "it (a level moves to or from not shown). Left: all trajectories together, as "
+            f"the verdicts; then each trajectory alone ({trajs}; C3 concerns the straight "
+            f"line only). {rob.config.seeds} realisations per cell.",
+        )
+        sens = rob.config.sensitivity
+        if sens is not None and rob.sensitivity_ranking:
+            caps["sensitivity"] = (
+                "Global sensitivity of the key paired differences (Morris screening)",
+                f"Morris elementary effects (SALib) over {len(sens.factors)} continuous "
+                f"choices, {rob.sensitivity_points} design points ({sens.trajectories} Morris "
+                f"trajectories, {sens.seeds} realisations per point). Outputs: the paired mean "
+                "ISE differences IT2FLC − FLC and widest − narrowest FoU, per trajectory. "
+                "(a) The factors ranked by the mean over outputs of μ* / max μ*. (b) μ* (mean "
+                "absolute elementary effect) per output with its bootstrap 95 % interval.",
+            )
     return caps
 
 
 _FIGURE_ORDER_TAIL = ("fou_comparison", "integral_errors", "win_rates", "noise_sweep",
-                      "fou_sweep", "control_surfaces", "dead_zone")
+                      "fou_sweep", "control_surfaces", "dead_zone", "robustness", "sensitivity")
 
 
 def _ordered_keys(figures: Mapping[str, Path], result: StudyResult) -> list[str]:

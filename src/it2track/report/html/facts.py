@@ -22,7 +22,10 @@ _PAPER_FUZZY = (ControllerKind.FLC, ControllerKind.IT2, ControllerKind.T1_MATCHE
 
 
 def _fuzzy_specs(result: StudyResult) -> list[ControllerSpec]:
-    return [s for s in controller_specs(result).values() if s.kind is not ControllerKind.PD]
+    """The untuned fuzzy controllers (the tuned ones have their own gains by design)."""
+    tuned = {s.label for s in result.tuned.values()}
+    return [s for s in controller_specs(result).values()
+            if s.kind is not ControllerKind.PD and s.label not in tuned]
 
 
 def _gains_text(result: StudyResult) -> str:

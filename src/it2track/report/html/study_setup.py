@@ -32,6 +32,8 @@ def _fuzzy_options(spec: ControllerSpec | None) -> str:
     out = [f"{spec.tnorm} t-norm"]
     if (spec.ke, spec.kde) != (1.0, 1.0):
         out.append(f"Ke = {spec.ke:g}, Kde = {spec.kde:g}")
+    if spec.output_gain != 1.0:
+        out.append(f"output gain {spec.output_gain:g} on the consequents")
     return ", " + ", ".join(out)
 
 
@@ -54,6 +56,7 @@ def _controller_rows(result: StudyResult) -> list[tuple[str, str]]:
     for lb, k, w in zip(labels, kinds, fous, strict=True):
         seen.setdefault(str(lb), (str(k), float(w)))
     specs = controller_specs(result)
+    tuned = {s.label for s in result.tuned.values()}
     out = []
     for lb, (kind, w) in seen.items():
         spec = specs.get(lb)
@@ -88,9 +91,11 @@ def _controller_rows(result: StudyResult) -> list[tuple[str, str]]:
             desc = f"user-supplied fuzzy system from {spec.path}{opts}"
         else:
             desc = f"user-supplied controller (kind {kind})"
+        if lb in tuned:
+            desc = ("tuned like the PD baseline (same tuning realisations, budget and effort "
+                    "limit; see Fair baselines): " + desc.replace("the paper's ", "", 1))
         out.append((lb, desc))
     return out
-
 
 
 def setup_section(result: StudyResult, summary: Sequence[Mapping[str, Any]]) -> Markup:
