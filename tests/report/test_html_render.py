@@ -195,7 +195,8 @@ def test_assumptions_follow_the_config(study):
     assert "3.16 rad" in text and "2.24 rad" in text
     assert "Ke = 0.5, Kde = 2" in text and "Ke = Kde = 1" not in text
     assert "l = 0.3 m (Table 3 prints 5.6 m" in text
-    assert "departing from DESIGN.md §5" in text and "wrap(e_k − e_{k−1})" in text
+    assert "wrap(e_k − e_{k−1})" in text and "docs/model.md" in text
+    assert "DESIGN.md" not in text, "the page cites the repository's docs/model.md"
 
     default = html.unescape(_assumptions(result))
     assert "±12 V" in default and "Ke = 1, Kde = 1" in default

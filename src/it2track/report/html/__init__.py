@@ -1,11 +1,12 @@
 """The study's self-contained HTML report: one file, figures embedded, no script, no network.
 
 The page holds the setup, every assumption the study makes where the paper is silent or
-misprinted (DESIGN.md), the figures with captions, the verdicts on the paper's claims with their
+misprinted (docs/model.md), the figures with captions, the verdicts on the paper's claims with their
 criteria and evidence, a summary table and the command that regenerates it all. It is built from
 Jinja2 templates (``it2track/report/templates``, autoescaped) by one module per page section:
 :mod:`.study_setup`, :mod:`.assumptions`, :mod:`.results` (with :mod:`.captions`),
-:mod:`.claims`, :mod:`.summary`, :mod:`.rerun`. The file is written atomically.
+:mod:`.claims`, :mod:`.baselines`, :mod:`.robustness`, :mod:`.summary`, :mod:`.rerun`. The file is
+written atomically.
 """
 
 from __future__ import annotations
@@ -17,11 +18,13 @@ from typing import Any
 from ...atomicfile import atomic_write_text
 from ...experiments.study import StudyResult
 from .assumptions import assumptions_section
+from .baselines import baselines_section
 from .captions import figure_captions
 from .claims import claims_section, glance
 from .env import render
 from .rerun import rerun_section
-from .results import results_section
+from .results import figure_refs, results_section
+from .robustness import robustness_section
 from .study_setup import setup_section
 from .summary import summary_section
 
@@ -29,7 +32,9 @@ __all__ = ["figure_captions", "render_html", "write_html"]
 
 #: The page's sections in order: (anchor, heading) for the navigation.
 SECTIONS = (("setup", "Setup"), ("assumptions", "Assumptions"), ("results", "Results"),
-            ("claims", "Claims"), ("summary", "Summary table"), ("rerun", "How to rerun"))
+            ("claims", "Claims"), ("baselines", "Fair baselines"),
+            ("robustness", "Robustness to the open modelling choices"),
+            ("summary", "Summary table"), ("rerun", "How to rerun"))
 
 
 def render_html(
@@ -45,11 +50,15 @@ def render_html(
     cfg = result.config
     sub = (f"Study run in {elapsed_s:.1f} s · {len(cfg.trajectories)} trajectories · "
            f"main noise level σ = {cfg.noise_std:g} rad · {cfg.seeds} realisations per cell")
+    refs = figure_refs(result, summary, figures)
     sections = [
         setup_section(result, summary),
         assumptions_section(result),
-        results_section(result, summary, figures),
-        claims_section(claims),
+        results_section(refs),
+        claims_section(claims, trajectories=cfg.trajectories, ordering=result.ordering,
+                       fous=cfg.fous),
+        baselines_section(result),
+        robustness_section(result, refs),
         summary_section(result, summary),
         rerun_section(result, manifest, elapsed_s),
     ]

@@ -1,5 +1,6 @@
-"""The page's assumptions: what DESIGN.md fixes where the paper is silent, ambiguous or
-misprinted, and where this study departs from it, formatted from the configuration."""
+"""The page's assumptions: what the study fixes where the paper is silent, ambiguous or
+misprinted, formatted from the configuration, each citing docs/model.md (the repository's
+document of every modelling decision, its alternatives and the verdicts that depend on it)."""
 
 from __future__ import annotations
 
@@ -110,9 +111,9 @@ def assumption_items(result: StudyResult) -> list[tuple[str, str]]:
          "the previous period (the paper's 'k − 1'); the paper's printed θd formulas for the "
          "curved and sinusoidal paths are inconsistent and are not used."),
         ("Heading noise", _noise_item(result)),
-        ("Error wrapping", "e = wrap(θd − θ̂) to (−π, π] and, departing from DESIGN.md §5 "
-         "(which writes Δe_k = e_k − e_{k−1}), Δe = wrap(e_k − e_{k−1}) to (−π, π] as well, "
-         "Δe_0 = 0: the two differ only when e crosses ±π, where the unwrapped difference would "
+        ("Error wrapping", "e = wrap(θd − θ̂) to (−π, π] and Δe = wrap(e_k − e_{k−1}) to "
+         "(−π, π] as well, Δe_0 = 0 (docs/model.md, decisions not varied): the wrapped and the "
+         "plain difference differ only when e crosses ±π, where the unwrapped difference would "
          "be a spurious jump of about 2π. Controller inputs Ke·e and Kde·Δe "
          f"({_gains_text(result)}) clipped to the universe [−1, 1]."),
         ("Motor mixing", "the paper's Fig. 5 is not in the text; here V_R = V0 + u, "
@@ -129,22 +130,30 @@ def assumption_items(result: StudyResult) -> list[tuple[str, str]]:
          "time-series figures show one realisation (seed index "
          f"{cfg.figure_seed}), the statistics many."),
         ("PD baseline", _pd_item(result)),
-        ("Dead-zone-matched baseline", "near the origin only the Z sets fire, so the FLC has a "
-         "dead zone |e| < 0.2 (Δe small) and the IT2FLC one of 0.2 − w/2. The type-1 FLC built "
-         "from the IT2FLC's upper MFs has the same dead zone; comparing against it separates the "
-         "effect of the footprint from the effect of a narrower dead zone."),
-        ("Claims", "each claim is tested at every noise level of the sweep, cell by cell "
-         "(trajectory × criterion × comparison). A cell supports the claim when the 95 % "
-         "interval of the paired difference lies on the claimed side of zero, contradicts it "
-         "when it lies on the other side, and is inconclusive when it contains zero (e.g. exact "
-         "ties). A level holds when every cell supports the claim and is contradicted when any "
-         "cell contradicts it; otherwise the claim is not shown there. Verdicts: holds / does "
-         "not hold / not shown / holds only for σ in …, with where it is contradicted or not "
-         f"shown. C3 ('of order {C3_TARGET:g}') is read as within a factor "
+        ("Fair baselines", "near the origin only the Z sets fire, so the FLC has a dead "
+         "zone |e| < 0.2 (Δe small) and the IT2FLC one of 0.2 − w/2. The type-1 FLC built from "
+         "the IT2FLC's upper MFs has the same dead zone but is about twice as steep just outside "
+         "it; the type-1 FLC matched in dead zone and slope separates the footprint's effect "
+         "from both (docs/model.md#fair-baselines)."),
+        ("Claims", "each claim is judged at every noise level of the sweep, cell by cell "
+         "(trajectory × criterion × comparison), on paired differences over common noise "
+         "realisations. A cell supports the claim when the 95 % interval lies on the claimed "
+         "side of zero; a level holds when every cell supports it. A cell contradicts the claim "
+         "when the one-sided paired test of the opposite direction rejects after "
+         "Holm–Bonferroni over the claim's noisy cells. A noise-free level is one deterministic "
+         "run per cell, reported as such and kept out of the verdicts. C3 ('of order "
+         f"{C3_TARGET:g}') is symmetric: the interval inside the band within a factor "
          f"{'√10' if math.isclose(C3_FACTOR, math.sqrt(10.0)) else f'{C3_FACTOR:.3g}'} of "
-         f"{C3_TARGET:g}."),
+         f"{C3_TARGET:g} supports it, wholly below or above contradicts it "
+         "(docs/model.md#statistics)."),
     ]
-
+    if result.robustness is not None:
+        choices = "; ".join(f"{c.name} = {c.label(c.default)} (docs/model.md#{c.doc})"
+                            for c in result.robustness.config.choices)
+        items.append(("Open modelling choices", "every choice the paper leaves open or "
+                      "misprints is data (the [[choices]] of the study's configuration), here at "
+                      f"its paper-faithful value: {choices}. The Robustness section shows "
+                      "which verdicts each alternative leaves unchanged and which it flips."))
     return items
 
 

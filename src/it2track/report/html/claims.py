@@ -76,6 +76,7 @@ def _evidence(evidence: Sequence[Mapping[str, Any]]) -> dict[str, Any] | None:
 
 def _claim(claim: Any) -> dict[str, Any]:
     verdict = str(_claim_attr(claim, "verdict"))
+    per = _claim_attr(claim, "per_trajectory", {}) or {}
     return {
         "id": _claim_attr(claim, "id"),
         "statement": _claim_attr(claim, "statement"),
@@ -84,6 +85,11 @@ def _claim(claim: Any) -> dict[str, Any]:
         "detail": _claim_detail(claim),
         "cls": verdict_class(verdict),
         "evidence": _evidence(list(_claim_attr(claim, "evidence", []) or [])),
+        "per_trajectory": {t: {"verdict": str(v.get("verdict", "")),
+                               "detail": str(v.get("detail", "") or ""),
+                               "cls": verdict_class(str(v.get("verdict", "")))}
+                           for t, v in per.items()},
+        "correction": str(_claim_attr(claim, "correction", "") or ""),
     }
 
 
@@ -92,6 +98,51 @@ def glance(claims: Sequence[Any]) -> Markup:
     return render("sections/glance.html.j2", claims=[_claim(c) for c in claims])
 
 
-def claims_section(claims: Sequence[Any]) -> Markup:
-    """The claims table (statement, verdict, criterion) and each claim's evidence cells."""
-    return render("sections/claims.html.j2", claims=[_claim(c) for c in claims])
+def _c3_range(claims: Sequence[Any]) -> dict[str, Any] | None:
+    """C3 as what it is: the noise range in which the smallest straight-line ISE lies in the
+    band (:func:`~it2track.experiments.analysis.c3_sigma_range`), or None without C3 data."""
+    from ...experiments.analysis import c3_sigma_range
+
+    c3 = next((c for c in claims if _claim_attr(c, "id") == "C3"
+               and not isinstance(c, Mapping) and _claim_attr(c, "evidence")), None)
+    if c3 is None:
+        return None
+    rng = c3_sigma_range(c3)
+    lo, hi = rng["band"]
+    crossings = []
+    for key in ("enters", "leaves"):
+        cross = rng[key]
+        if cross is not None:
+            a, b = cross["range"]
+            crossings.append({"what": key, "sigma": fmt(cross["sigma"], 3),
+                              "range": None if a is None or b is None
+                              else (fmt(a, 3), fmt(b, 3))})
+    return {"band": (fmt(lo, 2), fmt(hi, 2)),
+            "levels": ", ".join(f"{s:g}" for s in rng["levels_in_band"]),
+            "crossings": crossings}
+
+
+def _ordering(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
+    """The single-realisation probability table (``StudyResult.ordering``)."""
+    out = []
+    for r in rows:
+        out.append({"sigma": f"{float(r['sigma']):g}", "trajectory": r["trajectory"],
+                    "k": r["k"], "n": r["n"], "p": fmt(r["p"], 3),
+                    "interval": "deterministic (one run)" if r["deterministic"]
+                    else f"[{fmt(r['ci_low'], 3)}, {fmt(r['ci_high'], 3)}]"})
+    return out
+
+
+def claims_section(claims: Sequence[Any], *, trajectories: Sequence[str] = (),
+                   ordering: Sequence[Mapping[str, Any]] = (),
+                   fous: Sequence[float] = ()) -> Markup:
+    """The claims table (statement, verdict, criterion), the verdicts per trajectory, how
+    "contradicted" is multiplicity-controlled, C3 as a noise range, the probability that one
+    realisation shows the paper's ordering, and each claim's evidence cells."""
+    rows = [_claim(c) for c in claims]
+    per_traj = [r for r in rows if r["per_trajectory"]]
+    corrections = [(r["id"], r["correction"]) for r in rows if r["correction"]]
+    return render("sections/claims.html.j2", claims=rows, trajectories=list(trajectories),
+                  per_trajectory=per_traj, corrections=corrections, c3=_c3_range(claims),
+                  ordering=_ordering(ordering),
+                  order=" > ".join(["FLC", *(f"FoU {w:g}" for w in sorted(fous))]))

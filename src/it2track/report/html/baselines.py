@@ -1,0 +1,63 @@
+"""The page's fair-baselines section: the type-1 FLCs matched to the IT2FLC in dead zone (D2)
+and in dead zone and slope (D1), and every fuzzy controller tuned like the PD baseline, with
+the claims judged tuned against tuned (docs/model.md, "Fair baselines")."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from markupsafe import Markup
+
+from ...experiments.specs import ControllerKind
+from ...experiments.study import StudyResult
+from ..identity import controller_specs
+from .claims import _claim
+from .env import fmt, render
+from .robustness import MODEL_DOC
+
+__all__ = ["baselines_section"]
+
+
+def _tuning_rows(result: StudyResult) -> list[dict[str, Any]]:
+    rows = []
+    for label, rec in result.tuning.items():
+        spec = result.tuned.get(label)
+        untuned = rec.get("untuned", {})
+        rows.append({
+            "controller": label, "tuned": spec.label if spec is not None else "",
+            "ke": fmt(rec.get("ke")), "kde": fmt(rec.get("kde")), "gain": fmt(rec.get("gain")),
+            "ise": fmt(rec.get("objective"), 3), "untuned_ise": fmt(untuned.get("ise"), 3),
+            "effort": fmt(rec.get("effort"), 3), "limit": fmt(rec.get("effort_limit"), 3),
+            "edge": "yes" if rec.get("on_grid_edge") else "no",
+        })
+    return rows
+
+
+def baselines_section(result: StudyResult) -> Markup:
+    """The matched type-1 baselines present in the study, the tuning of every fuzzy
+    controller and the tuned-vs-tuned verdicts (each part only when the study has it)."""
+    kinds = {s.kind for s in controller_specs(result).values()}
+    pd = result.pd_tuning or {}
+    pd_row = None
+    if result.pd is not None and pd.get("objective") is not None:
+        pd_row = {"controller": result.pd.label, "kp": fmt(result.pd.kp),
+                  "kd": fmt(result.pd.kd), "ise": fmt(pd.get("objective"), 3),
+                  "effort": fmt(pd.get("effort"), 3), "limit": fmt(pd.get("effort_limit"), 3),
+                  "edge": "yes" if pd.get("on_grid_edge") else "no"}
+    tuning = result.config.tuning
+    budget = None if tuning is None else {
+        "ke": len(tuning.ke_grid), "kde": len(tuning.kde_grid), "gain": len(tuning.gain_grid),
+        "total": len(tuning.ke_grid) * len(tuning.kde_grid) * len(tuning.gain_grid)}
+    return render(
+        "sections/baselines.html.j2",
+        model_doc=MODEL_DOC,
+        dead_zone=ControllerKind.T1_MATCHED in kinds,
+        slope=ControllerKind.T1_SLOPE_MATCHED in kinds,
+        main_fou=f"{result.config.main_fou:g}",
+        tuning=_tuning_rows(result),
+        budget=budget,
+        pd=pd_row,
+        sigma=f"{result.config.noise_std:g}",
+        seeds=result.config.seeds,
+        claims=[_claim(c) for c in result.tuned_claims],
+    )
