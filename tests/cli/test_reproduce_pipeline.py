@@ -30,6 +30,7 @@ def study() -> StudyResult:
         seeds=3, sweep_seeds=3, fou_sweep=(0.0, 0.2), noise_levels=(0.0, 0.1),
         loop=LoopConfig(duration=2.0),
         pd=PDTuning(seeds=2, kp_grid=(5.0, 20.0), kd_grid=(0.0, 0.1)),
+        tuning=None, robustness=None,  # their figures and sections have their own tests
     ))
 
 
@@ -112,3 +113,35 @@ def test_quick_reports_its_stages_and_writes_svg_on_request(tmp_path):
     assert {"simulating", "figures", "report.html"} <= set(stages)
     assert all(np.isfinite(v) and v >= 0 for v in stages.values())
     assert "--svg" in manifest["command"]
+
+
+def test_figure_data_is_what_the_study_returns(study, tmp_path):
+    """The early figures are drawn from figure_data(config): its traces and surfaces are the
+    study's own, bit for bit, and so are the figures drawn from it."""
+    from it2track.experiments.study import figure_data
+
+    early = figure_data(study.config)
+    assert len(early.rows["seed"]) == 0 and early.pd is None
+    assert early.trace_specs == study.trace_specs
+    assert early.surface_specs == study.surface_specs
+    for traj, trace in study.traces.items():
+        for name, series in trace.series.items():
+            np.testing.assert_array_equal(early.traces[traj].series[name], series, name)
+    for label, (_, _, u) in study.surfaces.items():
+        np.testing.assert_array_equal(early.surfaces[label][2], u, label)
+    with FigureRenderer(tmp_path / "early", workers=0, svg=False) as renderer:
+        keys = renderer.submit(early, [])
+    late = write_figures(study, summarise(study.rows), tmp_path / "late", svg=False)
+    assert keys and set(keys) < set(late)
+    for key in keys:
+        assert (tmp_path / "early" / f"{key}.png").read_bytes() == late[key].read_bytes(), key
+
+
+def test_figures_submitted_while_the_workers_start_are_not_lost(study, tmp_path):
+    """Submitting right after entering (the workers still importing) defers the figures to the
+    start-up thread; every one is written."""
+    with FigureRenderer(tmp_path, workers=2, svg=False) as renderer:
+        first = renderer.submit(study, summarise(study.rows))
+        assert renderer.submitted == first
+        figures = renderer.results(study)
+    assert list(figures) == first and all(p.is_file() for p in figures.values())

@@ -69,6 +69,7 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
     from ..experiments.specs import ConfigError
     from ..experiments.study import (
         ROW_KEYS,
+        figure_data,
         load_study_config,
         run_study,
         study_run_count,
@@ -111,6 +112,9 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
                     total=total, unit="run", disable=no_progress, file=sys.stderr,
                     desc="simulating", leave=False) as bar:
                 try:
+                    # The time series and control surfaces need no Monte Carlo: their
+                    # figures are drawn while the experiments run.
+                    renderer.submit(figure_data(config), [])
                     if workers or scheduler:
                         with make_executor(workers=workers or None, scheduler=scheduler,
                                            **_dask_settings(**dask)) as ex:

@@ -40,6 +40,7 @@ from numpy.typing import NDArray
 
 from ..fuzzy import control_surface
 from ..tracking import (
+    METRIC_NAMES,
     FuzzyHeadingController,
     HeadingController,
     LoopConfig,
@@ -85,6 +86,7 @@ __all__ = [
     "StudyConfig",
     "StudyResult",
     "experiment_sizes",
+    "figure_data",
     "load_study_config",
     "quick_config",
     "run_study",
@@ -1147,6 +1149,20 @@ def run_study(
                 if c.id in ("C1", "C2", "C3")]
     ordering = ordering_probability(rows, fous=config.fous, trajectories=config.trajectories)
 
+    return replace(
+        figure_data(config), rows=rows, pd=pd, pd_tuning=pd_record, tuned=tuned,
+        tuning=tuning_records, tuned_claims=tuned_claims, ordering=ordering,
+        robustness=robustness,
+    )
+
+
+def figure_data(config: StudyConfig) -> StudyResult:
+    """The part of the study that needs no Monte Carlo, as a :class:`StudyResult` without rows:
+    the time series of one realisation (``traces``) and the control surfaces.
+
+    :func:`run_study` returns the same traces and surfaces; ``it2track reproduce`` draws their
+    figures from this while the experiments still run.
+    """
     # Time series of one realisation for the figures.
     traced = config.paper_fuzzy()
     controllers = [s.build() for s in traced]
@@ -1163,11 +1179,13 @@ def run_study(
         controller = spec.build()
         assert isinstance(controller, FuzzyHeadingController)
         surfaces[label] = control_surface(controller.fls)
+    kinds = {"experiment": object, "trajectory": object, "controller": object, "kind": object,
+             "seed": np.int64}
+    no_rows = {k: np.empty(0, dtype=kinds.get(k, np.float64)) for k in (*ROW_KEYS, *METRIC_NAMES)}
     return StudyResult(
-        config=config, rows=rows, traces=traces, trace_controllers=[s.label for s in traced],
-        trace_specs=traced, surfaces=surfaces, surface_specs=surface_specs, pd=pd,
-        pd_tuning=pd_record, tuned=tuned, tuning=tuning_records, tuned_claims=tuned_claims,
-        ordering=ordering, robustness=robustness,
+        config=config, rows=no_rows, traces=traces,
+        trace_controllers=[s.label for s in traced], trace_specs=traced, surfaces=surfaces,
+        surface_specs=surface_specs, pd=None, pd_tuning={},
     )
 
 

@@ -106,6 +106,9 @@ class FigureRenderer:
         self._pool: Executor | None = None
         self._starter: threading.Thread | None = None
         self._start_error: BaseException | None = None
+        self._lock = threading.Lock()
+        self._starting = False
+        self._deferred: list[tuple[str, tuple[Any, ...]]] = []
         self._futures: dict[str, Future[tuple[Path, float]]] = {}
         self._done: dict[str, Path] = {}
         self._reported: set[str] = set()
@@ -115,6 +118,8 @@ class FigureRenderer:
             self._pool = ProcessPoolExecutor(self.workers, mp_context=_context())
             # Start the workers now, while the study runs, from a thread: the first start
             # waits for the fork server to import matplotlib and the figures (seconds).
+            # Figures submitted meanwhile are handed over by that thread once it is done.
+            self._starting = True
             self._starter = threading.Thread(target=self._start_workers, daemon=True,
                                              name="figure-workers")
             self._starter.start()
@@ -122,23 +127,23 @@ class FigureRenderer:
 
     def _start_workers(self) -> None:
         pool = self._pool
-        if pool is None:
-            return
+        assert pool is not None
         try:
             for _ in range(self.workers):
                 pool.submit(_warm_up)
-        except Exception as exc:  # reported by the first real submission
+        except Exception as exc:  # reported by results()
             self._start_error = exc
+        with self._lock:
+            self._starting = False
+            if self._start_error is None:
+                for key, args in self._deferred:
+                    self._futures[key] = pool.submit(_timed_write, *args)
+                self._deferred.clear()
 
-    def _started(self) -> Executor:
-        """The pool, once its workers have been started (re-raises a start-up failure)."""
+    def _join_starter(self) -> None:
         if self._starter is not None:
             self._starter.join()
             self._starter = None
-        if self._start_error is not None:
-            raise FigureError(f"the figure workers did not start: {self._start_error}")
-        assert self._pool is not None
-        return self._pool
 
     def __exit__(self, exc_type: type[BaseException] | None, exc: BaseException | None,
                  tb: TracebackType | None) -> None:
@@ -146,9 +151,7 @@ class FigureRenderer:
 
     def close(self, *, cancel: bool = False) -> None:
         """Stop the workers (after the figures submitted, unless ``cancel``)."""
-        if self._starter is not None:
-            self._starter.join()
-            self._starter = None
+        self._join_starter()
         if self._pool is not None:
             self._pool.shutdown(wait=True, cancel_futures=cancel)
             self._pool = None
@@ -156,7 +159,9 @@ class FigureRenderer:
     @property
     def submitted(self) -> list[str]:
         """Keys of the figures submitted so far, in submission order."""
-        return [*self._done, *(k for k in self._futures if k not in self._done)]
+        with self._lock:
+            waiting = [k for k, _ in self._deferred]
+            return [*self._done, *(k for k in self._futures if k not in self._done), *waiting]
 
     def submit(self, result: StudyResult, summary: Sequence[Mapping[str, Any]]) -> list[str]:
         """Submit every figure whose data ``result`` and ``summary`` hold and that was not
@@ -169,22 +174,25 @@ class FigureRenderer:
         """
         from .plan import figure_plan
 
-        keys = [k for k in figure_plan(result, summary)
-                if k not in self._futures and k not in self._done]
+        keys = [k for k in figure_plan(result, summary) if k not in self.submitted]
         for key in keys:
+            args = (key, result, summary, self.out_dir, self.svg)
             if self._pool is None:
-                png, seconds = self._write_here(key, result, summary)
+                png, seconds = self._write_here(*args)
                 self._done[key] = png
                 self._report(key, seconds)
-            else:
-                self._futures[key] = self._started().submit(_timed_write, key, result,
-                                                            summary, self.out_dir, self.svg)
+                continue
+            with self._lock:
+                if self._starting:  # never block on the workers' start-up
+                    self._deferred.append((key, args))
+                else:
+                    self._futures[key] = self._pool.submit(_timed_write, *args)
         return keys
 
-    def _write_here(self, key: str, result: StudyResult,
-                    summary: Sequence[Mapping[str, Any]]) -> tuple[Path, float]:
+    def _write_here(self, key: str, result: StudyResult, summary: Sequence[Mapping[str, Any]],
+                    out_dir: Path, svg: bool) -> tuple[Path, float]:
         try:
-            return _timed_write(key, result, summary, self.out_dir, self.svg)
+            return _timed_write(key, result, summary, out_dir, svg)
         except Exception as exc:
             raise FigureError(f"figure {key!r} failed: {type(exc).__name__}: {exc}") from exc
 
@@ -196,7 +204,9 @@ class FigureRenderer:
 
     def poll(self) -> None:
         """Report the figures finished since the last call (without waiting)."""
-        for key, future in list(self._futures.items()):
+        with self._lock:
+            futures = list(self._futures.items())
+        for key, future in futures:
             if future.done() and key not in self._done:
                 self._collect(key, future)
 
@@ -228,6 +238,9 @@ class FigureRenderer:
         """
         from .plan import figure_keys
 
+        self._join_starter()  # hands over the figures submitted while the workers started
+        if self._start_error is not None:
+            raise FigureError(f"the figure workers did not start: {self._start_error}")
         pending = {f: k for k, f in self._futures.items() if k not in self._done}
         while pending:
             finished, _ = wait(pending, return_when="FIRST_COMPLETED")
