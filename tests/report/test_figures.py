@@ -3,7 +3,6 @@ matplotlib state leaks."""
 
 from __future__ import annotations
 
-import time
 import xml.etree.ElementTree as ET
 from dataclasses import replace
 
@@ -65,15 +64,13 @@ def study() -> StudyResult:
 def written(study: StudyResult, tmp_path_factory: pytest.TempPathFactory):
     out = tmp_path_factory.mktemp("figures")
     rc_before = dict(matplotlib.rcParams)
-    t0 = time.perf_counter()
     figures = write_figures(study, summarise(study.rows), out)
-    elapsed = time.perf_counter() - t0
     rc_after = dict(matplotlib.rcParams)
-    return out, figures, elapsed, rc_before, rc_after
+    return out, figures, rc_before, rc_after
 
 
 def test_every_expected_figure_is_written(study, written):
-    out, figures, _, _, _ = written
+    out, figures, _, _ = written
     assert set(figures) == EXPECTED
     assert list(figures) == figure_keys(study), "figures come back in report order"
     for key, png in figures.items():
@@ -86,7 +83,7 @@ def test_every_expected_figure_is_written(study, written):
 
 @pytest.mark.parametrize("key", sorted(EXPECTED))
 def test_png_is_valid_and_not_blank(written, key):
-    _, figures, _, _, _ = written
+    _, figures, _, _ = written
     png = figures[key]
     assert png.read_bytes()[:8] == PNG_SIGNATURE, f"{key}: not a PNG"
     img = matplotlib.image.imread(png)
@@ -102,7 +99,7 @@ def test_png_is_valid_and_not_blank(written, key):
 
 @pytest.mark.parametrize("key", sorted(EXPECTED))
 def test_svg_is_well_formed(written, key):
-    _, figures, _, _, _ = written
+    _, figures, _, _ = written
     svg = figures[key].with_suffix(".svg")
     root = ET.parse(svg).getroot()
     assert root.tag.endswith("svg"), f"{key}: root element {root.tag}"
@@ -110,7 +107,7 @@ def test_svg_is_well_formed(written, key):
 
 
 def test_no_global_matplotlib_state_leaks(written):
-    _, _, _, rc_before, rc_after = written
+    _, _, rc_before, rc_after = written
     assert rc_before == rc_after, "write_figures changed matplotlib.rcParams"
     import matplotlib.pyplot as plt  # imported only to inspect its registry
 
@@ -133,7 +130,7 @@ def test_without_fair_baselines(study, tmp_path):
 def test_partial_summary_nested_dir_and_determinism(study, written, tmp_path):
     """Figures whose data are absent are skipped; the folder is created; the others are
     byte-identical to the first run (fixed SVG ids, no dates in the metadata)."""
-    out, _, _, _, _ = written
+    out, _, _, _ = written
     summary = [r for r in summarise(study.rows) if r["experiment"] == "paper"]
     target = tmp_path / "nested" / "figs"
     figures = write_figures(study, summary, target)
@@ -247,7 +244,7 @@ def test_figures_without_monte_carlo_can_be_drawn_early_and_are_identical(study,
                                                                            tmp_path):
     """Traces and surfaces alone (no rows, no summary): the plan is the figures that need no
     Monte Carlo, and they are byte-identical to those drawn from the whole result."""
-    out, _, _, _, _ = written
+    out, _, _, _ = written
     empty = {k: v[:0] for k, v in study.rows.items()}
     early = replace(study, rows=empty, pd=None, pd_tuning={})
     plan = figure_plan(early, [])

@@ -13,8 +13,8 @@ C2  Errors fall as the FoU grows (0.1 -> 0.2 -> 0.3): every consecutive pair of 
 C3  The smallest straight-line ISE (over the FLC and the IT2FLCs) is "of order 0.003": within a
     factor sqrt(10) of 0.003, i.e. in the band [0.00095, 0.0095].
 D1  (Not a paper claim; what the fair baseline answers.) The IT2FLC beats the type-1 FLC with
-    the same dead zone *and* the same slope just outside it (:mod:`.baselines`): what is left
-    is the effect of the footprint itself.
+    the same dead zone *and* the same slope just outside it
+    (:mod:`it2track.experiments.baselines`): what is left is the effect of the footprint itself.
 D2  (Not a paper claim.) The IT2FLC beats the type-1 FLC with the same dead zone only (its
     upper membership functions, about twice as steep outside the dead zone). Where C1 holds and
     D2 does not, the gain comes from the narrower dead zone, not from the FoU.

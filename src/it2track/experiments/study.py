@@ -19,8 +19,8 @@ every controller, trajectory and noise level):
 Plus the time series of one realisation (``figure_seed``) for the paper's figures 7-10, and the
 control surfaces of every fuzzy controller. The PD baseline and the tuned fuzzy controllers
 are tuned on seed indices disjoint from the evaluation seeds (see :func:`tune_pd`,
-:func:`tune_fuzzy`), and the robustness experiment (:mod:`.robustness`) re-judges the claims
-under the paper's open modelling choices.
+:func:`tune_fuzzy`), and the robustness experiment (:mod:`it2track.experiments.robustness`)
+re-judges the claims under the paper's open modelling choices.
 
 Every run of every experiment goes through one plan (:func:`_plan`): each distinct (loop,
 controller, trajectory, sigma, seed) is simulated once, in batches per loop configuration,
