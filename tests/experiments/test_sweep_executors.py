@@ -116,3 +116,22 @@ def test_imap_unordered_contract() -> None:
         list(ex.imap_unordered(_square, [1, 3]))
     with pytest.raises(ValueError, match="max_pending"):
         list(ex.imap_unordered(_square, [1], max_pending=0))
+
+
+def test_local_workers_share_the_cores_between_their_kernel_threads(monkeypatch) -> None:
+    # Each worker's compiled kernels would otherwise start one thread per CPU: N workers on N
+    # CPUs ran N * N threads, and --workers 2 was slower than in-process (bench_sweep).
+    import operator
+
+    from it2track.fuzzy import kernels
+
+    monkeypatch.delenv("NUMBA_NUM_THREADS", raising=False)
+    cpus = os.cpu_count() or 1
+    with ProcessExecutor(2) as ex:
+        got = [r for _, r in ex.imap_unordered(operator.call, [kernels.threads] * 4)]
+    assert got == [max(1, cpus // 2)] * 4
+    # A user's own setting wins.
+    monkeypatch.setenv("NUMBA_NUM_THREADS", "1")
+    with ProcessExecutor(1) as ex:
+        got = [r for _, r in ex.imap_unordered(os.getenv, ["NUMBA_NUM_THREADS"])]
+    assert got == ["1"]

@@ -126,9 +126,16 @@ def _watch_parent(parent: int, period: float) -> None:
             os._exit(1)
 
 
-def _init_worker(parent: int) -> None:
+def _init_worker(parent: int, kernel_threads: int) -> None:
     """Worker initialiser: leave Ctrl-C to the parent (which cancels the pool), and exit when
-    the parent dies -- a pool worker would otherwise wait forever for its next task."""
+    the parent dies -- a pool worker would otherwise wait forever for its next task.
+
+    The workers share the CPUs: each one's compiled kernels get ``kernel_threads`` threads
+    (``NUMBA_NUM_THREADS``, read when numba is first imported, which a fresh spawned worker
+    has not done yet), unless the user has set ``NUMBA_NUM_THREADS``. Results do not depend on
+    the number of threads."""
+    if "numba" not in sys.modules:
+        os.environ.setdefault("NUMBA_NUM_THREADS", str(kernel_threads))
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     threading.Thread(
         target=_watch_parent, args=(parent, 0.5), name="it2track-parent-watch", daemon=True
@@ -162,7 +169,7 @@ class ProcessExecutor(Executor):
                 max_workers=self.n_workers,
                 mp_context=multiprocessing.get_context(self.context),
                 initializer=_init_worker,
-                initargs=(os.getpid(),),
+                initargs=(os.getpid(), max(1, (os.cpu_count() or 1) // self.n_workers)),
             )
         return self._pool
 
