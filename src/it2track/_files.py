@@ -20,6 +20,8 @@ from __future__ import annotations
 import os
 import stat
 
+from .atomicfile import _kind
+
 __all__ = [
     "MAX_INPUT_BYTES",
     "InputFileError",
@@ -43,20 +45,6 @@ class InputFileError(ValueError):
         self.problem = message
         where = self.path if line is None else f"{self.path}:{line}"
         super().__init__(f"{where}: {message}")
-
-
-def _kind(mode: int) -> str:
-    if stat.S_ISDIR(mode):
-        return "a directory"
-    if stat.S_ISCHR(mode):
-        return "a character device"
-    if stat.S_ISBLK(mode):
-        return "a block device"
-    if stat.S_ISFIFO(mode):
-        return "a FIFO (named pipe)"
-    if stat.S_ISSOCK(mode):
-        return "a socket"
-    return "not a regular file"  # pragma: no cover
 
 
 def read_bytes(
