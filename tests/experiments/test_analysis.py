@@ -1,5 +1,7 @@
 """Summary statistics and claim verdicts, on synthetic metrics where the truth is known."""
 
+import math
+
 import numpy as np
 import pytest
 from scipy import stats
@@ -422,3 +424,21 @@ def test_c3_sigma_range_starts_from_an_exactly_zero_ise():
     lo = 0.003 / np.sqrt(10)
     assert rng["enters"]["sigma"] == pytest.approx(0.02 + lo / 0.002 * 0.03, rel=0.05)
     assert rng["levels_in_band"] == [0.05]
+
+
+def test_intervals_and_tails_equal_scipy_stats_bit_for_bit():
+    # stats.py calls scipy.special directly; the numbers (hence every verdict and every row of
+    # summary.csv) must be exactly those of scipy.stats' t and beta distributions.
+    rng = np.random.default_rng(7)
+    for n in (2, 3, 5, 40, 200):
+        for _ in range(20):
+            x = rng.normal(rng.normal(), rng.uniform(0.1, 3.0), n)
+            sem = float(np.std(x, ddof=1)) / math.sqrt(n)
+            iv = mean_interval(x, 0.9)
+            assert iv.high == float(np.mean(x)) + float(stats.t.ppf(0.95, n - 1)) * sem
+            t = (float(np.mean(x)) - 0.3) / sem
+            assert t_tail(x, 0.3) == float(stats.t.sf(t, n - 1))
+    a = 1.0 - 0.95
+    for k, n in ((1, 40), (7, 40), (39, 40), (3, 5)):
+        assert binomial_interval(k, n) == (float(stats.beta.ppf(a / 2, k, n - k + 1)),
+                                           float(stats.beta.ppf(1 - a / 2, k + 1, n - k)))
