@@ -138,6 +138,14 @@ def test_manifest_command_comes_from_the_parsed_options(quick_run):
     assert "--quick" in manifest["command"] and f"--out {out}" in manifest["command"]
 
 
+def test_quick_skips_the_microcontroller_measurement(quick_run):
+    out, _ = quick_run
+    page = (out / "report.html").read_text()
+    assert '<a href="#mcu">' in page and "Not measured (skipped with --quick)" in page
+    assert json.loads((out / "manifest.json").read_text())["mcu"]["status"] == "skipped"
+    assert not any(p.name.startswith("mcu_costs") for p in out.iterdir())
+
+
 def test_simulate_rejects_a_zero_noise_rate():
     result = CliRunner().invoke(main, ["simulate", "--noise-rate", "0"])
     assert result.exit_code != 0 and "--noise-rate" in result.output

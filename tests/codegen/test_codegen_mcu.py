@@ -177,6 +177,7 @@ def test_cost_table_and_the_one_millisecond_aim(avr, build_dir):
     assert labels[0].startswith("type-1") and len(labels) == 1 + len(Reducer)
     for row in table.rows:
         assert 0 < row.cycles_mean <= row.cycles_max
+        assert row.ram == 0 and row.stack > 0, row.label
         assert row.float_error < 1e-5
         assert row.us_max == pytest.approx(row.cycles_max / AVR_CLOCK_HZ * 1e6)
         if row.equals_host_float is not None:

@@ -50,16 +50,25 @@ def _quick(config: Any) -> Any:
 @_dask_options
 @click.option("--svg/--no-svg", default=None,
               help="Also write every figure as SVG (default: yes, except with --quick).")
+@click.option("--mcu/--no-mcu", default=None,
+              help="Measure the controller's cost on the simulated ATmega328P (cycles, bytes) "
+              "and its Cortex-M4F code size, in the background (default: yes, except with "
+              "--quick; needs gcc-avr, avr-libc, simavr, gcc-arm-none-eabi and "
+              "libnewlib-arm-none-eabi, else the report names what to install).")
+@click.option("--mcu-grid", type=click.IntRange(min=2, max=255), default=21, show_default=True,
+              help="Inputs per axis of the microcontroller measurement's grid on [-1, 1]^2.")
 @click.option("--no-progress", is_flag=True, help="No progress bar or stage messages.")
 def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
               sweep_seeds: int | None, quick: bool, workers: int, scheduler: str | None,
-              svg: bool | None, no_progress: bool, **dask: Any) -> None:
+              svg: bool | None, mcu: bool | None, mcu_grid: int, no_progress: bool,
+              **dask: Any) -> None:
     """Regenerate every result of the paper, with statistics and verdicts on its claims.
 
     Writes figures (PNG, and SVG unless --quick or --no-svg), metrics.csv, summary.csv,
-    robustness.csv, sensitivity.csv, claims.md, report.html and manifest.json into OUT. Files
-    appear only when complete.
-    Figures are drawn by worker processes while the study runs.
+    robustness.csv, sensitivity.csv, claims.md, mcu_costs.csv, report.html and manifest.json
+    into OUT. Files appear only when complete.
+    Figures are drawn by worker processes while the study runs; the microcontroller costs are
+    measured by another process meanwhile.
     """
     from dataclasses import replace
 
@@ -76,6 +85,7 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
     )
     from ..report import outputs
     from ..report.html import write_html
+    from ..report.mcu_job import TABLE_NAME, McuJob, McuStatus, write_cost_csv
     from ..report.render import FigureError, FigureRenderer, default_figure_workers
     from ..tracking import METRIC_NAMES
 
@@ -98,12 +108,24 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
     if workers and scheduler:
         _fail("give either --workers or --scheduler, not both")
     _preflight_study(config, config_path)
+    mcu = (not quick) if mcu is None else mcu
+    ctx = click.get_current_context()
+    if not mcu and _given(ctx, "mcu_grid"):
+        _fail(f"--mcu-grid {mcu_grid} has no effect without the microcontroller measurement "
+              f"({'--no-mcu' if _given(ctx, 'mcu') else '--quick'} turns it off): drop it or "
+              "add --mcu")
     total = study_run_count(config)
     out = Path(out_dir)
     svg = (not quick) if svg is None else svg
     stages = _Stages(enabled=not no_progress)
     staging = _make_staging(out_dir)
+    skipped = "--quick" if quick and not _given(ctx, "mcu") else "--no-mcu"
+    mcu_job = McuJob.skipped(f"skipped with {skipped}", fou=config.main_fou, grid=mcu_grid)
     try:
+        if mcu:
+            # The cross-compilers and simavr run in another process while the study runs.
+            mcu_job = McuJob.start(out_dir=staging, fou=config.main_fou, grid=mcu_grid,
+                                   svg=svg)
         # Figure workers start now and import matplotlib while the study runs; each figure is
         # drawn as soon as its data exist (report.render), so both cores stay busy.
         with FigureRenderer(staging, workers=default_figure_workers(), svg=svg,
@@ -147,6 +169,16 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
                     figures = renderer.results(result)
                 except FigureError as exc:
                     _fail(f"{exc}; nothing was written")
+        with stages.stage("microcontroller costs"):
+            mcu_costs = mcu_job.result()
+            if mcu_costs.table is not None:
+                write_cost_csv(staging / TABLE_NAME, mcu_costs.table)
+            if mcu_costs.figure is not None:
+                figures = {**figures, "mcu_costs": mcu_costs.figure}
+            if mcu_costs.status in (McuStatus.FAILED, McuStatus.TOOLS_MISSING):
+                why = mcu_costs.reason or f"install {', '.join(mcu_costs.missing)}"
+                click.echo(f"note: the microcontroller costs were not measured ({why}); the "
+                           "report says so", err=True)
         command = _command_line(click.get_current_context())
         cfg = config.to_dict()
         cfg["pd_tuning"] = {k: v for k, v in result.pd_tuning.items() if k != "grid"}
@@ -155,18 +187,20 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
         manifest = outputs.manifest(
             config=cfg, command=command.strip(), elapsed_s=time.perf_counter() - started,
             extra={"rows": len(result.rows["seed"]), "simulations": total,
+                   "mcu": mcu_costs.provenance(),
                    "files": sorted(p.name for p in staging.iterdir())},
         )
         with stages.stage("report.html"):
             write_html(staging / "report.html", result=result, summary=summary,
                        claims=claims, manifest=manifest, figures=figures,
-                       elapsed_s=time.perf_counter() - started)
+                       elapsed_s=time.perf_counter() - started, mcu=mcu_costs)
         manifest["elapsed_s"] = round(time.perf_counter() - started, 3)
         manifest["stage_s"] = stages.record()
         manifest["files"] = sorted([*(p.name for p in staging.iterdir()), "manifest.json"])
         outputs.write_json(staging / "manifest.json", manifest)
         _publish(staging, out)
     finally:
+        mcu_job.cancel()
         _discard_staging(staging)
     elapsed = time.perf_counter() - started
     stages.summary(elapsed)
@@ -304,6 +338,14 @@ def _undrawable(text: str) -> str | None:
     except Exception as exc:  # any drawing failure means a bad label
         return " ".join(str(exc).split())[:200] or type(exc).__name__
     return None
+
+
+def _given(ctx: click.Context, name: str) -> bool:
+    """Whether option ``name`` was given (command line or environment), not defaulted."""
+    from click.core import ParameterSource
+
+    return ctx.get_parameter_source(name) in (ParameterSource.COMMANDLINE,
+                                              ParameterSource.ENVIRONMENT)
 
 
 def _command_line(ctx: click.Context) -> str:

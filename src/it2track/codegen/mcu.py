@@ -304,7 +304,12 @@ def cost_grid(n: int, *, lo: float = -1.0, hi: float = 1.0, n_random: int = 0,
 
 @dataclass(frozen=True, kw_only=True)
 class CostRow:
-    """One controller's cost (see :class:`CostTable`)."""
+    """One controller's cost (see :class:`CostTable`).
+
+    ``flash``, ``ram`` and ``stack`` are the AVR controller object's (:class:`CodeSize`
+    ``flash``, ``ram``, ``stack``); ``program_flash`` the minimal AVR program's; ``arm_text``
+    the Cortex-M4F object's flash (None when not measured).
+    """
 
     label: str
     reducer: str
@@ -313,6 +318,7 @@ class CostRow:
     cycles_mean: float
     flash: int
     program_flash: int
+    ram: int
     stack: int
     float_error: float
     equals_host_float: bool
@@ -474,7 +480,8 @@ def measure_costs(
         rows.append(CostRow(
             label=label, reducer=red_name, exact=red_name not in ("nie-tan", "wu-mendel"),
             cycles_max=int(run.cycles.max()), cycles_mean=float(run.cycles.mean()),
-            flash=size.flash, program_flash=int(size.program_flash or 0), stack=size.stack,
+            flash=size.flash, program_flash=int(size.program_flash or 0), ram=size.ram,
+            stack=size.stack,
             float_error=err, equals_host_float=same, arm_text=arm_text))
     tools = {"avr-gcc": _version("avr-gcc"), "simavr": _simavr_version()}
     if arm:

@@ -5,8 +5,8 @@ misprinted (docs/model.md), the figures with captions, the verdicts on the paper
 criteria and evidence, a summary table and the command that regenerates it all. It is built from
 Jinja2 templates (``it2track/report/templates``, autoescaped) by one module per page section:
 :mod:`.study_setup`, :mod:`.assumptions`, :mod:`.results` (with :mod:`.captions`),
-:mod:`.claims`, :mod:`.baselines`, :mod:`.robustness`, :mod:`.summary`, :mod:`.rerun`. The file is
-written atomically.
+:mod:`.claims`, :mod:`.baselines`, :mod:`.robustness`, :mod:`.mcu` (the microcontroller cost,
+when measured or asked for), :mod:`.summary`, :mod:`.rerun`. The file is written atomically.
 """
 
 from __future__ import annotations
@@ -17,11 +17,13 @@ from typing import Any
 
 from ...atomicfile import atomic_write_text
 from ...experiments.study import StudyResult
+from ..mcu_job import McuCosts
 from .assumptions import assumptions_section
 from .baselines import baselines_section
 from .captions import figure_captions
 from .claims import claims_section, glance
 from .env import render
+from .mcu import mcu_section
 from .rerun import rerun_section
 from .results import figure_refs, results_section
 from .robustness import robustness_section
@@ -34,7 +36,8 @@ __all__ = ["figure_captions", "render_html", "write_html"]
 SECTIONS = (("setup", "Setup"), ("assumptions", "Assumptions"), ("results", "Results"),
             ("claims", "Claims"), ("baselines", "Fair baselines"),
             ("robustness", "Robustness to the open modelling choices"),
-            ("summary", "Summary table"), ("rerun", "How to rerun"))
+            ("mcu", "Microcontroller cost"), ("summary", "Summary table"),
+            ("rerun", "How to rerun"))
 
 
 def render_html(
@@ -45,6 +48,7 @@ def render_html(
     manifest: Mapping[str, Any],
     figures: Mapping[str, Path],
     elapsed_s: float,
+    mcu: McuCosts | None = None,
 ) -> str:
     """The report as one HTML string (see :func:`write_html`)."""
     cfg = result.config
@@ -59,10 +63,12 @@ def render_html(
                        fous=cfg.fous),
         baselines_section(result),
         robustness_section(result, refs),
+        *([] if mcu is None else [mcu_section(mcu, refs.get("mcu_costs"))]),
         summary_section(result, summary),
         rerun_section(result, manifest, elapsed_s),
     ]
-    return str(render("page.html.j2", subtitle=sub, glance=glance(claims), nav=SECTIONS,
+    nav = [s for s in SECTIONS if mcu is not None or s[0] != "mcu"]
+    return str(render("page.html.j2", subtitle=sub, glance=glance(claims), nav=nav,
                       sections=sections))
 
 
@@ -75,6 +81,7 @@ def write_html(
     manifest: Mapping[str, Any],
     figures: Mapping[str, Path],
     elapsed_s: float,
+    mcu: McuCosts | None = None,
 ) -> Path:
     """Write the study's self-contained HTML report.
 
@@ -94,6 +101,9 @@ def write_html(
         data URI, so the page needs nothing else.
     elapsed_s : float
         Wall time of the run, s.
+    mcu : McuCosts, optional
+        The microcontroller measurement (:mod:`it2track.report.mcu_job`); its figure, if any,
+        is ``figures["mcu_costs"]``. Without it the page has no microcontroller section.
 
     Returns
     -------
@@ -101,7 +111,7 @@ def write_html(
         ``path``.
     """
     text = render_html(result=result, summary=summary, claims=claims, manifest=manifest,
-                       figures=figures, elapsed_s=elapsed_s)
+                       figures=figures, elapsed_s=elapsed_s, mcu=mcu)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     atomic_write_text(path, text)

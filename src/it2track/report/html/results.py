@@ -15,8 +15,9 @@ from .env import data_uri, render
 
 __all__ = ["SECTION_FIGURES", "figure_refs", "results_section"]
 
-#: Figures shown in their own section (robustness), not under Results, in page order.
-SECTION_FIGURES = ("robustness", "sensitivity")
+#: Figures shown in their own section (robustness, microcontroller cost), not under Results, in
+#: page order.
+SECTION_FIGURES = ("robustness", "sensitivity", "mcu_costs")
 
 
 def figure_refs(result: StudyResult, summary: Sequence[Mapping[str, Any]],

@@ -1,0 +1,169 @@
+"""The report's microcontroller section: rendered from a hand-made CostTable (no toolchain
+needed) with the table's numbers, the skipped / toolless / failed outcomes saying why and what to
+install, and the background job's outcomes (JSON round trip, a crashed child, missing tools)."""
+
+from __future__ import annotations
+
+import csv
+import html
+import re
+import shlex
+import sys
+
+import pytest
+from click.testing import CliRunner
+
+from it2track.codegen.mcu import CostRow, CostTable
+from it2track.report import mcu_job
+from it2track.report.html.mcu import mcu_section
+from it2track.report.mcu_job import (
+    McuCosts,
+    McuJob,
+    McuStatus,
+    remeasure_commands,
+    table_from_json,
+    table_to_json,
+    write_cost_csv,
+)
+
+TOOLS = {"avr-gcc": "avr-gcc (GCC) 5.4.0", "simavr": "simavr 1.6+dfsg-3",
+         "arm-none-eabi-gcc": "arm-none-eabi-gcc 12.2.1"}
+
+
+def _table() -> CostTable:
+    # cycles, flash, program, ram, stack, M4F text: distinct numbers so that a column mix-up
+    # shows
+    spec = [("type-1 FLC (FoU 0)", "type-1", True, 6075, 4556.4, 1654, 2776, 0, 155, 808),
+            ("IT2 exhaustive", "exhaustive", True, 15655, 12577.0, 3040, 4162, 2, 347, 1472),
+            ("IT2 km", "km", True, 27607, 18943.0, 3558, 4762, 0, 335, 1760),
+            ("IT2 nie-tan (approx.)", "nie-tan", False, 9352, 7700.0, 2002, 3124, 0, 223, None)]
+    rows = tuple(CostRow(label=label, reducer=red, exact=exact, cycles_max=cmax,
+                         cycles_mean=cmean, flash=flash, program_flash=prog, ram=ram,
+                         stack=stack, float_error=2e-6, equals_host_float=True, arm_text=arm)
+                 for label, red, exact, cmax, cmean, flash, prog, ram, stack, arm in spec)
+    return CostTable(rows=rows, n_points=441, fou=0.2, tools=TOOLS)
+
+
+def _cells(section: str) -> dict[str, list[str]]:
+    """Controller -> its cells (the marker stripped), from the section's cost table."""
+    body = section[section.index('<table class="mcu">'):]
+    body = body[:body.index("</table>")]
+    out = {}
+    for row in re.findall(r"<tr><td>(.*?)</tr>", body):
+        cells = [html.unescape(c) for c in re.findall(r"(?:^|<td[^>]*>)([^<]*)</td>", row)]
+        out[cells[0].removesuffix(" ●")] = [cells[0], *cells[1:]]
+    return out
+
+
+def test_measured_section_shows_the_tables_numbers():
+    costs = McuCosts(status=McuStatus.MEASURED, fou=0.2, grid=21, table=_table(), seconds=3.2)
+    ref = {"key": "mcu_costs", "number": 7, "src": "data:image/png;base64,AAAA",
+           "name": "mcu_costs.png"}
+    text = str(mcu_section(costs, ref))
+    cells = _cells(text)
+    assert list(cells) == ["type-1 FLC (FoU 0)", "IT2 exhaustive", "IT2 km",
+                           "IT2 nie-tan (approx.)"]
+    # controller, cycles worst, mean, us worst, us mean, % of 10 ms, flash, program, RAM,
+    # stack, M4F
+    assert cells["IT2 exhaustive"] == ["IT2 exhaustive ●", "15,655", "12,577", "978", "786",
+                                       "9.8 %", "3,040", "4,162", "2", "347", "1,472"]
+    assert cells["type-1 FLC (FoU 0)"][1:6] == ["6,075", "4,556", "380", "285", "3.8 %"]
+    assert cells["IT2 km"][0] == "IT2 km" and cells["IT2 km"][3] == "1,725"  # 27607 / 16
+    assert cells["IT2 nie-tan (approx.)"][-1] == "—"  # no Cortex-M4F size
+    # the figure with its number, the toolchain versions, the commands that re-measure
+    assert '<figure id="fig-mcu_costs">' in text and "Figure 7." in text
+    assert 'src="data:image/png;base64,AAAA"' in text
+    for version in TOOLS.values():
+        assert html.escape(version) in text
+    for command in remeasure_commands(0.2):
+        assert html.escape(command) in text
+    assert "21 × 21 grid" in text and "441 inputs" in text and "bit for bit" in text
+    assert "mcu_costs.csv" in text
+
+
+def test_remeasure_commands_name_the_studys_fou_and_run(tmp_path):
+    bench, export = remeasure_commands(0.3)
+    assert "--fou 0.3" in bench and "--paper 0.3" in export
+    from it2track.cli.main import main
+
+    args = shlex.split(export)[1:]
+    args[args.index("--out") + 1] = str(tmp_path / "ctrl")
+    result = CliRunner().invoke(main, args)
+    assert result.exit_code == 0, result.output
+    assert "exhaustive" in (tmp_path / "ctrl" / "it2.c").read_text()
+
+
+@pytest.mark.parametrize("status, needles", [
+    (McuStatus.TOOLS_MISSING, ["gcc-avr, simavr", "apt-get install gcc-avr simavr"]),
+    (McuStatus.SKIPPED, ["Not measured (skipped with --quick)", "gcc-avr, binutils-avr, "
+                         "avr-libc, simavr, gcc-arm-none-eabi, binutils-arm-none-eabi, "
+                         "libnewlib-arm-none-eabi"]),
+    (McuStatus.FAILED, ["The measurement failed", "BuildError: avr-gcc &lt;failed&gt;"]),
+])
+def test_unmeasured_sections_say_why_and_how(status, needles):
+    reason = {McuStatus.SKIPPED: "skipped with --quick",
+              McuStatus.FAILED: "BuildError: avr-gcc <failed>"}.get(status, "")
+    missing = ("gcc-avr", "simavr") if status is McuStatus.TOOLS_MISSING else ()
+    text = str(mcu_section(McuCosts(status=status, fou=0.2, grid=21, missing=missing,
+                                    reason=reason)))
+    for needle in needles:
+        assert needle in text, (status, needle)
+    assert "<table" not in text and "<figure" not in text
+    assert html.escape(remeasure_commands(0.2)[0]) in text
+
+
+def test_outcome_is_consistent():
+    with pytest.raises(ValueError, match="table"):
+        McuCosts(status=McuStatus.SKIPPED, fou=0.2, grid=21, table=_table())
+    with pytest.raises(ValueError, match="table"):
+        McuCosts(status=McuStatus.MEASURED, fou=0.2, grid=21)
+    with pytest.raises(ValueError, match="missing"):
+        McuCosts(status=McuStatus.FAILED, fou=0.2, grid=21, missing=("simavr",))
+    prov = McuCosts(status=McuStatus.TOOLS_MISSING, fou=0.2, grid=5,
+                    missing=("simavr",)).provenance()
+    assert prov == {"status": "tools missing", "fou": 0.2, "grid": 5,
+                    "missing_packages": ["simavr"]}
+
+
+def test_table_round_trips_through_json_and_csv(tmp_path):
+    import json
+
+    table = _table()
+    assert table_from_json(json.loads(json.dumps(table_to_json(table)))) == table
+    path = write_cost_csv(tmp_path / "mcu_costs.csv", table)
+    with path.open() as fh:
+        rows = list(csv.DictReader(fh))
+    assert [r["controller"] for r in rows] == [r.label for r in table.rows]
+    ex = rows[1]
+    assert (ex["avr_cycles_worst"], ex["avr_ram_bytes"], ex["avr_stack_bytes"],
+            ex["m4f_text_bytes"]) == ("15655", "2", "347", "1472")
+    assert float(ex["avr_us_worst"]) == table.rows[1].us_max == pytest.approx(15655 / 16)
+    assert float(ex["period_share_worst"]) == pytest.approx(15655 / 16e6 / 0.01)
+    assert rows[3]["m4f_text_bytes"] == "" and ex["inputs"] == "441"
+
+
+def test_missing_tools_finish_the_job_without_a_process(monkeypatch, tmp_path):
+    import shutil
+
+    from it2track.codegen import tools
+
+    real = shutil.which
+    hidden = {"avr-gcc", "simavr", "arm-none-eabi-gcc"}
+    monkeypatch.setattr(shutil, "which",
+                        lambda name, *a, **k: None if name in hidden else real(name, *a, **k))
+    monkeypatch.setattr(tools, "_newlib_present", lambda: False)
+    job = McuJob.start(out_dir=tmp_path, fou=0.2, grid=3, svg=False)
+    costs = job.result()
+    assert costs.status is McuStatus.TOOLS_MISSING
+    assert costs.missing == ("gcc-avr", "simavr", "gcc-arm-none-eabi",
+                             "libnewlib-arm-none-eabi")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_crashed_child_is_a_failure_with_its_exit_status(monkeypatch, tmp_path):
+    monkeypatch.setattr(mcu_job, "missing_tools", lambda tools: [])
+    monkeypatch.setattr(sys, "executable", "/bin/false")
+    with McuJob.start(out_dir=tmp_path, fou=0.2, grid=3, svg=False) as job:
+        costs = job.result()
+    assert costs.status is McuStatus.FAILED
+    assert "exited with 1" in costs.reason
