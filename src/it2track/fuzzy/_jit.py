@@ -19,7 +19,6 @@ from typing import Any
 
 import numpy as np
 from numba import njit
-from numba import types as nb_types
 
 from .libm import exp_scalar
 
@@ -35,7 +34,7 @@ EXHAUSTIVE, KM, EKM, EIASC, NIE_TAN, WU_MENDEL, T1 = 0, 1, 2, 3, 4, 5, 6
 # Status codes: the reference raises where the status is not OK.
 OK, ZERO_FIRING, WM_ZERO_LOWER, NOT_CONVERGED = 0, 1, 2, 3
 
-def _compiled(*, inline: bool = False, sig: Any = None) -> Any:
+def _compiled(*, inline: bool = False) -> Any:
     """numba's ``njit`` with this package's options: cached on disk, IEEE division semantics
     (``error_model="numpy"``: x / 0 is inf or NaN, as in numpy), no fast-math, GIL released.
 
@@ -43,30 +42,12 @@ def _compiled(*, inline: bool = False, sig: Any = None) -> Any:
     of a compiled function with array arguments costs reference-count updates (atomic) that
     LLVM cannot remove. Larger functions are called once per block: inlining them would
     multiply the compile time.
-
-    ``sig``: the one signature to compile (at import, or loaded from the cache). The block
-    functions are called from the loop kernel, the batch and the scalar call with literal
-    constants (a lane count, ``left=True``) and writable or read-only systems, which would
-    otherwise compile up to six specialisations of each; one shared compilation cuts the
-    cold start by about half.
     """
-    options: dict[str, Any] = dict(cache=True, error_model="numpy", nogil=True,
-                                   inline="always" if inline else "never")
-    return njit(sig, **options) if sig is not None else njit(**options)
+    return njit(cache=True, error_model="numpy", nogil=True,
+                inline="always" if inline else "never")
 
 
-# Argument types of the block functions: the packed system (read-only), 2-D scratch and points,
-# 1-D outputs, int8 status.
-_P = nb_types.Array(nb_types.float64, 1, "C", readonly=True)
-_M = nb_types.float64[:, ::1]
-_V = nb_types.float64[::1]
-_ST = nb_types.int8[::1]
-_I = nb_types.int64
-_B = nb_types.boolean
-_NONE = nb_types.none
-
-
-exp = _compiled(sig=nb_types.float64(nb_types.float64))(exp_scalar)
+exp = _compiled()(exp_scalar)
 
 
 @_compiled(inline=True)
@@ -91,7 +72,7 @@ def scratch_rows(P: np.ndarray) -> int:
     return int(P[N_ROWS]) + 1 + 2 * int(P[N_RULES]) + WORK_ROWS
 
 
-@_compiled(sig=_NONE(_P, _M, _I, _M))
+@_compiled()
 def _memberships(P, X, L, S):
     """Rows ``S[0:M]`` = memberships of the points ``X[:, :L]``; ``S[M]`` = 1."""
     n_rows = int(P[N_ROWS])
@@ -124,7 +105,7 @@ def _memberships(P, X, L, S):
         S[n_rows, j] = 1.0
 
 
-@_compiled(sig=_NONE(_P, _I, _M, _I, _I))
+@_compiled()
 def _firing(P, L, S, flb, fub):
     n_in, n_rules = int(P[N_IN]), int(P[N_RULES])
     o_ur, o_lr = int(P[O_UR]), int(P[O_LR])
@@ -155,7 +136,7 @@ def _row(P, o_idx, n):
     return n if o_idx < 0 else int(P[o_idx + n])
 
 
-@_compiled(sig=_NONE(_P, _I, _M, _I, _I, _I, _I, _I, _B, _V))
+@_compiled()
 def _exhaustive(P, L, S, flb, fub, tb, oy, o_idx, left, out):
     """reducers._exhaustive_both for the lanes: ``yl`` (left) or ``yr`` into ``out``."""
     n_rules = int(P[N_RULES])
@@ -191,7 +172,7 @@ def _exhaustive(P, L, S, flb, fub, tb, oy, o_idx, left, out):
         out[j] = S[best, j]
 
 
-@_compiled(sig=_NONE(_P, _I, _M, _I, _I, _I, _I, _B, _I, _I, _I))
+@_compiled()
 def _centroid_lanes(P, L, S, flb, fub, oy, o_idx, left, krow, onum, oden):
     """``S[onum]`` = centroid of the lanes with ``S[krow]`` rules (from the bottom) at upper
     firing for ``yl`` (at lower firing for ``yr``): reducers' ``_centroid(theta(k, ...))``,
@@ -216,7 +197,7 @@ def _centroid_lanes(P, L, S, flb, fub, oy, o_idx, left, krow, onum, oden):
         S[onum, j] = S[onum, j] / S[oden, j]
 
 
-@_compiled(sig=_NONE(_P, _I, _M, _I, _I, _I, _I, _I, _B, _I, nb_types.float64, _V, _ST))
+@_compiled()
 def _switch_lanes(P, L, S, flb, fub, tb, oy, o_idx, left, k0, tol, out, st):
     """reducers._switch_iterations (KM: ``k0 < 0``; EKM: start at ``k0``) for the lanes,
     vectorised: every lane makes the reference's iterations, with its tie resolution (a
@@ -332,7 +313,7 @@ def _switch_lanes(P, L, S, flb, fub, tb, oy, o_idx, left, k0, tol, out, st):
             st[j] = st[j] if st[j] != OK else NOT_CONVERGED
 
 
-@_compiled(sig=_NONE(_P, _I, _M, _I, _I, _I, _I, _I, _B, _V, _ST))
+@_compiled()
 def _eiasc_lanes(P, L, S, flb, fub, tb, oy, o_idx, left, out, st):
     """reducers' EIASC for the lanes, vectorised: the same sums in the same order; a lane keeps
     the first centroid that stops it. Work rows ``tb .. tb + 2``."""
@@ -381,7 +362,7 @@ def _eiasc_lanes(P, L, S, flb, fub, tb, oy, o_idx, left, out, st):
             return
 
 
-@_compiled(sig=_NONE(_P, _I, _M, _I, _I, _I, _V, _V))
+@_compiled()
 def _wu_mendel(P, L, S, flb, fub, tb, yl, yr):
     """reducers._wu_mendel for the lanes (rows in rule order, as _dot_rows/_sum_rows)."""
     n_rules = int(P[N_RULES])
@@ -423,7 +404,7 @@ def _wu_mendel(P, L, S, flb, fub, tb, yl, yr):
         yr[j] = 0.5 * (yr_outer_lo + yr_hi)
 
 
-@_compiled(sig=_NONE(_P, _M, _I, _M, _V, _V, _ST))
+@_compiled()
 def eval_block(P, X, L, S, yl, yr, st):
     """``yl[:L]``, ``yr[:L]`` and ``st[:L]`` (status) of the clipped points ``X[:, :L]``;
     ``S`` is scratch of :func:`scratch_rows` rows and at least ``L`` columns."""

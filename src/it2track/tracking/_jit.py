@@ -51,7 +51,7 @@ from ..plant.drive import (
     _TWO_OVER_PI,
 )
 
-LANES = 128  # runs per block (a constant: see the module docstring)
+LANES = 64  # runs per block (a constant: see the module docstring)
 #: Controller kinds in a packed controller (first value).
 FUZZY, PD = 0.0, 1.0
 #: Config vector: ts, voltage limit, r/2, r/(2l), N, metric start index, previous-pose flag.
@@ -417,11 +417,9 @@ def _loop(C, c_off, blocks, tidx, std, zinv, Z, hold, xref, yref, v0ref, start, 
                 for j in range(LANES):
                     W[20, j] = xr - W[7, j]
                     W[21, j] = yr_ - W[8, j]
+                _atan2_lanes(W, 21, 20, 14, LANES)  # theta_d
             else:
-                for j in range(LANES):
-                    W[20, j] = W[12, j]
-                    W[21, j] = W[13, j]
-            _atan2_lanes(W, 21, 20, 14, LANES)  # theta_d (inlined once: compile time)
+                _atan2_lanes(W, 13, 12, 14, LANES)
             if quiet:  # sigma = 0: theta + 0 * 0.0, as the numpy engine's zero row
                 for j in range(LANES):
                     W[15, j] = W[2, j] + 0.0
