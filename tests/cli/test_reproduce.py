@@ -266,3 +266,22 @@ def test_recorded_command_keeps_given_options_in_declaration_order(tmp_path, mon
     assert result.exit_code == 0, result.output
     command = json.loads((out / "manifest.json").read_text())["command"]
     assert command == f"it2track reproduce --out {out} --seeds 3 --workers 0 --no-progress"
+
+
+@pytest.mark.parametrize("name", ["robustness.csv", "sensitivity.csv"])
+def test_a_folder_in_the_way_of_any_result_is_refused_before_simulating(tmp_path, monkeypatch,
+                                                                        name):
+    # Not only the five fixed names: every file this run will write is checked up front,
+    # instead of failing at publish time after the whole run.
+    import it2track.experiments.study as study
+
+    def no_run(*args, **kwargs):  # pragma: no cover - reached only with the bug
+        raise AssertionError("the study ran")
+
+    monkeypatch.setattr(study, "run_study", no_run)
+    (tmp_path / name).mkdir()
+    result = CliRunner().invoke(main, ["reproduce", "--quick", "--no-progress", "--out",
+                                       str(tmp_path)])
+    assert result.exit_code != 0
+    assert f"{tmp_path / name} exists and is not a regular file" in result.output, result.output
+    assert "nothing was simulated" in result.output

@@ -10,6 +10,7 @@ import json
 import shutil
 import tempfile
 import time
+from collections.abc import Iterable
 from pathlib import Path
 from typing import Any, NoReturn
 
@@ -22,7 +23,8 @@ def _fail(message: str) -> NoReturn:
     raise click.ClickException(message)
 
 
-#: Results every run writes (figures vary with the config): checked before any work starts.
+#: Results every run writes (the others vary with the config; ``_make_staging`` takes them):
+#: checked before any work starts.
 _FIXED_OUTPUTS = ("metrics.csv", "summary.csv", "claims.md", "report.html", "manifest.json")
 _STAGING_PREFIX = ".reproduce-"
 _OWNER_FILE = "owner.json"
@@ -113,14 +115,15 @@ def _remove_stale_staging(out: Path) -> None:
             click.echo(f"note: could not remove the stale {root}: {exc.strerror}", err=True)
 
 
-def _make_staging(out_dir: str) -> Path:
+def _make_staging(out_dir: str, also: Iterable[str] = ()) -> Path:
     """Create ``out_dir`` and a fresh staging folder in it; returns the folder results go to.
 
     Checked before any simulation: an empty ``--out``, a folder that cannot be created or
     written (read-only, a file in the way), a result name taken by something that is not a
-    regular file. Stale staging folders of killed runs are removed (see
-    :func:`_remove_stale_staging`). The staging root holds ``owner.json`` (this process's
-    identity, the proof a later run needs to remove it) and ``files/``, which is returned.
+    regular file (the fixed names and ``also``: the other files this run will write). Stale
+    staging folders of killed runs are removed (see :func:`_remove_stale_staging`). The
+    staging root holds ``owner.json`` (this process's identity, the proof a later run needs
+    to remove it) and ``files/``, which is returned.
     """
     import os
     import socket
@@ -134,7 +137,7 @@ def _make_staging(out_dir: str) -> Path:
     except OSError as exc:
         _fail(f"cannot create the output folder --out {out_dir}: "
               f"{exc.strerror or exc}; nothing was simulated")
-    for name in _FIXED_OUTPUTS:
+    for name in (*_FIXED_OUTPUTS, *also):
         try:
             mode = os.lstat(out / name).st_mode
         except OSError:

@@ -118,7 +118,14 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
     out = Path(out_dir)
     svg = (not quick) if svg is None else svg
     stages = _Stages(enabled=not no_progress)
-    staging = _make_staging(out_dir)
+    also = []  # the other files this run writes, checked up front like the fixed ones
+    if config.robustness is not None:
+        also.append("robustness.csv")
+        if config.robustness.sensitivity is not None:
+            also.append("sensitivity.csv")
+    if mcu:
+        also += ["mcu_costs.csv", "mcu_costs.png", *(["mcu_costs.svg"] if svg else [])]
+    staging = _make_staging(out_dir, also)
     skipped = "--quick" if quick and not _given(ctx, "mcu") else "--no-mcu"
     mcu_job = McuJob.skipped(f"skipped with {skipped}", fou=config.main_fou, grid=mcu_grid)
     try:

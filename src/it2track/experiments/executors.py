@@ -126,6 +126,14 @@ def _watch_parent(parent: int, period: float) -> None:
             os._exit(1)
 
 
+def _usable_cpus() -> int:
+    """CPUs this process may run on (its affinity mask, as numba's default thread count)."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # pragma: no cover - not Linux
+        return os.cpu_count() or 1
+
+
 def _init_worker(parent: int, kernel_threads: int) -> None:
     """Worker initialiser: leave Ctrl-C to the parent (which cancels the pool), and exit when
     the parent dies -- a pool worker would otherwise wait forever for its next task.
@@ -134,8 +142,13 @@ def _init_worker(parent: int, kernel_threads: int) -> None:
     (``NUMBA_NUM_THREADS``, read when numba is first imported, which a fresh spawned worker
     has not done yet), unless the user has set ``NUMBA_NUM_THREADS``. Results do not depend on
     the number of threads."""
-    if "numba" not in sys.modules:
-        os.environ.setdefault("NUMBA_NUM_THREADS", str(kernel_threads))
+    if "NUMBA_NUM_THREADS" not in os.environ:
+        if "numba" not in sys.modules:
+            os.environ["NUMBA_NUM_THREADS"] = str(kernel_threads)
+        else:  # imported already (e.g. by a script preloaded as __main__)
+            import numba
+
+            numba.set_num_threads(min(kernel_threads, numba.config.NUMBA_NUM_THREADS))
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     threading.Thread(
         target=_watch_parent, args=(parent, 0.5), name="it2track-parent-watch", daemon=True
@@ -169,7 +182,7 @@ class ProcessExecutor(Executor):
                 max_workers=self.n_workers,
                 mp_context=multiprocessing.get_context(self.context),
                 initializer=_init_worker,
-                initargs=(os.getpid(), max(1, (os.cpu_count() or 1) // self.n_workers)),
+                initargs=(os.getpid(), max(1, _usable_cpus() // self.n_workers)),
             )
         return self._pool
 

@@ -14,9 +14,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 # Student's t quantile and tail from scipy.special, the functions scipy.stats.t calls (same
-# numbers, bit for bit: tests/experiments/test_analysis.py) without
-# scipy.stats' import (~0.4 s) and per-call argument handling (~0.3 ms a call; the robustness
-# experiment judges thousands of cells).
+# numbers, bit for bit: tests/experiments/test_analysis.py) without scipy.stats' per-call
+# argument handling (~0.3 ms a call; the robustness experiment judges thousands of cells).
 from scipy import special as _sc
 
 __all__ = [
@@ -169,8 +168,9 @@ def binomial_interval(k: int, n: int, level: float = 0.95) -> tuple[float, float
     if isinstance(k, bool) or isinstance(n, bool) or n < 1 or not 0 <= k <= n:
         raise ValueError(f"binomial_interval: need 0 <= k <= n and n >= 1, got k={k}, n={n}")
     a = 1.0 - level
-    from scipy.stats import beta  # rarely called: imported here (scipy.special's betaincinv
-    # differs from scipy.stats.beta's quantile in the last bits)
+    # scipy.stats' beta quantile, not scipy.special's betaincinv: they differ in the last bits,
+    # and the published intervals are scipy.stats'. A few calls per study.
+    from scipy.stats import beta
 
     low = 0.0 if k == 0 else float(beta.ppf(a / 2.0, k, n - k + 1))
     high = 1.0 if k == n else float(beta.ppf(1.0 - a / 2.0, k + 1, n - k))

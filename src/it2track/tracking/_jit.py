@@ -22,12 +22,14 @@ What makes the lane loops vectorise (AVX-512 here; checked with ``inspect_asm`` 
   (:func:`~it2track.fuzzy._jit.fmin`), numba's builtins call a comparison LLVM does not see
   through.
 
-Cost per run-step (4096 runs x 1001 steps, sinusoidal path, one thread, CPU time on the shared
-2-core AVX-512 machine; numpy engine 137 ns): PD controller 8 ns (plant step with five sine/
-cosine pairs ~4, atan2 ~1, metrics, wrap and bookkeeping the rest), paper IT2FLC with the
-exhaustive reducer ~22 ns (the fuzzy block ~14: 24 divisions for the trapezoid memberships,
-20 for the reducer, ~300 other flops), Nie-Tan ~16. Noise: drawing a seed's row (numpy PCG64,
-~17 ns per sample) is done once per distinct seed and call, and not at all for sigma = 0.
+Cost per run-step (4096 runs x 1001 steps, sinusoidal path, sigma = 0, one thread, CPU time on
+the shared 2-core AVX-512 machine, measured with 128 lanes a block; 64 lanes, chosen for the
+study's many short blocks, cost ~13 % more on such long ones; numpy engine 137 ns): PD
+controller 8 ns (plant step with five sine/cosine pairs ~4, atan2 ~1, metrics, wrap and
+bookkeeping the rest), paper IT2FLC with the exhaustive reducer ~22 ns (the fuzzy block ~14: 24
+divisions for the trapezoid memberships, 20 for the reducer, ~300 other flops), Nie-Tan ~16.
+Noise: drawing a seed's row (numpy PCG64, ~17 ns per sample) is done once per distinct seed and
+call, and not at all for sigma = 0.
 
 numba checks a cached function against its own source file only: after editing
 ``fuzzy/_jit.py``, ``fuzzy/libm.py``, ``tracking/libm.py`` or ``plant/drive.py``'s sine/cosine
