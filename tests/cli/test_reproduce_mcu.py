@@ -1,13 +1,14 @@
 """`it2track reproduce` measures the microcontroller costs in the background: the report's
 section carries the cycles a direct measure_costs call gives (simavr is deterministic), a
-missing toolchain is named with its Debian packages, --no-mcu and --quick skip, and none of it
-changes a simulated number."""
+missing toolchain is named with its Debian packages, --no-mcu and --quick skip, a failed
+measurement publishes nothing of its own, and none of it changes a simulated number."""
 
 from __future__ import annotations
 
 import csv
 import json
 import re
+import sys
 from dataclasses import replace
 from pathlib import Path
 
@@ -15,11 +16,24 @@ import pytest
 from click.testing import CliRunner
 
 from it2track.cli.main import main
-from it2track.codegen.mcu import ARM_TOOLS, AVR_TOOLS
-from it2track.codegen.tools import missing_tools
+from it2track.codegen.tools import MCU_PACKAGES, MCU_TOOLS, missing_tools
 from it2track.experiments.study import StudyConfig
 
 GRID = 2  # the smallest grid: 4 inputs per controller
+ROOT = Path(__file__).resolve().parents[2]
+
+#: A measuring child that draws its figure and then crashes (stands in for
+#: ``python -m it2track.report.mcu_job``).
+DRAW_THEN_CRASH = """
+import sys
+from pathlib import Path
+
+args = sys.argv[1:]
+figures = Path(args[args.index("--figure-dir") + 1])
+for name in ("mcu_costs.png", "mcu_costs.svg"):
+    (figures / name).write_bytes(b"drawn before the failure")
+sys.exit(3)
+"""
 
 
 def _tiny_study() -> StudyConfig:
@@ -41,19 +55,27 @@ def _run(out: Path, *args: str) -> tuple[Path, dict, str]:
 
 @pytest.fixture(scope="module")
 def runs(tmp_path_factory):
-    """The tiny study three ways: measured, --no-mcu, and with the cross tools hidden."""
+    """The tiny study four ways: measured, --no-mcu, with a measuring child that draws its
+    figure and then crashes, and with the cross tools hidden."""
     import shutil
 
     import it2track.cli.reproduce as cli
     from it2track.codegen import tools
+    from it2track.report import mcu_job
 
     root = tmp_path_factory.mktemp("mcu")
     out = {}
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(cli, "_default_study_config", _tiny_study)
-        if not missing_tools([*AVR_TOOLS, *ARM_TOOLS]):
+        if not missing_tools(MCU_TOOLS):
             out["measured"] = _run(root / "measured", "--mcu-grid", str(GRID))
         out["off"] = _run(root / "off", "--no-mcu")
+        with pytest.MonkeyPatch.context() as child:
+            script = root / "draw_then_crash.py"
+            script.write_text(DRAW_THEN_CRASH)
+            child.setattr(mcu_job, "missing_tools", lambda tools: [])
+            child.setattr(mcu_job, "_child_argv", lambda: [sys.executable, str(script)])
+            out["failed"] = _run(root / "failed", "--mcu-grid", str(GRID))
         real = shutil.which
         hidden = {"avr-gcc", "simavr", "arm-none-eabi-gcc"}
         mp.setattr(shutil, "which",
@@ -65,7 +87,7 @@ def runs(tmp_path_factory):
 
 def _needs_tools(runs):
     if "measured" not in runs:
-        packages = missing_tools([*AVR_TOOLS, *ARM_TOOLS])
+        packages = missing_tools(MCU_TOOLS)
         pytest.skip(f"needs the Debian packages {', '.join(packages)}")
     return runs["measured"]
 
@@ -103,14 +125,67 @@ def test_missing_tools_are_named_and_the_rest_is_unaffected(runs):
     packages = "gcc-avr simavr gcc-arm-none-eabi libnewlib-arm-none-eabi"
     assert f"apt-get install {packages}" in section
     assert manifest["mcu"]["missing_packages"] == packages.split()
-    assert not (out / "mcu_costs.csv").exists() and not (out / "mcu_costs.png").exists()
+    assert not any(p.name.startswith("mcu_costs") for p in out.iterdir())
     assert "<table" not in section
-    # the simulated numbers do not depend on the measurement
+    # the simulated numbers are those of a run without the measurement
     off = runs["off"][0]
-    reference = runs["measured"][0] if "measured" in runs else off
     for name in ("metrics.csv", "summary.csv", "claims.md"):
-        assert (out / name).read_bytes() == (reference / name).read_bytes(), name
-        assert (off / name).read_bytes() == (reference / name).read_bytes(), name
+        assert (out / name).read_bytes() == (off / name).read_bytes(), name
+
+
+def test_the_measurement_does_not_change_the_simulated_numbers(runs):
+    out = _needs_tools(runs)[0]
+    off = runs["off"][0]
+    for name in ("metrics.csv", "summary.csv", "claims.md"):
+        assert (out / name).read_bytes() == (off / name).read_bytes(), name
+
+
+def test_a_failed_measurement_publishes_none_of_its_files(runs):
+    out, manifest, section = runs["failed"]
+    assert not any(p.name.startswith("mcu_costs") for p in out.iterdir())
+    assert not any(f.startswith("mcu_costs") for f in manifest["files"])
+    assert manifest["mcu"]["status"] == "failed" and "exited with 3" in manifest["mcu"]["reason"]
+    assert "The measurement failed" in section and "<figure" not in section
+    off = runs["off"][0]
+    for name in ("metrics.csv", "summary.csv", "claims.md"):
+        assert (out / name).read_bytes() == (off / name).read_bytes(), name
+
+
+def test_a_failing_cancel_still_removes_the_staging_folder(monkeypatch, tmp_path):
+    """The job's cancel() raising (in reproduce's ``finally``) must not keep the half-written
+    run's staging folder."""
+    from it2track.report.mcu_job import McuJob
+
+    def fail_start(*a, **k):
+        raise OSError("start failed")
+
+    def fail_cancel(self):
+        raise RuntimeError("cancel failed")
+
+    monkeypatch.setattr(McuJob, "start", fail_start)
+    monkeypatch.setattr(McuJob, "cancel", fail_cancel)
+    out = tmp_path / "o"
+    result = CliRunner().invoke(main, ["reproduce", "--no-progress", "--out", str(out)])
+    assert result.exit_code != 0 and isinstance(result.exception, RuntimeError)
+    assert list(out.iterdir()) == [], list(out.rglob("*"))
+
+
+def test_the_toolchain_packages_are_named_alike_everywhere():
+    """The CLI help, the README and the study guide name MCU_PACKAGES (what the report and the
+    missing-tools detection use), and .ci/run installs each of them."""
+    from it2track.cli.reproduce import reproduce
+
+    listed = ", ".join(MCU_PACKAGES)
+    assert MCU_PACKAGES == ("gcc-avr", "binutils-avr", "avr-libc", "simavr",
+                            "gcc-arm-none-eabi", "binutils-arm-none-eabi",
+                            "libnewlib-arm-none-eabi")
+    (option,) = [p for p in reproduce.params if p.name == "mcu"]
+    assert listed in " ".join((option.help or "").split())
+    for doc in ("README.md", "docs/guide/study.md"):
+        assert listed in " ".join((ROOT / doc).read_text().split()), doc
+    ci = (ROOT / ".ci" / "run").read_text()
+    for package in MCU_PACKAGES:
+        assert re.search(rf"[(\s]{re.escape(package)}[)\s]", ci), package
 
 
 def test_no_mcu_skips_and_is_recorded(runs):
@@ -125,7 +200,8 @@ def test_no_mcu_skips_and_is_recorded(runs):
 @pytest.mark.parametrize("args, needle", [
     (["--no-mcu", "--mcu-grid", "5"], "--no-mcu turns it off"),
     (["--quick", "--mcu-grid", "5"], "--quick turns it off"),
-    (["--mcu-grid", "1"], "1 is not in the range 2<=x<=255"),
+    (["--mcu-grid", "1"], "1 is not in the range 2<=x<=61"),
+    (["--mcu-grid", "62"], "62 is not in the range 2<=x<=61"),
 ])
 def test_mcu_grid_without_a_measurement_is_refused_before_any_work(tmp_path, args, needle):
     out = tmp_path / "o"

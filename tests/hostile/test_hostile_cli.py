@@ -153,6 +153,15 @@ case("reproduce-out-under-a-file", ["reproduce", "--quick", "--out", "binary.csv
 case("reproduce-out-holds-a-folder", ["reproduce", "--quick", "--out", "prev"],
      "metrics.csv exists and is not a regular file", prev_note="")
 case("reproduce-scheduler-no-port", [*REP, "--scheduler", "foo"], "--scheduler", "'foo'")
+# --mcu-grid: at most the benchmark's 61 (its time grows with the square); only with a measurement
+case("reproduce-mcu-grid-62", [*REP, "--mcu-grid", "62"], "--mcu-grid", "62", "2<=x<=61")
+case("reproduce-mcu-grid-1", [*REP, "--mcu-grid", "1"], "--mcu-grid", "1 is not", "2<=x<=61")
+case("reproduce-mcu-grid-negative", [*REP, "--mcu-grid", "-1"], "--mcu-grid", "-1", "2<=x<=61")
+case("reproduce-mcu-grid-abc", [*REP, "--mcu-grid", "abc"], "--mcu-grid", "'abc'", "integer")
+case("reproduce-mcu-grid-no-mcu", [*REP, "--mcu-grid", "21", "--no-mcu"], "--mcu-grid 21",
+     "--no-mcu turns it off")
+case("reproduce-mcu-grid-quick", [*REP, "--quick", "--mcu-grid", "21"], "--mcu-grid 21",
+     "--quick turns it off", "add --mcu")
 case("reproduce-mathtext-label", [*REP, "--config", "study.toml"], "study.toml",
      "\\\\undefinedmacro", "cannot be drawn",
      study='[[controllers]]\nkind = "flc"\nlabel = "$\\\\undefinedmacro{x}$"\n')

@@ -24,7 +24,11 @@ from .sweep import dask_settings as _dask_settings
 if TYPE_CHECKING:
     from ..report.render import FigureRenderer
 
-__all__ = ["reproduce"]
+__all__ = ["MAX_MCU_GRID", "reproduce"]
+
+#: The largest ``--mcu-grid``: the benchmark's grid (benchmarks/bench_mcu.py); the time grows
+#: with its square (~3 s at 21), so a larger one would run for many minutes.
+MAX_MCU_GRID = 61
 
 
 def _quick(config: Any) -> Any:
@@ -53,10 +57,14 @@ def _quick(config: Any) -> Any:
 @click.option("--mcu/--no-mcu", default=None,
               help="Measure the controller's cost on the simulated ATmega328P (cycles, bytes) "
               "and its Cortex-M4F code size, in the background (default: yes, except with "
-              "--quick; needs gcc-avr, avr-libc, simavr, gcc-arm-none-eabi and "
-              "libnewlib-arm-none-eabi, else the report names what to install).")
-@click.option("--mcu-grid", type=click.IntRange(min=2, max=255), default=21, show_default=True,
-              help="Inputs per axis of the microcontroller measurement's grid on [-1, 1]^2.")
+              "--quick; needs the Debian packages gcc-avr, binutils-avr, avr-libc, simavr, "
+              "gcc-arm-none-eabi, binutils-arm-none-eabi, libnewlib-arm-none-eabi, else the "
+              "report names what to install).")
+@click.option("--mcu-grid", type=click.IntRange(min=2, max=MAX_MCU_GRID), default=21,
+              show_default=True,
+              help="Inputs per axis of the microcontroller measurement's grid on [-1, 1]^2, "
+              f"2 to {MAX_MCU_GRID} (the benchmark's grid); the time grows with its square: "
+              "~3 s at 21. Refused with --no-mcu, and with --quick unless --mcu is given.")
 @click.option("--no-progress", is_flag=True, help="No progress bar or stage messages.")
 def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
               sweep_seeds: int | None, quick: bool, workers: int, scheduler: str | None,
@@ -90,6 +98,12 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
     from ..tracking import METRIC_NAMES
 
     started = time.perf_counter()
+    ctx = click.get_current_context()
+    mcu = (not quick) if mcu is None else mcu
+    if not mcu and _given(ctx, "mcu_grid"):
+        _fail(f"--mcu-grid {mcu_grid} has no effect without the microcontroller measurement "
+              f"({'--no-mcu' if _given(ctx, 'mcu') else '--quick'} turns it off): drop it or "
+              "add --mcu")
     try:
         config = load_study_config(config_path) if config_path else _default_study_config()
         if quick:
@@ -108,12 +122,6 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
     if workers and scheduler:
         _fail("give either --workers or --scheduler, not both")
     _preflight_study(config, config_path)
-    mcu = (not quick) if mcu is None else mcu
-    ctx = click.get_current_context()
-    if not mcu and _given(ctx, "mcu_grid"):
-        _fail(f"--mcu-grid {mcu_grid} has no effect without the microcontroller measurement "
-              f"({'--no-mcu' if _given(ctx, 'mcu') else '--quick'} turns it off): drop it or "
-              "add --mcu")
     total = study_run_count(config)
     out = Path(out_dir)
     svg = (not quick) if svg is None else svg
@@ -207,8 +215,10 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
         outputs.write_json(staging / "manifest.json", manifest)
         _publish(staging, out)
     finally:
-        mcu_job.cancel()
-        _discard_staging(staging)
+        try:
+            mcu_job.cancel()
+        finally:  # the staging folder goes even if stopping the measurement fails
+            _discard_staging(staging)
     elapsed = time.perf_counter() - started
     stages.summary(elapsed)
     click.echo(f"{len(result.rows['seed'])} result rows from {total} simulations in "

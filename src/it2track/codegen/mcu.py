@@ -40,12 +40,14 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..fuzzy import IT2Sugeno, Reducer, T1Sugeno
 from .generate import CCode, RealType, generate_c
-from .tools import BuildError, require, run_tool
+from .tools import ARM_TOOLS, AVR_TOOLS, BuildError, require, run_tool
 
 __all__ = [
     "ARM_FLAGS",
+    "ARM_TOOLS",
     "AVR_CLOCK_HZ",
     "AVR_FLAGS",
+    "AVR_TOOLS",
     "CONTROL_PERIOD_S",
     "AvrRun",
     "CodeSize",
@@ -72,8 +74,6 @@ ARM_FLAGS: tuple[str, ...] = (
     "-mcpu=cortex-m4", "-mthumb", "-mfloat-abi=hard", "-mfpu=fpv4-sp-d16", "-Os", "-std=c99",
     "-Wall", "-Wextra", "-Werror", "-pedantic", "-Wdouble-promotion",
 )
-AVR_TOOLS = ("avr-gcc", "avr-size", "avr-libc", "simavr")
-ARM_TOOLS = ("arm-none-eabi-gcc", "arm-none-eabi-size", "newlib")
 #: Inputs per simavr run (the input table lives in flash: 8 bytes per two-input point).
 CHUNK = 1000
 

@@ -7,8 +7,8 @@ import subprocess
 from collections.abc import Sequence
 from pathlib import Path
 
-__all__ = ["TOOL_PACKAGES", "BuildError", "ToolMissingError", "missing_tools", "require",
-           "run_tool"]
+__all__ = ["ARM_TOOLS", "AVR_TOOLS", "MCU_PACKAGES", "MCU_TOOLS", "TOOL_PACKAGES", "BuildError",
+           "ToolMissingError", "missing_tools", "require", "run_tool"]
 
 #: Tool -> the Debian package that installs it.
 TOOL_PACKAGES: dict[str, str] = {
@@ -22,6 +22,14 @@ TOOL_PACKAGES: dict[str, str] = {
     "arm-none-eabi-size": "binutils-arm-none-eabi",
     "newlib": "libnewlib-arm-none-eabi",
 }
+#: What the microcontroller measurement (:func:`it2track.codegen.mcu.measure_costs`) needs:
+#: the AVR build and simulation, and the Cortex-M4F build.
+AVR_TOOLS = ("avr-gcc", "avr-size", "avr-libc", "simavr")
+ARM_TOOLS = ("arm-none-eabi-gcc", "arm-none-eabi-size", "newlib")
+MCU_TOOLS = (*AVR_TOOLS, *ARM_TOOLS)
+#: The Debian packages of :data:`MCU_TOOLS`, in order: the one list the CLI help, the report,
+#: the README and the docs name (``.ci/run`` installs the same).
+MCU_PACKAGES: tuple[str, ...] = tuple(dict.fromkeys(TOOL_PACKAGES[t] for t in MCU_TOOLS))
 
 
 class ToolMissingError(RuntimeError):

@@ -9,6 +9,12 @@ simavr, which are separate processes anyway; the child keeps matplotlib out of t
 (whose figures are drawn by workers too) and shares nothing with the simulations, so the
 study's numbers cannot depend on it. The result comes back as JSON (floats round-trip exactly).
 
+The child runs in its own session (process group) with ``python -P`` (the current folder cannot
+shadow the installed packages) and ``IT2TRACK_ENGINE=numpy`` (it never compiles numba kernels,
+which would compete with the study for the cores). It draws the figure into the job's temporary
+folder; the parent copies it into the output only once the measurement is known to have
+succeeded. :meth:`McuJob.cancel` stops the whole group, compilers and simavr included.
+
 When the toolchain is missing the job does not start; :class:`McuCosts` then names the Debian
 packages to install. The outcome is one :class:`McuCosts`, whatever happened.
 """
@@ -19,6 +25,8 @@ import argparse
 import dataclasses
 import enum
 import json
+import os
+import signal
 import subprocess
 import sys
 import tempfile
@@ -28,9 +36,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from ..atomicfile import atomic_write_text
-from ..codegen.mcu import ARM_TOOLS, AVR_TOOLS, CostRow, CostTable
-from ..codegen.tools import missing_tools
+from ..atomicfile import atomic_write_bytes, atomic_write_text
+from ..codegen.mcu import CostRow, CostTable
+from ..codegen.tools import MCU_TOOLS, missing_tools
+from ..fuzzy.kernels import ENGINE_ENV
 
 __all__ = [
     "FIGURE_NAME",
@@ -54,9 +63,13 @@ TABLE_NAME = "mcu_costs.csv"
 def remeasure_commands(fou: float) -> tuple[str, str]:
     """The commands that re-measure the costs of the controller with FoU ``fou`` outside the
     study (on the benchmark's 61 x 61 grid plus 2,000 random inputs) and write the C measured
-    (the study's reducer, exhaustive)."""
-    return (f"python benchmarks/bench_mcu.py --fou {fou:g} --figure docs/mcu_costs.png",
-            f"it2track export c --paper {fou:g} --real float --reducer exhaustive --out ctrl/")
+    (the study's reducer, exhaustive).
+
+    ``fou`` is written with ``repr`` (the exact float, not 6 significant digits); the figure goes
+    to the current folder (not ``docs/``, whose figure the repository's README shows)."""
+    exact = repr(float(fou))
+    return (f"python benchmarks/bench_mcu.py --fou {exact} --figure {FIGURE_NAME}",
+            f"it2track export c --paper {exact} --real float --reducer exhaustive --out ctrl/")
 
 
 class McuStatus(enum.Enum):
@@ -165,18 +178,21 @@ class McuJob:
     """The measurement, running in a child process (or an outcome known without one).
 
     Use :meth:`start` or :meth:`skipped`; :meth:`result` waits for the outcome, :meth:`cancel`
-    stops the child (also on leaving a ``with`` block).
+    stops the child and its own children (also on leaving a ``with`` block).
     """
 
     def __init__(self, *, fou: float, grid: int, outcome: McuCosts | None = None,
                  proc: subprocess.Popen[bytes] | None = None, work: Path | None = None,
-                 cleanup: tempfile.TemporaryDirectory[str] | None = None) -> None:
+                 cleanup: tempfile.TemporaryDirectory[str] | None = None,
+                 out_dir: Path | None = None, svg: bool = False) -> None:
         self.fou = fou
         self.grid = grid
         self._outcome = outcome
         self._proc = proc
         self._work = work
         self._cleanup = cleanup
+        self._out_dir = out_dir
+        self._svg = svg
 
     @classmethod
     def skipped(cls, reason: str, *, fou: float, grid: int) -> McuJob:
@@ -191,7 +207,8 @@ class McuJob:
         Parameters
         ----------
         out_dir : Path
-            Folder of the figure (:data:`FIGURE_NAME`, and its SVG if ``svg``).
+            Folder of the figure (:data:`FIGURE_NAME`, and its SVG if ``svg``); nothing is
+            written there unless the measurement succeeds.
         fou : float
             FoU width of the paper's controller (> 0).
         grid : int
@@ -206,26 +223,31 @@ class McuJob:
         """
         if grid < 2 or not fou > 0:
             raise ValueError(f"grid={grid!r} must be >= 2 and fou={fou!r} > 0")
-        missing = missing_tools([*AVR_TOOLS, *ARM_TOOLS])
+        missing = missing_tools(MCU_TOOLS)
         if missing:
             return cls(fou=fou, grid=grid, outcome=McuCosts(
                 status=McuStatus.TOOLS_MISSING, fou=fou, grid=grid, missing=tuple(missing)))
-        cleanup = tempfile.TemporaryDirectory(prefix="it2track-mcu-")
+        cleanup = tempfile.TemporaryDirectory(prefix="it2track-mcu-", ignore_cleanup_errors=True)
         work = Path(cleanup.name)
-        cmd = [sys.executable, "-m", __name__, "--fou", repr(fou), "--grid", str(grid),
-               "--figure-dir", str(out_dir), "--result", str(work / "result.json"),
+        (work / "figure").mkdir()
+        argv = _child_argv()
+        cmd = [*argv, "--fou", repr(fou), "--grid", str(grid),
+               "--figure-dir", str(work / "figure"), "--result", str(work / "result.json"),
                "--build-dir", str(work / "build")]
         if svg:
             cmd.append("--svg")
         try:
             with (work / "stderr.txt").open("wb") as err:
-                proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=err, stderr=err)
+                # Its own session: cancel() signals the child's whole process group.
+                proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=err, stderr=err,
+                                        env=_child_env(), start_new_session=True)
         except OSError as exc:
             cleanup.cleanup()
             return cls(fou=fou, grid=grid, outcome=McuCosts(
                 status=McuStatus.FAILED, fou=fou, grid=grid,
-                reason=f"could not start {sys.executable}: {exc}"))
-        return cls(fou=fou, grid=grid, proc=proc, work=work, cleanup=cleanup)
+                reason=f"could not start {argv[0]}: {exc}"))
+        return cls(fou=fou, grid=grid, proc=proc, work=work, cleanup=cleanup,
+                   out_dir=Path(out_dir), svg=svg)
 
     def result(self) -> McuCosts:
         """Wait for the child and return the outcome (``FAILED`` with its message if it
@@ -234,6 +256,7 @@ class McuJob:
             return self._outcome
         assert self._proc is not None and self._work is not None
         code = self._proc.wait()
+        self._proc = None  # finished and reaped: nothing left to stop
         try:
             data = json.loads((self._work / "result.json").read_text(encoding="utf-8"))
         except (OSError, ValueError):
@@ -241,20 +264,44 @@ class McuJob:
             tail = " ".join(err.split()[-60:]) or "no output"
             data = {"status": "failed", "reason": f"the measuring process exited with {code}: "
                                                   f"{tail}"}
-        self._outcome = _outcome_from(data, fou=self.fou, grid=self.grid)
+        outcome = _outcome_from(data, fou=self.fou, grid=self.grid)
+        if outcome.status is McuStatus.MEASURED:
+            try:
+                outcome = dataclasses.replace(outcome, figure=self._publish_figure())
+            except OSError as exc:
+                outcome = McuCosts(status=McuStatus.FAILED, fou=self.fou, grid=self.grid,
+                                   reason=f"the cost figure could not be copied: {exc}")
+        self._outcome = outcome
         self._close()
         return self._outcome
 
+    def _publish_figure(self) -> Path:
+        """Copy the child's figure (PNG, and SVG if asked) into the output folder, each file
+        atomically (the job's temporary folder may be on another file system); if one fails,
+        remove the ones copied and raise."""
+        assert self._work is not None and self._out_dir is not None
+        names = [FIGURE_NAME, *([str(Path(FIGURE_NAME).with_suffix(".svg"))] if self._svg
+                                else [])]
+        copied: list[Path] = []
+        try:
+            for name in names:
+                data = (self._work / "figure" / name).read_bytes()
+                copied.append(atomic_write_bytes(self._out_dir / name, data))
+        except OSError:
+            for path in copied:
+                path.unlink(missing_ok=True)
+            raise
+        return self._out_dir / FIGURE_NAME
+
     def cancel(self) -> None:
-        """Stop the child if it still runs (its outcome is then never read)."""
-        if self._proc is not None and self._proc.poll() is None:
-            self._proc.terminate()
-            try:
-                self._proc.wait(timeout=10)
-            except subprocess.TimeoutExpired:
-                self._proc.kill()
-                self._proc.wait()
-        self._close()
+        """Stop the child and everything it started (compilers, simavr) if it still runs: its
+        outcome is then never read and nothing reaches the output folder."""
+        proc, self._proc = self._proc, None
+        try:
+            if proc is not None:
+                _stop_group(proc)
+        finally:
+            self._close()
 
     def _close(self) -> None:
         if self._cleanup is not None:
@@ -268,17 +315,47 @@ class McuJob:
         self.cancel()
 
 
+def _child_argv() -> list[str]:
+    """The child's interpreter and module. ``-P``: the current folder is not put on
+    ``sys.path``, so a local ``it2track/`` or ``numpy.py`` cannot shadow the installed
+    packages. (A hook the tests replace.)"""
+    return [sys.executable, "-P", "-m", __name__]
+
+
+def _child_env() -> dict[str, str]:
+    """The child's environment: this one, with the numpy engine (the costs do not depend on the
+    engine, and the child then never spends CPU compiling numba kernels)."""
+    return {**os.environ, ENGINE_ENV: "numpy"}
+
+
+def _stop_group(proc: subprocess.Popen[bytes]) -> None:
+    """SIGTERM to ``proc``'s process group (it leads its own session), SIGKILL if ``proc`` has
+    not ended after a short wait."""
+    try:
+        os.killpg(proc.pid, signal.SIGTERM)  # proc is not reaped yet: its group id is its own
+    except ProcessLookupError:
+        pass
+    try:
+        proc.wait(timeout=5)
+    except subprocess.TimeoutExpired:
+        try:
+            os.killpg(proc.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+        proc.wait()
+
+
 def _outcome_from(data: Mapping[str, Any], *, fou: float, grid: int) -> McuCosts:
     if data.get("status") == McuStatus.MEASURED.value:
         return McuCosts(status=McuStatus.MEASURED, fou=fou, grid=grid,
-                        table=table_from_json(data["table"]), figure=Path(data["figure"]),
-                        seconds=float(data["seconds"]))
+                        table=table_from_json(data["table"]), seconds=float(data["seconds"]))
     return McuCosts(status=McuStatus.FAILED, fou=fou, grid=grid,
                     reason=str(data.get("reason", "unknown failure")))
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """The child process: measure, draw, write the outcome as JSON to ``--result``."""
+    """The child process: measure, draw into ``--figure-dir``, write the outcome as JSON to
+    ``--result`` (last: without it the parent counts the measurement as failed)."""
     ap = argparse.ArgumentParser(prog="python -m it2track.report.mcu_job",
                                  description="Measure the MCU costs for it2track reproduce.")
     ap.add_argument("--fou", type=float, required=True)
@@ -304,7 +381,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.svg:
             write_mcu_cost_figure(table, png.with_suffix(".svg"))
         data = {"status": McuStatus.MEASURED.value, "table": table_to_json(table),
-                "figure": str(png), "seconds": time.perf_counter() - started}
+                "seconds": time.perf_counter() - started}
     atomic_write_text(args.result, json.dumps(data, allow_nan=False))
     return 0
 

@@ -11,13 +11,11 @@ from markupsafe import Markup
 
 from ...codegen.mcu import (
     ARM_FLAGS,
-    ARM_TOOLS,
     AVR_CLOCK_HZ,
     AVR_FLAGS,
-    AVR_TOOLS,
     CONTROL_PERIOD_S,
 )
-from ...codegen.tools import TOOL_PACKAGES
+from ...codegen.tools import MCU_PACKAGES
 from ..mcu_job import (
     TABLE_NAME,
     McuCosts,
@@ -90,6 +88,5 @@ def mcu_section(costs: McuCosts, figure: Mapping[str, Any] | None = None) -> Mar
         table_name=TABLE_NAME,
         commands=remeasure_commands(costs.fou),
         reducer=STUDY_REDUCER,
-        packages=", ".join(dict.fromkeys(TOOL_PACKAGES[t]
-                                         for t in (*AVR_TOOLS, *ARM_TOOLS))),
+        packages=", ".join(MCU_PACKAGES),
     )
