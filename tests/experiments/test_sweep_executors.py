@@ -135,3 +135,17 @@ def test_local_workers_share_the_cores_between_their_kernel_threads(monkeypatch)
     with ProcessExecutor(1) as ex:
         got = [r for _, r in ex.imap_unordered(os.getenv, ["NUMBA_NUM_THREADS"])]
     assert got == ["7"]
+
+
+def test_worker_threads_are_set_also_when_numba_was_imported_first():
+    # A worker whose __main__ imported numba already has read NUMBA_NUM_THREADS: the
+    # initialiser must then set the thread count itself.
+    import subprocess
+
+    code = ("import os, numba; os.environ.pop('NUMBA_NUM_THREADS', None); "
+            "from it2track.experiments.executors import _init_worker; "
+            "_init_worker(os.getpid(), 1); print(numba.get_num_threads())")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True, env={k: v for k, v in os.environ.items()
+                                          if k != "NUMBA_NUM_THREADS"})
+    assert out.stdout.strip() == "1"

@@ -148,7 +148,7 @@ def _init_worker(parent: int, kernel_threads: int) -> None:
         else:  # imported already (e.g. by a script preloaded as __main__)
             import numba
 
-            numba.set_num_threads(min(kernel_threads, numba.config.NUMBA_NUM_THREADS))
+            numba.set_num_threads(min(kernel_threads, numba.get_num_threads()))
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     threading.Thread(
         target=_watch_parent, args=(parent, 0.5), name="it2track-parent-watch", daemon=True
