@@ -197,3 +197,18 @@ def test_executors_give_the_same_bits():
     for got in results:
         for name, value in expected.items():
             np.testing.assert_array_equal(got[name], value, err_msg=name)
+
+
+def test_full_and_partial_blocks_on_one_and_several_paths():
+    """A controller's runs fill several blocks of compiled.LANES lanes: full blocks, a short
+    last one (spare lanes compute copies of its first run), blocks on one path and blocks
+    straddling two paths (their reference gathered per lane)."""
+    from it2track.tracking import _jit
+
+    lanes = _jit.LANES
+    n = 2 * lanes + 37
+    ctrls = [CONTROLLERS["it2-0.2-km"], CONTROLLERS["pd"]]
+    runs = RunTable(np.repeat([0, 1], n), np.tile(np.repeat([0, 2], [lanes + 5, n - lanes - 5]), 2),
+                    np.tile([0.0, 0.3, 0.05], 2 * n)[:2 * n], np.arange(2 * n) % 11)
+    compare(ctrls, TRAJS, runs, LoopConfig(duration=0.3, seed=4), series=False)
+    compare(ctrls, TRAJS, runs.take(np.arange(0, 2 * n, 3)), LoopConfig(duration=0.3))

@@ -1,7 +1,7 @@
 """numba-compiled closed loop (imported lazily by :mod:`.compiled`).
 
-One task advances a *block* of up to :data:`LANES` runs that share a controller and a reference
-path through the whole run, lane by lane: desired heading, noise, errors, controller,
+One task advances a *block* of up to :data:`LANES` runs that share a controller through the
+whole run, lane by lane: desired heading, noise, errors, controller,
 saturation, metrics and the exact-ZOH plant step, with the operations of :meth:`._Engine.run`,
 :meth:`~it2track.plant.DifferentialDrive.step` and :class:`.metrics.MetricAccumulator` in the
 same order, so every number is the numpy engine's, bit for bit. The kernel is serial and
@@ -15,7 +15,8 @@ What makes the lane loops vectorise (AVX-512 here; checked with ``inspect_asm`` 
 
 * a constant trip count (:data:`LANES`; spare lanes of a short block compute copies of its
   first run) over rows of one array at constant offsets, so no run-time overlap checks;
-* one reference path per block: its point and feed-forward are scalars, not gathers;
+* runs sorted by path within a controller: a block on one path (the usual case) reads its
+  point and feed-forward as scalars, others gather them in a loop of their own;
 * no call and no rarely-taken branch in a lane loop: the rare lanes (non-finite atan2
   arguments, angles outside (-pi, pi], sine/cosine beyond the kernels' range) are counted by a
   branch-free pass and fixed only if there are any; ``min``/``max`` written as selects
@@ -333,8 +334,9 @@ def _integrals(A, base, W, row, t, end):
 
 
 # Rows of the lane state W: pose and wheels (0-6), previous x, y (7, 8), e_prev (9), de (10),
-# PD derivative (11), per-step values (12-23), plant work rows (24-37).
-_W_ROWS = 40
+# PD derivative (11), per-step values (12-23), plant work rows (24-37), saturation flag (38),
+# the reference point and feed-forward per lane (39-41).
+_W_ROWS = 42
 # Rows of the accumulators A: true integrals (0-7), measured (8-15), dist_sq, dist_max,
 # dist_final, effort_sum, effort_ends, u_prev, u_tv, sat_steps (16-23).
 _A_ROWS = 24
@@ -344,8 +346,8 @@ def _loop(C, c_off, blocks, tidx, std, zinv, Z, hold, xref, yref, v0ref, start, 
           metrics, rec, record, status):  # fmt: skip
     """Advance every block of runs through the whole run (see the module docstring).
 
-    ``blocks`` (n_blocks, 4): first run, end, controller, trajectory (one of each per block);
-    runs are rows of ``tidx`` (trajectory), ``std`` (noise std), ``zinv`` (row of ``Z``, the
+    ``blocks`` (n_blocks, 4): first run, end, controller, trajectory of the first run; runs
+    are rows of ``tidx`` (trajectory), ``std`` (noise std), ``zinv`` (row of ``Z``, the
     standard noise). Writes ``metrics`` (B, 14), ``rec`` (17, B, N+1) if ``record``, and
     ``status`` (B,): not OK where the fuzzy reference would raise (the block stops there).
 
@@ -365,6 +367,7 @@ def _loop(C, c_off, blocks, tidx, std, zinv, Z, hold, xref, yref, v0ref, start, 
     yr = np.empty(LANES)
     st = np.zeros(LANES, dtype=np.int8)
     zi = np.zeros(LANES, dtype=np.int64)
+    tl = np.zeros(LANES, dtype=np.int64)
     sd = np.zeros(LANES)
     for b in range(blocks.shape[0]):
         first, stop, ci, tj = blocks[b, 0], blocks[b, 1], blocks[b, 2], blocks[b, 3]
@@ -386,39 +389,49 @@ def _loop(C, c_off, blocks, tidx, std, zinv, Z, hold, xref, yref, v0ref, start, 
         if kind == PD:
             kp, kd, tf, u_max = C[off + 1], C[off + 2], C[off + 3], C[off + 4]
         quiet = True
+        one_path = True
         for j in range(LANES):
             g = first + j if j < L else first
             zi[j] = zinv[g]
             sd[j] = std[g]
+            tl[j] = tidx[g]
             quiet = quiet and std[g] == 0.0
+            one_path = one_path and tidx[g] == tj
         for r in range(_W_ROWS):
             for j in range(LANES):
                 W[r, j] = 0.0
         for r in range(_A_ROWS):
             for j in range(LANES):
                 A[r, j] = 0.0
-        x0, y0, th0 = start[tj, 0], start[tj, 1], start[tj, 2]
         for j in range(LANES):
-            W[0, j] = x0
-            W[1, j] = y0
-            W[2, j] = th0
-            W[7, j] = x0
-            W[8, j] = y0
+            W[0, j] = start[tl[j], 0]
+            W[1, j] = start[tl[j], 1]
+            W[2, j] = start[tl[j], 2]
+            W[7, j] = W[0, j]
+            W[8, j] = W[1, j]
         failed = False
         for k in range(n_steps + 1):
             h = hold[k]
             t = k * ts
             end = k == k_start or k == n_steps
-            xr = xref[k, tj]
-            yr_ = yref[k, tj]
-            v0 = v0ref[k, tj]
+            if one_path:  # (runs are sorted by path: the usual block has one)
+                xr, yr_, v0 = xref[k, tj], yref[k, tj], v0ref[k, tj]
+                for j in range(LANES):
+                    W[39, j] = xr
+                    W[40, j] = yr_
+                    W[41, j] = v0
+            else:  # a gather: a loop of its own
+                for j in range(LANES):
+                    W[39, j] = xref[k, tl[j]]
+                    W[40, j] = yref[k, tl[j]]
+                    W[41, j] = v0ref[k, tl[j]]
             for j in range(LANES):  # desired heading, errors
-                W[12, j] = xr - W[0, j]  # dx
-                W[13, j] = yr_ - W[1, j]  # dy
+                W[12, j] = W[39, j] - W[0, j]  # dx
+                W[13, j] = W[40, j] - W[1, j]  # dy
             if previous:
                 for j in range(LANES):
-                    W[20, j] = xr - W[7, j]
-                    W[21, j] = yr_ - W[8, j]
+                    W[20, j] = W[39, j] - W[7, j]
+                    W[21, j] = W[40, j] - W[8, j]
                 _atan2_lanes(W, 21, 20, 14, LANES)  # theta_d
             else:
                 _atan2_lanes(W, 13, 12, 14, LANES)
@@ -463,6 +476,7 @@ def _loop(C, c_off, blocks, tidx, std, zinv, Z, hold, xref, yref, v0ref, start, 
                     W[18, j] = fmin(fmax(u, -u_max), u_max)
             for j in range(LANES):  # voltages
                 u = W[18, j]
+                v0 = W[41, j]
                 vr_req = v0 + u
                 vl_req = v0 - u
                 W[22, j] = fmin(fmax(vr_req, -v_lim), v_lim)
@@ -500,8 +514,8 @@ def _loop(C, c_off, blocks, tidx, std, zinv, Z, hold, xref, yref, v0ref, start, 
                     rec[0, g, k] = W[0, j]
                     rec[1, g, k] = W[1, j]
                     rec[2, g, k] = W[2, j]
-                    rec[3, g, k] = xr
-                    rec[4, g, k] = yr_
+                    rec[3, g, k] = W[39, j]
+                    rec[4, g, k] = W[40, j]
                     rec[5, g, k] = W[14, j]
                     rec[6, g, k] = W[15, j]
                     rec[7, g, k] = W[16, j]

@@ -100,7 +100,8 @@ def run(
     cfg = engine.config
     n = len(runs)
     n_steps = cfg.n_steps
-    order = np.lexsort((runs.trajectory, runs.controller))  # blocks: one controller, one path
+    # Blocks hold one controller; sorted by path within it, most blocks follow one path.
+    order = np.lexsort((runs.trajectory, runs.controller))
     ctrl = runs.controller[order]
     traj = runs.trajectory[order]
     std = np.ascontiguousarray(runs.noise_std[order])
@@ -110,7 +111,7 @@ def run(
     a = 0
     while a < n:
         b = a
-        while b < n and b - a < lanes and ctrl[b] == ctrl[a] and traj[b] == traj[a]:
+        while b < n and b - a < lanes and ctrl[b] == ctrl[a]:
             b += 1
         blocks.append((a, b, int(ctrl[a]), int(traj[a])))
         a = b
