@@ -82,3 +82,17 @@ def test_run_study_simulates_exactly_the_distinct_runs():
     assert sum(done) == study_run_count(cfg) == 90 + 18
     zero = result.rows["noise_std"] == 0.0
     assert set(result.rows["seed"][zero].tolist()) == {0}  # one row per noise-free cell
+
+
+def test_early_figure_data_is_reused_and_must_be_of_the_same_config(small):
+    from it2track.experiments.study import figure_data
+
+    cfg, result = small
+    early = figure_data(cfg)
+    again = run_study(cfg, early=early)
+    assert again.traces is early.traces and again.surfaces is early.surfaces  # not redone
+    for name in result.rows:
+        np.testing.assert_array_equal(again.rows[name], result.rows[name], name)
+    other = replace(cfg, figure_seed=cfg.figure_seed + 1)
+    with pytest.raises(ValueError, match="early= is figure_data of another config"):
+        run_study(other, early=early)

@@ -151,13 +151,15 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
                 try:
                     # The time series and control surfaces need no Monte Carlo: their
                     # figures are drawn while the experiments run.
-                    renderer.submit(figure_data(config), [])
+                    early = figure_data(config)
+                    renderer.submit(early, [])
                     if workers or scheduler:
                         with make_executor(workers=workers or None, scheduler=scheduler,
                                            **_dask_settings(**dask)) as ex:
-                            result = run_study(config, progress=bar.update, executor=ex)
+                            result = run_study(config, progress=bar.update, executor=ex,
+                                               early=early)
                     else:
-                        result = run_study(config, progress=bar.update)
+                        result = run_study(config, progress=bar.update, early=early)
                 except (ValueError, OSError, ExecutorError, BrokenExecutor) as exc:
                     _fail(f"the study stopped: {type(exc).__name__}: {exc}; nothing was "
                           "written")

@@ -1092,6 +1092,7 @@ def run_study(
     *,
     progress: Callable[[int], object] | None = None,
     executor: Executor | None = None,
+    early: StudyResult | None = None,
 ) -> StudyResult:
     """Run every experiment of the study (see the module docstring).
 
@@ -1104,7 +1105,12 @@ def run_study(
     progress : callable, optional
         Called with the number of runs finished, as they finish (for a progress bar sized by
         :func:`study_run_count`).
+    early : StudyResult, optional
+        :func:`figure_data` of this ``config``, already computed (``it2track reproduce`` draws
+        its figures early): reused instead of simulated again.
     """
+    if early is not None and early.config != config:
+        raise ValueError("run_study: early= is figure_data of another config")
     if config.pd is not None:
         pd, pd_record = tune_pd(config, progress)
     else:
@@ -1150,9 +1156,9 @@ def run_study(
     ordering = ordering_probability(rows, fous=config.fous, trajectories=config.trajectories)
 
     return replace(
-        figure_data(config), rows=rows, pd=pd, pd_tuning=pd_record, tuned=tuned,
-        tuning=tuning_records, tuned_claims=tuned_claims, ordering=ordering,
-        robustness=robustness,
+        early if early is not None else figure_data(config), rows=rows, pd=pd,
+        pd_tuning=pd_record, tuned=tuned, tuning=tuning_records, tuned_claims=tuned_claims,
+        ordering=ordering, robustness=robustness,
     )
 
 
