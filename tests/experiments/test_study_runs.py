@@ -96,3 +96,5 @@ def test_early_figure_data_is_reused_and_must_be_of_the_same_config(small):
     other = replace(cfg, figure_seed=cfg.figure_seed + 1)
     with pytest.raises(ValueError, match="early= is figure_data of another config"):
         run_study(other, early=early)
+    with pytest.raises(ValueError, match="early= must be figure_data"):
+        run_study(cfg, early="traces")  # type: ignore[arg-type]

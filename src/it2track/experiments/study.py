@@ -1109,6 +1109,8 @@ def run_study(
         :func:`figure_data` of this ``config``, already computed (``it2track reproduce`` draws
         its figures early): reused instead of simulated again.
     """
+    if early is not None and not isinstance(early, StudyResult):
+        raise ValueError(f"run_study: early= must be figure_data(config), got {early!r:.80}")
     if early is not None and early.config != config:
         raise ValueError("run_study: early= is figure_data of another config")
     if config.pd is not None:
