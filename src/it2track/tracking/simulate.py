@@ -46,7 +46,9 @@ from numpy.typing import ArrayLike, NDArray
 
 from .._limits import ResourceLimitError, check_memory, loop_bytes
 from ..plant import DifferentialDrive, RobotParams, held_sample_index
+from ..plant.base import PlantSpec, RobotPlant, check_robot_plant
 from ..plant.drive import MAX_QUADRATURE_NODES, check_stiffness
+from ..plant.kinematic import KinematicPlant
 from ..plant.noise import MAX_NOISE_STD, NoiseRows
 from . import compiled as _compiled
 from .controllers import HeadingController
@@ -148,6 +150,11 @@ class LoopConfig:
         forms), s: they integrate over ``[metric_start, duration]`` (ITAE/ITSE still weight
         by the absolute time ``t``). A whole number of periods in ``[0, duration)``;
         default 0 (the whole run).
+    plant : PlantSpec, optional
+        The plant the loop drives (:mod:`it2track.plant.base`), built for ``ts`` and
+        ``robot``. ``None`` (default): the paper's kinematic robot from ``robot`` and
+        ``quadrature_nodes``, run by the compiled engine where available; any other plant
+        runs on the numpy engine through the plant protocol.
     """
 
     duration: float = 10.0
@@ -159,6 +166,7 @@ class LoopConfig:
     quadrature_nodes: int = 4
     desired_heading_pose: PoseTiming = PoseTiming.CURRENT
     metric_start: float = 0.0
+    plant: PlantSpec | None = None
 
     def __post_init__(self) -> None:
         for key in ("duration", "ts", "noise_rate"):
@@ -229,6 +237,9 @@ class LoopConfig:
         object.__setattr__(self, "quadrature_nodes", int(q))
         if not isinstance(self.robot, RobotParams):
             raise ValueError(f"LoopConfig.robot={self.robot!r} must be a RobotParams")
+        if self.plant is not None and not isinstance(self.plant, PlantSpec):
+            raise ValueError(f"LoopConfig.plant={self.plant!r} must be a PlantSpec (a plant "
+                             "description with kind, build() and to_dict()) or None")
         self._check_memory()
         check_stiffness(self.robot, self.ts)  # the plant's precomputation must terminate
 
@@ -250,8 +261,9 @@ class LoopConfig:
         )
 
     def to_dict(self) -> dict[str, Any]:
-        """Plain values (JSON/TOML-ready), the robot as a nested dict."""
-        return {
+        """Plain values (JSON/TOML-ready), the robot as a nested dict; ``"plant"`` (the
+        plant's own table) only when a plant other than the kinematic robot is set."""
+        out = {
             "duration": self.duration, "ts": self.ts, "noise_rate": self.noise_rate,
             "start_pose": (self.start_pose if isinstance(self.start_pose, str)
                            else list(self.start_pose)),
@@ -259,6 +271,9 @@ class LoopConfig:
             "desired_heading_pose": self.desired_heading_pose.value,
             "metric_start": self.metric_start, "robot": dataclasses.asdict(self.robot),
         }  # fmt: skip
+        if self.plant is not None:
+            out["plant"] = self.plant.to_dict()
+        return out
 
     @property
     def n_steps(self) -> int:
@@ -555,11 +570,25 @@ def noise_rows(
 
 
 @functools.lru_cache(maxsize=32)
-def _drive(robot: RobotParams, ts: float, nodes: int) -> DifferentialDrive:
+def _kinematic(robot: RobotParams, ts: float, nodes: int) -> KinematicPlant:
     """Plant maps for one robot and period, built once (about 30 small matrix exponentials,
     slow when a busy BLAS spins up threads) and shared: ``DifferentialDrive`` is immutable
     and keeps its scratch buffers per thread."""
-    return DifferentialDrive(robot, ts, quadrature_nodes=nodes)
+    return KinematicPlant(robot, ts, quadrature_nodes=nodes)
+
+
+def build_robot_plant(config: LoopConfig) -> RobotPlant:
+    """The robot plant ``config`` names (the kinematic robot for ``plant=None``), checked
+    against the plant protocol and the heading task's inputs and outputs."""
+    if config.plant is None:
+        return _kinematic(config.robot, config.ts, config.quadrature_nodes)
+    plant = config.plant.build(ts=config.ts, robot=config.robot)
+    what = f"LoopConfig.plant ({config.plant.kind!r})"
+    plant = check_robot_plant(plant, config.ts, what=what)
+    if any(lim != plant.input_limits[0] or lim[0] != -lim[1] for lim in plant.input_limits):
+        raise ValueError(f"{what}: input_limits={plant.input_limits!r} must be the same "
+                         "symmetric (-V, V) range for both wheels")
+    return plant
 
 
 class _Engine:
@@ -567,7 +596,10 @@ class _Engine:
 
     def __init__(self, trajectories: Sequence[Trajectory], config: LoopConfig) -> None:
         self.config = config
-        self.drive = _drive(config.robot, config.ts, config.quadrature_nodes)
+        self.plant = build_robot_plant(config)
+        #: The kinematic robot's discretisation (what the compiled engine runs), or None.
+        self.drive: DifferentialDrive | None = (
+            self.plant.drive if isinstance(self.plant, KinematicPlant) else None)
         t = config.times
         ref = np.stack([tr.sample(t) for tr in trajectories])  # (n_traj, N+1, 4)
         motor = config.robot.motor
@@ -585,7 +617,7 @@ class _Engine:
                                  (len(trajectories), 1))
         self.hold = held_sample_index(t, config.noise_rate)
         self.n_noise = int(self.hold[-1]) + 1
-        self.v_lim = motor.voltage_limit
+        self.v_lim = float(self.plant.input_limits[0][1])
 
     def run(
         self,
@@ -624,17 +656,18 @@ class _Engine:
         ] if n else []
         states = [c.initial_state(s.stop - s.start, cfg.ts) for c, s in groups]
 
-        pose = np.ascontiguousarray(self.start[tidx].T) if n else np.empty((3, 0))
+        plant = self.plant
+        plant_state = plant.initial_state(
+            n, pose=np.ascontiguousarray(self.start[tidx].T) if n else np.empty((3, 0)))
+        out = plant.outputs(plant_state)  # ROBOT_OUTPUTS rows: x, y, theta, omega_R/L, v, omega
+        pose = out[:3]
         previous = cfg.desired_heading_pose is PoseTiming.PREVIOUS
         prev_xy = pose[:2].copy()  # pose at t_(k-1) for PoseTiming.PREVIOUS (t_0 at k = 0)
-        wheels = np.zeros((4, n))
         volts = np.empty((2, n))
         u = np.empty(n)
         acc = MetricAccumulator(n, cfg.ts, n_steps, self.v_lim,
                                 start_index=cfg.metric_start_index)
         rec = {f: np.empty((n_steps + 1, n)) for f in TRACE_FIELDS} if record else None
-        half_r = 0.5 * cfg.robot.wheel_radius
-        w_scale = cfg.robot.wheel_radius / (2.0 * cfg.robot.half_track)
         # Work rows reused every step (fresh temporaries would cost allocations and page
         # faults). Every operation on them is elementwise: runs stay batch-independent.
         dx, dy, theta_d, theta_meas, e_true, dist, tmp, vr_req, vl_req = np.empty((9, n))
@@ -686,16 +719,17 @@ class _Engine:
                     "x": pose[0], "y": pose[1], "theta": pose[2], "x_ref": xr, "y_ref": yr,
                     "theta_d": theta_d, "theta_meas": theta_meas, "e_true": e_true,
                     "e_meas": e_meas, "de": de, "u": u, "v_right": volts[0],
-                    "v_left": volts[1], "omega_right": wheels[1], "omega_left": wheels[3],
-                    "v": half_r * (wheels[1] + wheels[3]),
-                    "omega": w_scale * (wheels[1] - wheels[3]),
+                    "v_left": volts[1], "omega_right": out[3], "omega_left": out[4],
+                    "v": out[5], "omega": out[6],
                 }  # fmt: skip
                 for name, value in row.items():
                     rec[name][k] = value
             if k < n_steps:
                 if previous:
                     prev_xy[:] = pose[:2]
-                pose, wheels = self.drive.step(pose, wheels, volts)
+                plant_state = plant.step(plant_state, volts, k * cfg.ts)
+                out = plant.outputs(plant_state)
+                pose = out[:3]
             e_prev, e_meas = e_meas, e_prev
 
         inv = np.empty_like(order)
@@ -717,7 +751,7 @@ def _run(
 ) -> tuple[dict[str, FloatArray], dict[str, FloatArray] | None]:
     """``engine.run`` with every run the compiled engine supports done by it (same bits);
     ``noise``: rows drawn beforehand for the noisy runs' seeds (else drawn here)."""
-    jit = _compiled.load() if len(runs) else None
+    jit = _compiled.load() if len(runs) and engine.drive is not None else None
     if jit is None:
         return engine.run(controllers, runs, record=record, noise=noise)
     fast = np.array([_compiled.supported(c) is None for c in controllers], dtype=bool)
