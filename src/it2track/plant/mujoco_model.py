@@ -303,6 +303,27 @@ class PhysicsParams:
         m = self.chassis_mass
         return m * (w * w + h * h) / 12.0, m * (a * a + h * h) / 12.0, m * (a * a + w * w) / 12.0
 
+    def reflected_inertia(self, robot: RobotParams) -> tuple[float, float]:
+        """Inertia the rolling robot adds to each motor's rotor, kg m^2, without slip.
+
+        With the wheels rolling without slip, the robot's kinetic energy is that of two
+        rotors of inertia ``J + J_c`` in the common mode (both wheels turning alike: straight
+        motion) and ``J + J_d`` in the differential mode (turning on the spot).
+
+        Returns
+        -------
+        (J_c, J_d) : tuple of float
+            ``I_w + M r^2 / 2`` and ``I_w + I_z r^2 / (2 l^2)``, with ``I_w`` a wheel's spin
+            inertia, ``M`` the robot's mass and ``I_z`` its yaw inertia about the axle centre.
+        """
+        r, l_ = robot.wheel_radius, robot.half_track
+        spin, diam = self.wheel_inertia(robot)
+        mass = self.chassis_mass + 2.0 * self.wheel_mass
+        offset = self.chassis_length / 4.0  # centre of mass behind the axle
+        yaw = (self.chassis_inertia(robot)[2] + self.chassis_mass * offset * offset
+               + 2.0 * (diam + self.wheel_mass * l_ * l_))
+        return spin + mass * r * r / 2.0, spin + yaw * r * r / (2.0 * l_ * l_)
+
     def track_width(self, robot: RobotParams) -> float:
         """Width of the chassis between the wheels' inner faces, ``2 l - wheel_width``, m."""
         return 2.0 * robot.half_track - self.wheel_width

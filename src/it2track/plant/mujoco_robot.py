@@ -61,8 +61,12 @@ FloatArray = NDArray[np.float64]
 MAX_THREADS = 256
 
 
-class MissingExtraError(ImportError):
-    """An optional dependency is not installed; the message names the extra to install."""
+class MissingExtraError(ImportError, ValueError):
+    """An optional dependency is not installed; the message names the extra to install.
+
+    Also a ``ValueError``, so that every caller that reports bad settings (the command line
+    among them) reports this one the same way.
+    """
 
 
 class PhysicsDivergedError(ValueError):
@@ -97,12 +101,46 @@ def _motor_step_coefficients(robot: RobotParams, h: float) -> tuple[float, float
     return 1.0 - one_minus, one_minus / x, a
 
 
-def scheme_spectral_radius(robot: RobotParams, inertia: float, h: float) -> float:
-    """Spectral radius of one physics step of the motor scheme on an unloaded wheel.
+def scheme_matrix(robot: RobotParams, inertia: float, h: float) -> FloatArray:
+    """One physics step of the motor scheme on an unloaded wheel, as a matrix.
 
-    The unloaded wheel (joint inertia ``inertia`` = J plus the wheel's spin inertia, damping b)
-    under the scheme of the module docstring is a linear map of ``(i, omega, omega_prev)``;
-    it is stable when this radius is below 1. A load only adds inertia and damping.
+    The unloaded wheel (joint inertia ``inertia`` = J plus the wheel's spin inertia, damping b,
+    MuJoCo's implicit damping) at 0 V under the scheme of the module docstring is a linear map
+    of ``(i, omega, omega_prev)``, with ``omega_prev`` the speed one step earlier.
+
+    Parameters
+    ----------
+    robot : RobotParams
+        Motor parameters.
+    inertia : float
+        Joint inertia about the axle, kg m^2 (> 0).
+    h : float
+        Physics step, s (> 0).
+
+    Returns
+    -------
+    ndarray, shape (3, 3)
+        ``x_{n+1} = M x_n`` for ``x = (i, omega, omega_prev)``.
+    """
+    m = robot.motor
+    k, rr, b = m.torque_constant, m.resistance, m.friction
+    alpha, mean, a = _motor_step_coefficients(robot, h)
+    cols = []
+    for state in np.eye(3):
+        i, w0, wp = (float(v) for v in state)
+        u0 = -k * w0 / rr
+        u1 = -k * (w0 - wp) / h / rr
+        cur = u0 + u1 * h / 2 - u1 / a + (i - u0 + u1 / a) * mean
+        w1 = (inertia * w0 + h * k * cur) / (inertia + h * b)  # MuJoCo: implicit damping
+        i1 = u0 + u1 * h - u1 / a + (i - u0 + u1 / a) * alpha
+        cols.append((i1, w1, w0))
+    return np.array(cols).T
+
+
+def scheme_spectral_radius(robot: RobotParams, inertia: float, h: float) -> float:
+    """Spectral radius of :func:`scheme_matrix`: the scheme is stable when it is below 1.
+
+    A load only adds inertia and damping to the wheel, so the unloaded wheel is the worst case.
 
     Parameters
     ----------
@@ -118,19 +156,7 @@ def scheme_spectral_radius(robot: RobotParams, inertia: float, h: float) -> floa
     float
         The largest eigenvalue magnitude of the 3x3 step map.
     """
-    m = robot.motor
-    k, rr, b = m.torque_constant, m.resistance, m.friction
-    alpha, mean, a = _motor_step_coefficients(robot, h)
-    cols = []
-    for state in np.eye(3):
-        i, w0, wp = (float(v) for v in state)
-        u0 = -k * w0 / rr
-        u1 = -k * (w0 - wp) / h / rr
-        cur = u0 + u1 * h / 2 - u1 / a + (i - u0 + u1 / a) * mean
-        w1 = (inertia * w0 + h * k * cur) / (inertia + h * b)  # MuJoCo: implicit damping
-        i1 = u0 + u1 * h - u1 / a + (i - u0 + u1 / a) * alpha
-        cols.append((i1, w1, w0))
-    return float(np.max(np.abs(np.linalg.eigvals(np.array(cols).T))))
+    return float(np.max(np.abs(np.linalg.eigvals(scheme_matrix(robot, inertia, h)))))
 
 
 class MujocoRobot:
@@ -145,6 +171,10 @@ class MujocoRobot:
     ts : float, default 0.01
         Control period, s: split into :attr:`substeps` equal physics steps of
         :attr:`timestep` s.
+    bench : bool, default False
+        A motor bench test: the chassis is fixed in the air (:func:`robot_mjcf`), so each
+        wheel is a motor loaded only by its own inertia and damping; runs keep their start
+        pose and report zero body speeds.
 
     Attributes
     ----------
@@ -158,6 +188,8 @@ class MujocoRobot:
         The model's MJCF text.
     model : mujoco.MjModel
         The compiled model (shared, read-only, by every run).
+    bench : bool
+        As given.
     rest_qpos : ndarray, shape (nq,)
         The robot at rest on the ground at the origin, heading 0 (found by letting it settle
         once with the motors off); every run starts from it, moved to its start pose.
@@ -188,6 +220,8 @@ class MujocoRobot:
         robot: RobotParams | None = None,
         physics: PhysicsParams | None = None,
         ts: float = 0.01,
+        *,
+        bench: bool = False,
     ) -> None:
         robot = RobotParams() if robot is None else robot
         physics = PhysicsParams() if physics is None else physics
@@ -197,6 +231,12 @@ class MujocoRobot:
             raise ValueError(f"physics={physics!r} must be a PhysicsParams")
         ts = _check_period(ts)
         mujoco = import_mujoco()
+        if mujoco.get_mju_user_warning() is None:
+            # MuJoCo would append its warnings to MUJOCO_LOG.TXT in the working directory; the
+            # batches check MuJoCo's warning counters and raise instead.
+            mujoco.set_mju_user_warning(_no_log)
+        self._bad = tuple(int(getattr(mujoco.mjtWarning, w))
+                          for w in ("mjWARN_BADQPOS", "mjWARN_BADQVEL", "mjWARN_BADQACC"))
         self.robot, self.physics, self.ts = robot, physics, ts
         self.substeps = substeps_per_period(ts, physics.max_timestep)
         self.timestep = ts / self.substeps
@@ -209,7 +249,10 @@ class MujocoRobot:
                 f"(the motor scheme's spectral radius is {radius:.3g} >= 1): lower "
                 "PhysicsParams.max_timestep or check the motor parameters"
             )
-        self.mjcf = robot_mjcf(robot, physics, self.timestep)
+        if not isinstance(bench, bool):
+            raise ValueError(f"bench={bench!r} must be True or False")
+        self.bench = bench
+        self.mjcf = robot_mjcf(robot, physics, self.timestep, bench=bench)
         self.model = mujoco.MjModel.from_xml_string(self.mjcf)
         self._mujoco = mujoco
         model = self.model
@@ -264,6 +307,10 @@ class MujocoRobot:
     def __repr__(self) -> str:
         return (f"MujocoRobot(ts={self.ts!r}, substeps={self.substeps}, "
                 f"surface={self.physics.surface.name!r})")  # fmt: skip
+
+
+def _no_log(message: str) -> None:
+    """MuJoCo warning handler that writes no log file (the warning counters are checked)."""
 
 
 def default_threads() -> int:
@@ -365,11 +412,12 @@ class RobotBatch:
         for j in range(n):
             data = mujoco.MjData(robot.model)
             qpos = rest.copy()
-            qpos[0], qpos[1] = pose[0, j], pose[1, j]
-            # heading: rotate the settled orientation about the vertical
-            half = 0.5 * float(pose[2, j])
-            yaw = np.array([math.cos(half), 0.0, 0.0, math.sin(half)])
-            mujoco.mju_mulQuat(qpos[3:7], yaw, rest[3:7].copy())
+            if not robot.bench:
+                qpos[0], qpos[1] = pose[0, j], pose[1, j]
+                # heading: rotate the settled orientation about the vertical
+                half = 0.5 * float(pose[2, j])
+                yaw = np.array([math.cos(half), 0.0, 0.0, math.sin(half)])
+                mujoco.mju_mulQuat(qpos[3:7], yaw, rest[3:7].copy())
             data.qpos[:] = qpos
             mujoco.mj_forward(robot.model, data)
             self._data.append(data)
@@ -435,14 +483,18 @@ class RobotBatch:
                 (float(wheels[0, j]), float(wheels[2, j]), float(beta[0, j]), float(beta[1, j])),
             )
             qpos, qvel = data.qpos, data.qvel
-            if not (math.isfinite(i_r) and math.isfinite(i_l)
-                    and np.isfinite(qpos).all() and np.isfinite(qvel).all()):
+            warned = any(data.warning[w].number for w in rb._bad)
+            if warned or not (math.isfinite(i_r) and math.isfinite(i_l)
+                              and np.isfinite(qpos).all() and np.isfinite(qvel).all()):
                 raise PhysicsDivergedError(
-                    f"run {j}: the physics diverged (non-finite state) at t = {data.time:g} s"
+                    f"run {j}: the physics diverged (MuJoCo found non-finite or huge "
+                    f"positions, speeds or accelerations) by t = {data.time:g} s"
                 )
             wheels[0, j], wheels[1, j] = i_r, float(qvel[dof_r])
             wheels[2, j], wheels[3, j] = i_l, float(qvel[dof_l])
             beta[0, j], beta[1, j] = b_r, b_l
+            if rb.bench:
+                continue
             theta = float(pose[2, j])
             yaw = _yaw((float(qpos[3]), float(qpos[4]), float(qpos[5]), float(qpos[6])))
             pose[0, j], pose[1, j] = float(qpos[0]), float(qpos[1])
@@ -458,8 +510,10 @@ class RobotBatch:
         omega : ndarray, shape (B,)
             Yaw rate, rad/s.
         """
-        v = np.empty(self.n)
-        w = np.empty(self.n)
+        v = np.zeros(self.n)
+        w = np.zeros(self.n)
+        if self.robot.bench:
+            return v, w
         for j, data in enumerate(self._data):
             theta = float(self.pose[2, j])
             vx, vy = float(data.qvel[0]), float(data.qvel[1])
