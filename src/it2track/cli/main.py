@@ -65,6 +65,13 @@ def _fail(message: str) -> NoReturn:
               type=click.FloatRange(min=0.0, min_open=True, max=3600.0), help="s.")
 @click.option("--ts", default=0.01, show_default=True,
               type=click.FloatRange(min=0.0, min_open=True), help="Control period, s.")
+@click.option("--plant", default="kinematic", show_default=True,
+              help="kinematic (the paper's robot) | mujoco (the robot as a physical body in the "
+              "MuJoCo physics engine: masses, tyre friction, slip; pip install "
+              "'it2track[mujoco]').")
+@click.option("--friction", default=None,
+              help="Tyre-ground friction of --plant mujoco: dry | wet | icy (mu 0.8, 0.5, 0.1), "
+              "or a friction coefficient. Default: dry.")
 @click.option("--json", "as_json", is_flag=True, help="Print the metrics as one JSON object.")
 @click.option("--trace", type=click.Path(dir_okay=False, writable=True),
               help="Save the time series to this CSV file.")
@@ -116,9 +123,10 @@ def simulate(**opts: Any) -> None:
         trajectory = get_trajectory(opts["trajectory"])
     except (ValueError, OSError) as exc:
         _fail(f"--trajectory {opts['trajectory']}: {exc}")
+    plant = _plant_option(opts["plant"], opts["friction"])
     try:
         config = LoopConfig(duration=opts["duration"], ts=opts["ts"],
-                            noise_rate=opts["noise_rate"], seed=opts["base_seed"])
+                            noise_rate=opts["noise_rate"], seed=opts["base_seed"], plant=plant)
     except ValueError as exc:
         _fail(f"--duration {opts['duration']:g} / --ts {opts['ts']:g} / --noise-rate "
               f"{opts['noise_rate']:g} / --base-seed {opts['base_seed']}: {exc}")
@@ -152,11 +160,50 @@ def simulate(**opts: Any) -> None:
     if opts["as_json"]:
         click.echo(json.dumps(metrics))
         return
-    click.echo(f"{spec.label} on {trajectory.name}, sigma = {sigma:g} rad, seed {opts['seed']}, "
-               f"{opts['duration']:g} s")
+    on = "" if plant is None else f" (MuJoCo robot, {plant.physics.surface.name} ground)"
+    click.echo(f"{spec.label} on {trajectory.name}{on}, sigma = {sigma:g} rad, "
+               f"seed {opts['seed']}, {opts['duration']:g} s")
     width = max(len(k) for k in metrics)
     for key, value in metrics.items():
         click.echo(f"  {key:<{width}}  {value:.6g}")
+
+
+#: ``--plant`` choices of ``simulate``.
+PLANTS = ("kinematic", "mujoco")
+
+
+def _plant_option(name: str, friction: str | None) -> Any:
+    """The ``PlantSpec`` of ``--plant`` / ``--friction`` (None: the kinematic robot), every
+    value checked here, MuJoCo's presence included, before anything is simulated."""
+    from ..plant.mujoco_model import SURFACES, PhysicsParams
+    from ..plant.mujoco_plant import MujocoSpec
+    from ..plant.mujoco_robot import import_mujoco
+
+    if name not in PLANTS:
+        _fail(f"--plant {name!r} is not one of {', '.join(PLANTS)}")
+    if name == "kinematic":
+        if friction is not None:
+            _fail("--friction applies to --plant mujoco only (the kinematic robot never slips)")
+        return None
+    surface: str | float = "dry"
+    if friction is not None:
+        if friction in SURFACES:
+            surface = friction
+        else:
+            try:
+                surface = float(friction)
+            except ValueError:
+                _fail(f"--friction {friction!r} must be one of {', '.join(SURFACES)} or a "
+                      "friction coefficient")
+    try:
+        physics = PhysicsParams(surface=surface)
+    except ValueError as exc:
+        _fail(f"--friction {friction}: {exc}")
+    try:
+        import_mujoco()
+    except ImportError as exc:
+        _fail(f"--plant mujoco: {exc}")
+    return MujocoSpec(physics=physics)
 
 
 def _check_output_file(path: str, option: str) -> None:
