@@ -175,7 +175,7 @@ PLANTS = ("kinematic", "mujoco")
 def _plant_option(name: str, friction: str | None) -> Any:
     """The ``PlantSpec`` of ``--plant`` / ``--friction`` (None: the kinematic robot), every
     value checked here, MuJoCo's presence included, before anything is simulated."""
-    from ..plant.mujoco_model import SURFACES, PhysicsParams
+    from ..plant.mujoco_model import SURFACES, PhysicsParams, Surface
     from ..plant.mujoco_plant import MujocoSpec
     from ..plant.mujoco_robot import import_mujoco
 
@@ -185,20 +185,21 @@ def _plant_option(name: str, friction: str | None) -> Any:
         if friction is not None:
             _fail("--friction applies to --plant mujoco only (the kinematic robot never slips)")
         return None
-    surface: str | float = "dry"
+    surface = SURFACES["dry"]
     if friction is not None:
         if friction in SURFACES:
-            surface = friction
+            surface = SURFACES[friction]
         else:
             try:
-                surface = float(friction)
+                mu = float(friction)
             except ValueError:
                 _fail(f"--friction {friction!r} must be one of {', '.join(SURFACES)} or a "
                       "friction coefficient")
-    try:
-        physics = PhysicsParams(surface=surface)
-    except ValueError as exc:
-        _fail(f"--friction {friction}: {exc}")
+            try:
+                surface = Surface(mu=mu)
+            except ValueError as exc:
+                _fail(f"--friction {friction}: {exc}")
+    physics = PhysicsParams(surface=surface)
     try:
         import_mujoco()
     except ImportError as exc:
