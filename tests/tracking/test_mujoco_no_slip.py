@@ -67,8 +67,8 @@ def test_the_difference_is_the_body_inertia_on_the_motors(controllers):
     """What the no-slip robot adds is its body's inertia reflected onto the motors (about 1 %
     of J, PhysicsParams.reflected_inertia): the kinematic plant with J raised by it agrees
     with MuJoCo several times better than with the paper's J (measured 0.2 % against 0.9 %);
-    the rest is contact compliance (the tyre's penetration shortens the rolling radius by
-    ~0.1 %) and the motor scheme (~2e-4)."""
+    the rest is that one J cannot carry both the straight-line and the turning inertia, the
+    motor scheme (3e-4) and the contact's creep (1e-5)."""
     robot = RobotParams()
     physics = PhysicsParams.no_slip_limit(robot)
     common, differential = physics.reflected_inertia(robot)
