@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import pickle
 import sys
 import xml.etree.ElementTree as ET
 
@@ -21,6 +22,7 @@ from it2track.plant.mujoco_model import (
 )
 from it2track.plant.mujoco_plant import MujocoSpec
 from it2track.plant.mujoco_robot import MissingExtraError, import_mujoco
+from it2track.tracking import LoopConfig
 
 
 def _floats(text: str) -> list[float]:
@@ -191,6 +193,11 @@ def test_spec_table_round_trips_and_refuses_unknown_keys():
     assert custom.to_dict()["surface"] == 0.3
     assert MujocoSpec.from_dict(custom.to_dict()) == custom
     assert MujocoSpec(threads=1) == MujocoSpec(threads=4)  # threads do not change results
+    # sent to worker processes (sweeps) by pickling
+    assert pickle.loads(pickle.dumps(spec)) == spec
+    loop = LoopConfig(duration=1.0, plant=spec)
+    assert pickle.loads(pickle.dumps(loop)) == loop
+    assert loop.to_dict()["plant"] == table
     with pytest.raises(ValueError, match=r"unknown key\(s\) \['chasis_mass'\]"):
         MujocoSpec.from_dict({"kind": "mujoco", "chasis_mass": 1.0})
     with pytest.raises(ValueError, match="kind='kinematic'"):
