@@ -216,7 +216,7 @@ def test_bad_plant_files(tmp_path) -> None:
     extra.write_text('seed = 1\n[plant]\nkind = "kinematic"\n')
     with pytest.raises(ValueError, match=r"unknown key\(s\) \['seed'\] beside \[plant\]"):
         load_plant(extra)
-    with pytest.raises(ValueError, match="not a regular file|is a directory"):
+    with pytest.raises(ValueError, match=r"not a regular file|is a directory"):
         load_plant(tmp_path)
 
 

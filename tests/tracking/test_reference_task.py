@@ -17,8 +17,8 @@ from it2track.plant.linear import LinearSpec
 from it2track.tracking import (
     METRIC_NAMES,
     REFERENCE_FIELDS,
-    FuzzyHeadingController,
     FunctionReference,
+    FuzzyHeadingController,
     IncrementalController,
     LoopConfig,
     PDHeadingController,
@@ -147,7 +147,7 @@ def test_incremental_controller_validation_and_state() -> None:
 
 def test_tasks_refuse_plants_that_do_not_fit() -> None:
     step = [StepReference()]
-    with pytest.raises(ValueError, match="needs a single-input plant: LoopConfig.plant is None"):
+    with pytest.raises(ValueError, match=r"needs a single-input plant: LoopConfig\.plant is None"):
         simulate([P2], step, RunTable(0, 0, 0.0, 0), LoopConfig(duration=0.1))
     two = LinearSpec(a=[[-1.0]], b=[[1.0, 1.0]], c=[[1.0]])
     with pytest.raises(ValueError, match=r"has 2 inputs \('u\[0\]', 'u\[1\]'\); a reference"):
