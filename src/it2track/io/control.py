@@ -43,7 +43,8 @@ def to_control(
         Sampling time, s (a finite number > 0), or ``True`` (discrete, any period), as in
         python-control.
     name : str, optional
-        The system's name (default: the fuzzy system's name, or ``"fls"``).
+        The system's name, without ``.`` (default: the fuzzy system's name with ``.`` replaced
+        by ``_``, or ``"fls"``).
     inputs, outputs : list of str, optional
         Signal names (default: the fuzzy system's input and output names).
 
@@ -84,8 +85,12 @@ def to_control(
             return np.array([float(fls(*(float(v) for v in values)))])
         return np.asarray(fls.evaluate(values), dtype=np.float64).reshape(n_out)
 
-    return ct.nlsys(None, output, inputs=in_names, outputs=out_names, dt=dt,
-                    name=name or fls.name or "fls")
+    if name is None:  # python-control refuses '.' in system names
+        name = (fls.name or "fls").replace(".", "_")
+    elif not isinstance(name, str) or not name or "." in name:
+        raise ValueError(f"name={name!r} must be a non-empty string without '.' (python-control "
+                         "uses '.' to address subsystems)")
+    return ct.nlsys(None, output, inputs=in_names, outputs=out_names, dt=dt, name=name)
 
 
 def _names(given: list[str] | None, default: list[str], what: str) -> list[str]:
