@@ -1,4 +1,7 @@
-"""Results store (directory ``DIR``)::
+"""The results store of a sweep: its files, how they are written and resumed, and why one CSV
+per chunk.
+
+Layout (directory ``DIR``)::
 
     DIR/sweep.json                       normalised configuration, its SHA-256, layout, columns
     DIR/chunks/chunk-000042.csv          one CSV per finished chunk (header + its rows)
