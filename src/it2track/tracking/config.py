@@ -4,7 +4,6 @@ noise rate, start pose, base seed, metric window, plant) and :class:`PoseTiming`
 from __future__ import annotations
 
 import dataclasses
-import enum
 import math
 from dataclasses import dataclass, field
 from numbers import Integral, Real
@@ -17,6 +16,7 @@ from .._limits import ResourceLimitError, check_memory, loop_bytes
 from ..plant import RobotParams
 from ..plant.base import PlantSpec
 from ..plant.drive import MAX_QUADRATURE_NODES, check_stiffness
+from .loopdefs import PoseTiming
 
 __all__ = ["ON_PATH", "LoopConfig", "PoseTiming"]
 
@@ -29,18 +29,6 @@ _MAX_STEPS = 1e12
 
 #: ``LoopConfig.start_pose`` value that starts each run on its reference path (see there).
 ON_PATH = "on_path"
-
-
-class PoseTiming(enum.Enum):
-    """Which pose the desired heading ``theta_d`` at instant ``k`` is computed from.
-
-    ``CURRENT`` (default): the pose at ``t_k``, i.e. the one the previous period produced
-    (DESIGN.md sec. 5). ``PREVIOUS``: the pose at ``t_(k-1)`` (one more period of delay), the
-    paper's eqs. 20-21 read literally (``y_d(k) - y(k - 1)``); at ``k = 0`` the start pose.
-    """
-
-    CURRENT = "current"
-    PREVIOUS = "previous"
 
 
 @dataclass(frozen=True, kw_only=True)

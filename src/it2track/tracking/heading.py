@@ -22,10 +22,10 @@ from ..plant import DifferentialDrive, RobotParams, held_sample_index
 from ..plant.base import RobotPlant, check_robot_plant
 from ..plant.kinematic import KinematicPlant
 from ..plant.noise import NoiseRows
-from ._loop import NOISE_TABLE_BYTES, controller_groups, held_noise, noise_rows
 from .config import ON_PATH, LoopConfig, PoseTiming
 from .controllers import HeadingController
 from .libm import atan2
+from .loopdefs import NOISE_TABLE_BYTES, controller_groups, held_noise, noise_rows
 from .metrics import MetricAccumulator
 from .runs import TRACE_FIELDS, RunTable
 from .trajectories import Trajectory

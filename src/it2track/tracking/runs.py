@@ -12,6 +12,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..plant.noise import MAX_NOISE_STD
+from .loopdefs import TRACE_FIELDS
 
 __all__ = ["MAX_INDEX", "TRACE_FIELDS", "RunTable", "Trace", "run_grid"]
 
@@ -186,21 +187,6 @@ def run_grid(
         seed_list, indexing="ij",
     )
     return RunTable(c, t, s, z)
-
-
-#: Time-series fields of a :class:`Trace`, each an array of shape ``(B, N+1)``.
-TRACE_FIELDS: tuple[str, ...] = (
-    "x", "y", "theta",          # pose at t_k (theta unwrapped), m, m, rad
-    "x_ref", "y_ref",           # reference point at t_k, m
-    "theta_d",                  # desired heading atan2(...), rad
-    "theta_meas",               # measured heading theta + noise, rad
-    "e_true", "e_meas",         # wrapped heading errors (true / measured), rad
-    "de",                       # change of the measured error, rad
-    "u",                        # controller output, V
-    "v_right", "v_left",        # wheel voltages applied (saturated), V
-    "omega_right", "omega_left",  # wheel speeds at t_k, rad/s
-    "v", "omega",               # body translational (m/s) and rotational (rad/s) speed
-)  # fmt: skip
 
 
 @dataclass(frozen=True)

@@ -28,9 +28,9 @@ from numpy.typing import NDArray
 from ..plant import held_sample_index
 from ..plant.base import Plant, check_plant
 from ..plant.noise import NoiseRows
-from ._loop import controller_groups, held_noise
 from .config import LoopConfig
 from .controllers import HeadingController
+from .loopdefs import controller_groups, held_noise
 from .metrics import MetricAccumulator
 from .references import Reference
 from .runs import RunTable

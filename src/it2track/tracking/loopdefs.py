@@ -1,8 +1,15 @@
-"""Pieces every task's numpy engine shares: the held measurement noise of a batch and the
-controller groups (runs sorted by controller, one contiguous slice per controller)."""
+"""What the closed-loop engines share: the numpy engines of both tasks (:mod:`.heading`,
+:mod:`.siso`) and the compiled loop (:mod:`.compiled`).
+
+The timing of the desired heading, the names of the recorded series, the noise rows of a batch
+of runs, its held noise and its controller groups. They live apart from :mod:`.simulate`
+because :mod:`.simulate` imports :mod:`.compiled`, which needs them: with them here, neither
+imports the other back.
+"""
 
 from __future__ import annotations
 
+import enum
 from collections.abc import Sequence
 
 import numpy as np
@@ -11,13 +18,44 @@ from numpy.typing import NDArray
 from ..plant.noise import NoiseRows
 from .controllers import HeadingController
 
+__all__ = [
+    "NOISE_TABLE_BYTES",
+    "TRACE_FIELDS",
+    "PoseTiming",
+    "controller_groups",
+    "held_noise",
+    "noise_rows",
+]
+
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
 
-#: Most bytes :func:`~.simulate.simulate_metrics` keeps for the noise rows its chunks share (each
-#: distinct seed index of a noisy run drawn once per call: 8 kB per seed at 1001 samples, so
-#: 64 MiB is ~8000 seeds). Beyond it every chunk draws its own seeds' rows.
-NOISE_TABLE_BYTES = 64 << 20
+
+class PoseTiming(enum.Enum):
+    """Which pose the desired heading ``theta_d`` at instant ``k`` is computed from.
+
+    ``CURRENT`` (default): the pose at ``t_k``, i.e. the one the previous period produced
+    (DESIGN.md sec. 5). ``PREVIOUS``: the pose at ``t_(k-1)`` (one more period of delay), the
+    paper's eqs. 20-21 read literally (``y_d(k) - y(k - 1)``); at ``k = 0`` the start pose.
+    """
+
+    CURRENT = "current"
+    PREVIOUS = "previous"
+
+
+#: Time-series fields of a :class:`~.simulate.Trace`, each an array of shape ``(B, N+1)``.
+TRACE_FIELDS: tuple[str, ...] = (
+    "x", "y", "theta",          # pose at t_k (theta unwrapped), m, m, rad
+    "x_ref", "y_ref",           # reference point at t_k, m
+    "theta_d",                  # desired heading atan2(...), rad
+    "theta_meas",               # measured heading theta + noise, rad
+    "e_true", "e_meas",         # wrapped heading errors (true / measured), rad
+    "de",                       # change of the measured error, rad
+    "u",                        # controller output, V
+    "v_right", "v_left",        # wheel voltages applied (saturated), V
+    "omega_right", "omega_left",  # wheel speeds at t_k, rad/s
+    "v", "omega",               # body translational (m/s) and rotational (rad/s) speed
+)  # fmt: skip
 
 
 def noise_rows(
@@ -29,6 +67,12 @@ def noise_rows(
     if table is None:
         table = NoiseRows(seed, seeds[std > 0.0], n_noise)
     return table.lookup(seeds, std)
+
+
+#: Most bytes :func:`~.simulate.simulate_metrics` keeps for the noise rows its chunks share (each
+#: distinct seed index of a noisy run drawn once per call: 8 kB per seed at 1001 samples, so
+#: 64 MiB is ~8000 seeds). Beyond it every chunk draws its own seeds' rows.
+NOISE_TABLE_BYTES = 64 << 20
 
 
 def held_noise(
