@@ -10,6 +10,7 @@ import xml.etree.ElementTree as ET
 
 import pytest
 
+from it2track._extras import MissingExtraError
 from it2track.plant import MotorParams, RobotParams
 from it2track.plant.mujoco_model import (
     GRAVITY,
@@ -21,7 +22,8 @@ from it2track.plant.mujoco_model import (
     substeps_per_period,
 )
 from it2track.plant.mujoco_plant import MujocoSpec
-from it2track.plant.mujoco_robot import MissingExtraError, import_mujoco
+from it2track.plant.mujoco_robot import import_mujoco
+from it2track.plant.specs import plant_from_dict
 from it2track.tracking import LoopConfig
 
 
@@ -185,6 +187,8 @@ def test_no_slip_limit_reflects_one_percent_of_the_rotor():
 
 
 def test_spec_table_round_trips_and_refuses_unknown_keys():
+    pytest.importorskip(
+        "mujoco", reason="needs the mujoco PyPI package: pip install 'it2track[mujoco]'")
     spec = MujocoSpec(physics=PhysicsParams(surface="icy", chassis_mass=0.5))
     table = spec.to_dict()
     assert table["kind"] == "mujoco" and table["surface"] == "icy"
@@ -215,6 +219,10 @@ def test_missing_mujoco_names_the_extra(monkeypatch):
     monkeypatch.setitem(sys.modules, "mujoco", None)  # import mujoco -> ImportError
     with pytest.raises(MissingExtraError, match=r"pip install 'it2track\[mujoco\]'"):
         import_mujoco()
-    # also a ValueError: every caller reporting bad settings reports it
-    with pytest.raises(ValueError, match="it2track"):
+    with pytest.raises(ImportError, match=r"it2track\[mujoco\]"):
         MujocoSpec(physics=PhysicsParams(surface=0.123)).build(ts=0.0123, robot=RobotParams())
+    # a configuration naming the MuJoCo robot is refused when read, as a ValueError
+    with pytest.raises(ValueError, match=r"\[plant\]: kind = 'mujoco': .*it2track\[mujoco\]"):
+        MujocoSpec.from_dict({"kind": "mujoco", "surface": "wet"})
+    with pytest.raises(ValueError, match=r"it2track\[mujoco\]"):
+        plant_from_dict({"kind": "mujoco"}, where="sweep.toml [plant]")

@@ -12,7 +12,7 @@ from .kinematic import KinematicPlant
 from .motor import MotorParams
 from .mujoco_model import SURFACES, PhysicsParams, Surface
 from .mujoco_plant import MujocoPlant, MujocoSpec
-from .mujoco_robot import MissingExtraError, MujocoRobot, PhysicsDivergedError
+from .mujoco_robot import MujocoRobot, PhysicsDivergedError
 from .noise import (
     HeadingNoise,
     held_sample_index,
@@ -26,7 +26,6 @@ __all__ = [
     "DifferentialDrive",
     "HeadingNoise",
     "KinematicPlant",
-    "MissingExtraError",
     "MotorParams",
     "MujocoPlant",
     "MujocoRobot",

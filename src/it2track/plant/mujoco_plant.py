@@ -7,8 +7,10 @@ kinematic robot: wheel voltages in, pose and speeds out. The state of a batch is
 :class:`~it2track.plant.mujoco_robot.RobotBatch` (one ``mujoco.MjData`` per run), updated in
 place by :meth:`MujocoPlant.step`.
 
-This module imports MuJoCo only when a plant is built: without it, :meth:`MujocoSpec.build`
-raises :class:`~it2track.plant.mujoco_robot.MissingExtraError` naming the extra to install.
+This module imports MuJoCo only when a plant is built or read from a configuration: without
+it, :meth:`MujocoSpec.build` raises ``it2track._extras.MissingExtraError``
+(an ``ImportError``) and :meth:`MujocoSpec.from_dict` a ``ValueError``, both naming the extra
+to install.
 """
 
 from __future__ import annotations
@@ -26,7 +28,7 @@ from numpy.typing import ArrayLike, NDArray
 from .base import ROBOT_INPUTS, ROBOT_OUTPUTS
 from .drive import RobotParams
 from .mujoco_model import SURFACES, PhysicsParams, Surface
-from .mujoco_robot import MAX_THREADS, MujocoRobot, RobotBatch
+from .mujoco_robot import MAX_THREADS, MujocoRobot, RobotBatch, import_mujoco
 
 __all__ = ["MujocoPlant", "MujocoSpec"]
 
@@ -193,7 +195,7 @@ class MujocoSpec:
 
     Examples
     --------
-    >>> spec = MujocoSpec.from_dict({"kind": "mujoco", "surface": "icy"})
+    >>> spec = MujocoSpec(physics=PhysicsParams(surface="icy"))
     >>> spec.physics.surface.mu, spec.to_dict()["surface"]
     (0.1, 'icy')
     """
@@ -226,8 +228,8 @@ class MujocoSpec:
 
         Raises
         ------
-        MissingExtraError
-            If MuJoCo is not installed (also a ``ValueError``; the message names the extra).
+        it2track._extras.MissingExtraError
+            If MuJoCo is not installed (an ``ImportError``; the message names the extra).
         ValueError
             If the robot cannot be built at this period (see :class:`MujocoRobot`).
         """
@@ -268,7 +270,9 @@ class MujocoSpec:
         ------
         ValueError
             If ``kind`` is not ``"mujoco"``, a key is unknown (the message lists the allowed
-            ones) or a value is invalid (naming the key and the value).
+            ones) or a value is invalid (naming the key and the value), or MuJoCo is not
+            installed (naming the extra): a configuration that names the MuJoCo robot is
+            refused when it is read, not halfway through a run.
         """
         if not isinstance(table, Mapping):
             raise ValueError(f"{where} must be a table, got {table!r}")
@@ -287,4 +291,8 @@ class MujocoSpec:
             physics = PhysicsParams(**kwargs)
         except ValueError as exc:
             raise ValueError(f"{where}: {exc}") from None
+        try:
+            import_mujoco()
+        except ImportError as exc:
+            raise ValueError(f"{where}: kind = 'mujoco': {exc}") from None
         return cls(physics=physics)

@@ -42,12 +42,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .._extras import require
 from .drive import RobotParams
 from .motor import _check_period
 from .mujoco_model import PhysicsParams, robot_mjcf, substeps_per_period
 
 __all__ = [
-    "MissingExtraError",
     "MujocoRobot",
     "PhysicsDivergedError",
     "RobotBatch",
@@ -61,34 +61,19 @@ FloatArray = NDArray[np.float64]
 MAX_THREADS = 256
 
 
-class MissingExtraError(ImportError, ValueError):
-    """An optional dependency is not installed; the message names the extra to install.
-
-    Also a ``ValueError``, so that every caller that reports bad settings (the command line
-    among them) reports this one the same way.
-    """
-
-
 class PhysicsDivergedError(ValueError):
     """A run's physics became unstable (MuJoCo's accelerations or state not finite)."""
 
 
 def import_mujoco() -> Any:
-    """The ``mujoco`` module, or :class:`MissingExtraError` naming the extra to install.
+    """The ``mujoco`` module, or ``it2track._extras.MissingExtraError`` naming the extra.
 
     Raises
     ------
-    MissingExtraError
-        If the ``mujoco`` package cannot be imported.
+    it2track._extras.MissingExtraError
+        If the ``mujoco`` package cannot be imported (an ``ImportError``).
     """
-    try:
-        import mujoco
-    except ImportError as exc:
-        raise MissingExtraError(
-            "the MuJoCo robot needs the mujoco package, which is not installed: "
-            "pip install 'it2track[mujoco]'"
-        ) from exc
-    return mujoco
+    return require("mujoco", "mujoco", "the MuJoCo robot")
 
 
 def _motor_step_coefficients(robot: RobotParams, h: float) -> tuple[float, float, float]:
@@ -196,8 +181,8 @@ class MujocoRobot:
 
     Raises
     ------
-    MissingExtraError
-        If MuJoCo is not installed.
+    it2track._extras.MissingExtraError
+        If MuJoCo is not installed (an ``ImportError`` naming the extra).
     ValueError
         If a parameter has the wrong type or value, or the motor scheme would be unstable at
         this physics step (an extremely light rotor against its back-emf), or the robot does
