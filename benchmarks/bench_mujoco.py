@@ -14,11 +14,15 @@ Prints, in one run:
    and the largest relative difference; then against the kinematic robot whose motor inertia
    J is raised by the inertia the MuJoCo robot's body reflects onto each motor (the mean of
    ``PhysicsParams.reflected_inertia``), which explains most of the difference; and the same
-   with MuJoCo's default contact time constant (0.02 s) instead of 0.002 s;
+   with the default robot's tyre relaxation (``friction_timeconst`` 0.02 s) instead of the
+   rigid tyre's 0.002 s;
 2. **surfaces**: the same runs on the default robot on dry, wet and icy ground: integrals,
    final distance to the reference point, and the wheels' mean slip (``1 - v / (r omega)`` of
    the mean of the two wheels' rolling speeds, over the samples where they roll faster than
-   0.05 m/s);
+   0.05 m/s); then, on dry and icy ground, the contact artefact of a rigid grip: the largest
+   rise of the axle above its rest height and the fraction of period ends with both tyres
+   touching, with the default tyre relaxation (``friction_timeconst`` 0.02 s) and with 0.002 s,
+   and the largest relative change of the integrals between the two;
 3. **speed**: wall-clock and process-CPU seconds per simulated run-second, the median of
    ``--repeats`` timed repeats of 6 noisy runs (10 s each unless ``--duration``) with 1 and 2
    threads, against the numpy engine on the kinematic robot and the compiled engine, measured
@@ -149,7 +153,7 @@ def agreement(duration: float) -> None:
     loaded = dataclasses.replace(robot, motor=dataclasses.replace(
         robot.motor, inertia=robot.motor.inertia + extra))
     kin_loaded = integrals(dataclasses.replace(base, robot=loaded))
-    soft = dataclasses.replace(physics, contact_timeconst=0.02)
+    soft = dataclasses.replace(physics, friction_timeconst=0.02)
     mj_soft = integrals(dataclasses.replace(base, plant=MujocoSpec(physics=soft)))
     print(f"  reflected inertia per motor: straight {common:.3e}, turning {differential:.3e} "
           f"kg m^2 (J = {robot.motor.inertia:g}; mean {extra / robot.motor.inertia:.2%} of J)")
@@ -157,7 +161,7 @@ def agreement(duration: float) -> None:
           f"{largest_relative(mj, kin):.3%}")
     print(f"  largest relative difference, MuJoCo vs kinematic, J + mean:  "
           f"{largest_relative(mj, kin_loaded):.3%}")
-    print(f"  largest relative difference, contact time constant 0.02 s:   "
+    print(f"  largest relative difference, friction_timeconst 0.02 s:      "
           f"{largest_relative(mj_soft, kin):.3%}")
 
 
@@ -183,6 +187,58 @@ def surfaces(duration: float) -> None:
                       f"ISE {m['ISE']:7.4f}  final distance {m['pos_final']:7.3f} m  "
                       f"mean slip {s:6.3f}")
                 i += 1
+    contact_artefact(duration)
+
+
+@dataclasses.dataclass(frozen=True)
+class _Watched:
+    """A MuJoCo plant spec whose batches record, after every period, the axle's rise above its
+    rest height and whether both tyres touch (for the contact-artefact figures)."""
+
+    spec: MujocoSpec
+    log: list = dataclasses.field(default_factory=list, compare=False)
+    kind = "mujoco"
+
+    def build(self, *, ts, robot):
+        plant = self.spec.build(ts=ts, robot=robot)
+        log, step = self.log, plant.step
+        z0 = plant.mujoco_robot.rest_qpos[2]
+        tyres = {plant.mujoco_robot.model.geom(n).id for n in ("tyre_right", "tyre_left")}
+
+        def watched(state, u, t):
+            state = step(state, u, t)
+            for j in range(state.n):
+                d = state.data(j)
+                touching = {int(d.contact[c].geom2) for c in range(d.ncon)} >= tyres
+                log.append((float(d.qpos[2]) - z0, touching))
+            return state
+
+        plant.step = watched
+        return plant
+
+    def to_dict(self):
+        return self.spec.to_dict()
+
+
+def contact_artefact(duration: float) -> None:
+    runs = run_grid(len(CONTROLLERS), len(PATHS), [0.0], 1)
+    for surface in ("dry", "icy"):
+        results = {}
+        for tc in (0.02, 0.002):
+            watched = _Watched(MujocoSpec(physics=PhysicsParams(surface=surface,
+                                                                friction_timeconst=tc)))
+            metrics = simulate_metrics(CONTROLLERS, PATHS, runs,
+                                       LoopConfig(duration=duration, plant=watched))
+            rise = max(r for r, _ in watched.log)
+            touching = float(np.mean([t for _, t in watched.log]))
+            results[tc] = metrics
+            print(f"  {surface:4s} friction_timeconst {tc:5.3f} s: axle rises up to "
+                  f"{rise * 1e3:6.1f} mm, both tyres touch at {touching:.0%} of period ends")
+        change = max(float(np.max(np.abs(results[0.002][k] - results[0.02][k])
+                                  / np.maximum(np.abs(results[0.02][k]), 1e-12)))
+                     for k in INTEGRALS)
+        print(f"  {surface:4s} largest relative change of an integral between the two: "
+              f"{change:.2%}")
 
 
 def timed(fn, repeats: int) -> tuple[float, float]:

@@ -81,9 +81,10 @@ def test_field_boundaries():
     with pytest.raises(ValueError, match="rolling_resistance"):
         PhysicsParams(rolling_resistance=math.nextafter(1.0, 2.0))
     # MuJoCo resolves a contact only if its time constant spans two steps
-    assert PhysicsParams(contact_timeconst=0.002, max_timestep=0.001).contact_timeconst == 0.002
-    with pytest.raises(ValueError, match="contact_timeconst"):
-        PhysicsParams(contact_timeconst=math.nextafter(0.002, 0.0), max_timestep=0.001)
+    for name in ("contact_timeconst", "friction_timeconst"):
+        assert getattr(PhysicsParams(**{name: 0.002}, max_timestep=0.001), name) == 0.002
+        with pytest.raises(ValueError, match=name):
+            PhysicsParams(**{name: math.nextafter(0.002, 0.0)}, max_timestep=0.001)
 
 
 def test_substeps_per_period():
@@ -140,6 +141,7 @@ def test_mjcf_carries_the_robot_and_motor_parameters():
         assert _floats(pair.get("friction")) == [0.5, 0.5, 2 / 3 * 0.5 * 0.004, 0.02 * 0.05,
                                                 0.02 * 0.05]
         assert _floats(pair.get("solref")) == [0.002, 1.0]
+        assert _floats(pair.get("solreffriction")) == [0.02, 1.0]
     assert pairs["caster"].get("condim") == "1"  # frictionless
     # nothing else collides: every geom has contype = conaffinity = 0
     assert all(g.get("contype") == "0" and g.get("conaffinity") == "0"

@@ -24,7 +24,8 @@ The model (x forward, y left, z up; the body frame's origin is the middle of the
 - **ground**: a plane; tyre-ground contacts have sliding friction ``surface.mu``, torsional
   friction ``2/3 mu a`` (a uniformly loaded circular patch of radius
   ``a = contact_patch_radius`` pivoting) and rolling friction ``C_rr r`` (rolling resistance
-  coefficient ``C_rr = rolling_resistance`` times the lever arm r); elliptic friction cones.
+  coefficient ``C_rr = rolling_resistance`` times the lever arm r); elliptic friction cones; the
+  grip builds up with its own time constant (a tyre's relaxation).
 
 Defaults (:class:`PhysicsParams`) and the reasoning behind each are in its docstring;
 :meth:`PhysicsParams.no_slip_limit` is the light, high-friction robot in which the model must
@@ -131,7 +132,7 @@ _NONNEGATIVE = ("rolling_resistance", "com_below_axle")
 _POSITIVE = (
     "chassis_mass", "chassis_length", "chassis_height", "wheel_mass", "wheel_width",
     "contact_patch_radius", "max_timestep", "impratio", "contact_timeconst",
-    "contact_dampratio",
+    "contact_dampratio", "friction_timeconst",
 )  # fmt: skip
 
 
@@ -196,21 +197,29 @@ class PhysicsParams:
         above 1 make friction stiffer, so that a sticking tyre creeps less (MuJoCo's
         documentation suggests 10 against slipping).
     contact_timeconst : float, default 0.002
-        Time constant of MuJoCo's soft contact (``solref[0]``), s: the stiffest that the 1 ms
-        step resolves. MuJoCo's soft friction lets a sticking tyre creep at this time scale,
-        which is numerics, not tyre physics; with MuJoCo's default 0.02 s the no-slip robot's
-        integrals on the sinusoid differ from the kinematic robot's by 6-8 %, with 0.002 s by
-        under 1 %.
+        Time constant of MuJoCo's soft contact in the normal direction (``solref[0]``), s: the
+        stiffest that the 1 ms step resolves (a rigid wheel on hard ground).
     contact_dampratio : float, default 1.0
-        Damping ratio of the soft contact (``solref[1]``): critical, MuJoCo's default.
+        Damping ratio of the soft contact (``solref[1]`` and ``solreffriction[1]``): critical,
+        MuJoCo's default.
+    friction_timeconst : float, default 0.02
+        Time constant of the tyre's grip (MuJoCo's ``solreffriction[0]``), s: the friction
+        force builds up towards the slip-stopping force at this rate, as a tyre's does over its
+        relaxation length (0.04 m at the paths' 2 m/s, a fifth of the wheel radius). Stiffer
+        grip has a side effect in MuJoCo's convex contact model, in which a contact can only
+        start sliding by moving apart: the light robot tracking the paths with its wheels
+        slipping then hops (its axle rises by up to 4 cm on dry ground with 0.002 s, 1 mm with
+        0.02 s). The no-slip limit, which never slides, uses 0.002 s: with 0.02 s its tyres
+        creep and its integrals differ from the kinematic robot's by up to 7 % instead of
+        under 1 %.
 
     Raises
     ------
     ValueError
         If a field is not a finite number > 0 (``rolling_resistance`` and ``com_below_axle``
         >= 0), or ``surface`` is not a Surface, a surface name or a valid friction
-        coefficient, or ``contact_timeconst`` is shorter than twice ``max_timestep``; the
-        message names the field.
+        coefficient, or ``contact_timeconst`` or ``friction_timeconst`` is shorter than twice
+        ``max_timestep``; the message names the field.
 
     Examples
     --------
@@ -233,6 +242,7 @@ class PhysicsParams:
     impratio: float = 10.0
     contact_timeconst: float = 0.002
     contact_dampratio: float = 1.0
+    friction_timeconst: float = 0.02
 
     def __post_init__(self) -> None:
         surface = self.surface
@@ -258,12 +268,13 @@ class PhysicsParams:
                     f"PhysicsParams.{name}={value!r} must be {bound} and <= {_UPPER[name]:g}"
                 )
             object.__setattr__(self, name, value)
-        if self.contact_timeconst < 2.0 * self.max_timestep:
-            raise ValueError(
-                f"PhysicsParams.contact_timeconst={self.contact_timeconst!r} must be at least "
-                f"twice max_timestep={self.max_timestep!r} (MuJoCo cannot resolve a stiffer "
-                "contact)"
-            )
+        for name in ("contact_timeconst", "friction_timeconst"):
+            if getattr(self, name) < 2.0 * self.max_timestep:
+                raise ValueError(
+                    f"PhysicsParams.{name}={getattr(self, name)!r} must be at least twice "
+                    f"max_timestep={self.max_timestep!r} (MuJoCo cannot resolve a stiffer "
+                    "contact)"
+                )
 
     @classmethod
     def no_slip_limit(cls, robot: RobotParams | None = None) -> PhysicsParams:
@@ -274,7 +285,8 @@ class PhysicsParams:
         the grip a light robot needs scales with its acceleration, not its mass (the paper's
         motors accelerate a mass-less robot at up to ~300 m/s^2). So that such accelerations
         neither lift the drive wheels nor the caster (load transfer ``a h / g``), the chassis
-        is 4 m long with its centre of mass 2 cm above the ground (``com_below_axle = 0.9 r``).
+        is 4 m long with its centre of mass 2 cm above the ground (``com_below_axle = 0.9 r``);
+        and a rigid tyre (``friction_timeconst`` 0.002 s) grips without creeping.
 
         Parameters
         ----------
@@ -288,7 +300,7 @@ class PhysicsParams:
         r = (robot or RobotParams()).wheel_radius
         return cls(surface=Surface(mu=100.0, name="no-slip"), chassis_mass=1e-4,
                    wheel_mass=1e-8, rolling_resistance=0.0, chassis_length=4.0,
-                   com_below_axle=0.9 * r)  # fmt: skip
+                   com_below_axle=0.9 * r, friction_timeconst=0.002)  # fmt: skip
 
     def chassis_inertia(self, robot: RobotParams) -> tuple[float, float, float]:
         """Principal moments of inertia of the chassis box about its centre, kg m^2.
@@ -344,6 +356,7 @@ _UPPER = {
     "chassis_mass": 1e4, "chassis_length": 1e3, "chassis_height": 1e3, "com_below_axle": 1e3,
     "wheel_mass": 1e3, "wheel_width": 1e3, "rolling_resistance": 1.0, "contact_patch_radius": 1.0,
     "max_timestep": 0.1, "impratio": 1e4, "contact_timeconst": 10.0, "contact_dampratio": 100.0,
+    "friction_timeconst": 10.0,
 }  # fmt: skip
 
 
@@ -460,9 +473,10 @@ def robot_mjcf(
     lift = 2.0 * r if bench else 0.0  # bench: the wheels spin in the air
     root = "" if bench else "\n      <freejoint name=\"root\"/>"
     tyre_pair = (
-        'condim="6" friction="{mu} {mu} {t} {rr} {rr}" solref="{tc} {dr}"'.format(
+        'condim="6" friction="{mu} {mu} {t} {rr} {rr}" solref="{tc} {dr}" '
+        'solreffriction="{ft} {dr}"'.format(
             mu=f(mu), t=f(torsion), rr=f(rolling), tc=f(p.contact_timeconst),
-            dr=f(p.contact_dampratio))
+            ft=f(p.friction_timeconst), dr=f(p.contact_dampratio))
     )
     solref = f'solref="{f(p.contact_timeconst)} {f(p.contact_dampratio)}"'
     wheels = []
