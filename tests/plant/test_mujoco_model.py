@@ -107,6 +107,7 @@ def test_mjcf_carries_the_robot_and_motor_parameters():
     physics = PhysicsParams(surface="wet", rolling_resistance=0.02, contact_patch_radius=0.004,
                             chassis_length=0.3, com_below_axle=0.01)
     root = _parse(robot, physics, 0.0005)
+    assert root.find("size").get("memory") == "64K"  # not MuJoCo's 13 MB per run
     opt = root.find("option")
     assert float(opt.get("timestep")) == 0.0005
     assert _floats(opt.get("gravity")) == [0.0, 0.0, -GRAVITY]

@@ -173,6 +173,17 @@ def test_spinning_wheels_do_not_launch_the_robot(surface):
     assert rise(PhysicsParams(surface=surface, friction_timeconst=0.002)) > 0.05
 
 
+def test_a_batch_that_would_not_fit_in_memory_is_refused(monkeypatch):
+    from it2track._limits import ResourceLimitError
+
+    robot = MujocoRobot(ROBOT, PhysicsParams(), 0.01)
+    monkeypatch.setenv("IT2TRACK_MEMORY_LIMIT", "10M")
+    with robot.batch(np.zeros((3, 100)), threads=1) as runs:  # ~9 MB
+        assert runs.data(99).narena == 64 * 1024
+    with pytest.raises(ResourceLimitError, match="a batch of 200 MuJoCo runs"):
+        robot.batch(np.zeros((3, 200)))
+
+
 def test_divergence_is_reported_naming_the_run():
     robot = MujocoRobot(ROBOT, PhysicsParams(), 0.01)
     with robot.batch(np.zeros((3, 2)), threads=1) as runs:

@@ -41,6 +41,7 @@ from numbers import Real
 from .drive import RobotParams
 
 __all__ = [
+    "ARENA_BYTES",
     "GRAVITY",
     "SURFACES",
     "PhysicsParams",
@@ -51,6 +52,12 @@ __all__ = [
 
 #: Standard gravity, m/s^2.
 GRAVITY = 9.80665
+
+#: MuJoCo's arena per run (contacts, constraints, solver scratch), bytes. The robot has three
+#: contact pairs and uses ~10 kB at most; MuJoCo's default for this model would be 13 MB per
+#: run, which a batch of thousands of runs could not afford. A run that ever needed more would
+#: stop with an error naming it (``mujoco_robot.PhysicsDivergedError``), never drop contacts.
+ARENA_BYTES = 64 * 1024
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -498,6 +505,7 @@ mass="0" group="3"/>
 impratio="{f(p.impratio)}" gravity="0 0 {f(-GRAVITY)}">
     <flag autoreset="disable"/>
   </option>
+  <size memory="{ARENA_BYTES // 1024}K"/>
   <visual><global offwidth="640" offheight="480"/></visual>
   <worldbody>
     <light pos="0 0 30" dir="0 0 -1" directional="true"/>

@@ -43,6 +43,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .._extras import require
+from .._limits import check_memory
 from .drive import RobotParams
 from .motor import _check_period
 from .mujoco_model import PhysicsParams, robot_mjcf, substeps_per_period
@@ -55,6 +56,9 @@ __all__ = [
 ]
 
 FloatArray = NDArray[np.float64]
+
+#: Bytes a run's ``MjData`` holds besides MuJoCo's buffer and arena (Python object, views).
+_DATA_OVERHEAD = 16 * 1024
 
 #: Most threads a batch uses (each extra thread costs a stack; the GIL-free part of a step is
 #: MuJoCo's, ~20-40 us, so beyond the core count threads only contend).
@@ -221,7 +225,8 @@ class MujocoRobot:
             # batches check MuJoCo's warning counters and raise instead.
             mujoco.set_mju_user_warning(_no_log)
         self._bad = tuple(int(getattr(mujoco.mjtWarning, w))
-                          for w in ("mjWARN_BADQPOS", "mjWARN_BADQVEL", "mjWARN_BADQACC"))
+                          for w in ("mjWARN_BADQPOS", "mjWARN_BADQVEL", "mjWARN_BADQACC",
+                                    "mjWARN_CONTACTFULL", "mjWARN_CNSTRFULL"))
         self.robot, self.physics, self.ts = robot, physics, ts
         self.substeps = substeps_per_period(ts, physics.max_timestep)
         self.timestep = ts / self.substeps
@@ -387,6 +392,10 @@ class RobotBatch:
         if isinstance(threads, bool) or not isinstance(threads, Integral) or not (
                 1 <= threads <= MAX_THREADS):
             raise ValueError(f"threads={threads!r} must be an integer in [1, {MAX_THREADS}]")
+        probe = mujoco.MjData(robot.model)
+        check_memory(n * (probe.nbuffer + probe.narena + _DATA_OVERHEAD),
+                     what=f"a batch of {n} MuJoCo runs",
+                     hint="simulate fewer runs at a time (batch_size)")
         self.robot = robot
         self.n = n
         self.pose = pose
@@ -472,8 +481,9 @@ class RobotBatch:
             if warned or not (math.isfinite(i_r) and math.isfinite(i_l)
                               and np.isfinite(qpos).all() and np.isfinite(qvel).all()):
                 raise PhysicsDivergedError(
-                    f"run {j}: the physics diverged (MuJoCo found non-finite or huge "
-                    f"positions, speeds or accelerations) by t = {data.time:g} s"
+                    f"run {j}: the physics failed by t = {data.time:g} s (MuJoCo found "
+                    "non-finite or huge positions, speeds or accelerations, or ran out of room "
+                    "for contacts)"
                 )
             wheels[0, j], wheels[1, j] = i_r, float(qvel[dof_r])
             wheels[2, j], wheels[3, j] = i_l, float(qvel[dof_l])
