@@ -7,6 +7,7 @@ and an ODE solver for a stiff third-order system.
 
 from __future__ import annotations
 
+import json
 import math
 import pickle
 
@@ -138,7 +139,10 @@ def test_spec_roundtrips_through_its_table_and_pickle() -> None:
     spec = LinearSpec(a=[[-1.0, 2.0], [0.0, -3.0]], b=[[0.0], [1.0]], c=[[1.0, 0.0]],
                       input_limits=[(0.0, math.inf)], x0=[1.0, 2.0], output_names=["level"],
                       name="tank")
-    again = plant_from_dict(spec.to_dict())
+    table = spec.to_dict()
+    assert table["input_limits"] == [[0.0, "inf"]]  # JSON has no infinity
+    json.dumps(table, allow_nan=False)
+    again = plant_from_dict(table)
     assert again == spec
     assert pickle.loads(pickle.dumps(spec)) == spec
     assert hash(again) == hash(spec)
@@ -187,6 +191,8 @@ def test_transfer_function_table(tmp_path) -> None:
           "input_limits": [[1.0, -1.0]]}, "low < high"),
         ({"kind": "lti", "A": [[1.0]], "B": [[1.0]], "C": [[1.0]],
           "input_limits": [[-1.0, 1.0], [-1.0, 1.0]]}, "per input"),
+        ({"kind": "lti", "A": [[1.0]], "B": [[1.0]], "C": [[1.0]],
+          "input_limits": [["-big", 1.0]]}, "low < high"),
         ({"kind": "lti", "A": [[1.0]], "B": [[1.0]], "C": [[1.0]], "x0": [1.0, 2.0]},
          r"x0 has shape \(1, 2\)"),
         ({"kind": "lti", "A": [[1.0]], "B": [[1.0]], "C": [[1.0]], "output_names": ["a", "b"]},
