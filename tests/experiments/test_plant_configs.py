@@ -165,3 +165,32 @@ def test_study_accepts_robot_plants_only(tmp_path: Path) -> None:
     kin = load_study_config(write(tmp_path, '[study]\nseeds = 2\n[plant]\nkind = "kinematic"\n',
                                   "k.toml"))
     assert kin.loop.plant is None and kin.loop == LoopConfig(robot=kin.loop.robot)
+
+
+def _lag(t, x, u, params):
+    return np.array([-2.0 * x[0] + u[0]])
+
+
+def test_sweep_of_a_python_control_nlsys_from_the_api(tmp_path: Path) -> None:
+    """A nonlinear python-control plant is code: a sweep takes it from Python, and its rows are
+    the library's own numbers."""
+    ct = pytest.importorskip("control", reason="python-control is not installed (PyPI: control)")
+    from it2track.experiments.specs import ControllerKind, ControllerSpec
+    from it2track.experiments.sweep import SweepPlan, TrajectoryRef
+    from it2track.plant import RobotParams
+    from it2track.plant.control import from_control
+
+    lag = ct.nlsys(_lag, None, states=1, inputs=["u"], outputs=["y"], name="lag")
+    config = LoopConfig(duration=0.4, ts=0.05, plant=from_control(lag))
+    step = StepReference(amplitude=0.5)
+    plan = SweepPlan(config=config, robots=(RobotParams(),), robot_columns={},
+                     controllers=(ControllerSpec(kind=ControllerKind.IT2, fou=0.2),),
+                     trajectory_refs=(TrajectoryRef("step", reference=step),),
+                     noise_std=(0.0, 0.1), seeds=(0, 1))
+    assert plan.normalised()["simulation"]["plant"]["kind"] == "nlsys"
+    run_sweep(plan, tmp_path / "out", progress=False)
+    header, body = read_results(tmp_path / "out" / "results.csv")
+    ctrl = FuzzyHeadingController(fls=heading_fls(0.2))
+    direct = simulate_metrics([ctrl], [step], run_grid(1, 1, [0.0, 0.1], 2), config)
+    got = np.array([float(row[header.index("IAE")]) for row in body])
+    np.testing.assert_array_equal(got, direct["IAE"])
