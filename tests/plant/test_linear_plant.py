@@ -88,12 +88,13 @@ def test_stiff_system_matches_an_ode_solver() -> None:
     ts = 0.02
     plant = LinearSpec(a=a, b=bvec[:, None], c=c).build(ts=ts)
     rng = np.random.default_rng(2)
-    u = rng.uniform(-1, 1, size=(25, 1, 1))
+    u = rng.uniform(-1, 1, size=(8, 1, 1))
     y = run(plant, u)[:, 0, 0]
     x = np.zeros(3)
-    for k in range(25):
+    for k in range(8):
         sol = scipy.integrate.solve_ivp(lambda t, s, v=u[k, 0, 0]: a @ s + bvec * v,
-                                        (0, ts), x, method="Radau", rtol=1e-12, atol=1e-14)
+                                        (0, ts), x, method="Radau", jac=a, rtol=1e-12,
+                                        atol=1e-14)
         x = sol.y[:, -1]
         assert y[k + 1] == pytest.approx(x[0], abs=1e-9)
 
