@@ -33,6 +33,7 @@ import tempfile
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import jinja2
 import numpy as np
@@ -110,20 +111,22 @@ class AvrRun:
 
     Attributes
     ----------
-    x : ndarray of float32, shape (N, n_inputs)
-        The inputs as the AVR saw them.
+    x : ndarray, shape (N, n_inputs)
+        The inputs as the AVR saw them: float32, or for a fixed-point build its integers.
     status : ndarray of int, shape (N,)
     cycles : ndarray of int, shape (N,)
         CPU cycles of one ``<prefix>_eval`` call (the empty measurement subtracted).
-    u, yl, yr : ndarray of float32, shape (N,)
+    u, yl, yr : ndarray, shape (N,)
+        The outputs as the AVR returned them: float32, or the fixed-point integers (convert
+        with :meth:`~it2track.codegen.fixedpoint.FixedFormat.to_real`).
     """
 
-    x: NDArray[np.float32]
+    x: NDArray[Any]
     status: NDArray[np.int64]
     cycles: NDArray[np.int64]
-    u: NDArray[np.float32]
-    yl: NDArray[np.float32]
-    yr: NDArray[np.float32]
+    u: NDArray[Any]
+    yl: NDArray[Any]
+    yr: NDArray[Any]
 
 
 def run_on_avr(code: CCode, x: ArrayLike, *, build_dir: str | os.PathLike[str] | None = None,
@@ -135,7 +138,8 @@ def run_on_avr(code: CCode, x: ArrayLike, *, build_dir: str | os.PathLike[str] |
     code : CCode
         Generated code; a DOUBLE build computes in float on the AVR as well.
     x : array_like, shape (N, n_inputs)
-        Inputs; rounded to float32.
+        Real inputs; rounded to float32, or for a fixed-point build converted to its integers
+        (:meth:`~it2track.codegen.fixedpoint.FixedFormat.to_int`).
     build_dir : path, optional
         Where to build (a fresh sub-folder per call; default: the temp dir).
     timeout : float
@@ -149,13 +153,20 @@ def run_on_avr(code: CCode, x: ArrayLike, *, build_dir: str | os.PathLike[str] |
         If compiling fails or simavr's output is incomplete.
     """
     require(AVR_TOOLS)
-    pts = np.ascontiguousarray(np.asarray(x, dtype=np.float32))
-    if pts.ndim != 2 or pts.shape[1] != code.n_inputs:
-        raise ValueError(f"x must have shape (N, {code.n_inputs}), got {pts.shape}")
-    if len(pts) > 65535:
-        raise ValueError(f"at most 65535 points per run, got {len(pts)}")
-    if not np.all(np.isfinite(pts)):
+    fmt = code.fixed
+    arr = np.asarray(x, dtype=np.float64)
+    if arr.ndim != 2 or arr.shape[1] != code.n_inputs:
+        raise ValueError(f"x must have shape (N, {code.n_inputs}), got {arr.shape}")
+    if len(arr) > 65535:
+        raise ValueError(f"at most 65535 points per run, got {len(arr)}")
+    if not np.all(np.isfinite(arr)):
         raise ValueError("x must be finite (it is printed as C constants)")
+    pts: NDArray[Any] = np.ascontiguousarray(
+        fmt.to_int(arr) if fmt is not None else arr.astype(np.float32))
+
+    def literal(v: Any) -> str:
+        return str(int(v)) if fmt is not None else float(v).hex() + "f"
+
     work = _workdir(build_dir, f"avr-{code.prefix}")
     _write_code(code, work)
     outs = []
@@ -163,8 +174,8 @@ def run_on_avr(code: CCode, x: ArrayLike, *, build_dir: str | os.PathLike[str] |
         chunk = pts[start:start + CHUNK]
         main = _env().get_template("avr_bench.c.j2").render(
             p=code.prefix, header_name=code.header_name, n_in=code.n_inputs,
-            n_points=len(chunk),
-            points=[[float(v).hex() + "f" for v in row] for row in chunk])
+            n_points=len(chunk), fixed=fmt is not None,
+            points=[[literal(v) for v in row] for row in chunk])
         (work / "bench.c").write_text(main)
         elf = work / "bench.elf"
         run_tool(["avr-gcc", *AVR_FLAGS, "-o", str(elf), "bench.c", code.source_name, "-lm"],
@@ -184,7 +195,9 @@ def run_on_avr(code: CCode, x: ArrayLike, *, build_dir: str | os.PathLike[str] |
     if not np.array_equal(table[:, 0], np.arange(len(table)) % CHUNK):
         raise BuildError("simavr results out of order")
 
-    def as_float(col: NDArray[np.int64]) -> NDArray[np.float32]:
+    def as_float(col: NDArray[np.int64]) -> NDArray[Any]:
+        if fmt is not None:
+            return col.astype(np.uint16).view(np.int16)
         return col.astype(np.uint32).view(np.float32)
 
     return AvrRun(x=pts, status=table[:, 1], cycles=table[:, 2], u=as_float(table[:, 3]),
