@@ -379,13 +379,42 @@ def fixed_plan(system: IT2Sugeno | T1Sugeno, reducer: str, width: int = 16) -> F
                      y_min=min(y_lo_q + y_hi_q), zero_q=zero_q, reducer=reducer)
 
 
-def _combine(tnorm: TNorm, prefix: str) -> Any:
-    def combine(acc: str, expr: str) -> str:
-        if tnorm is TNorm.PRODUCT:
-            return f"{acc} = {prefix}_mul({acc}, {expr});"
-        return f"{{ const uint32_t t_ = {expr}; if (t_ < {acc}) {{ {acc} = t_; }} }}"
+def _c16(v: int) -> str:
+    """An int16 constant (-32768 written so that it is an int, not a long, on 16-bit ints)."""
+    return "(-32767 - 1)" if v == -32768 else str(v)
 
-    return combine
+
+def _segments(row: FixedRow, loq: int, hiq: int) -> list[dict[str, Any]]:
+    """The pieces of ``row`` met on the integer universe ``[loq, hiq]``, in order, each with
+    the largest input it covers (the last one covers the rest): zero, left slope, plateau,
+    right slope, zero."""
+    pieces = [("zero", row.qa), ("left", row.qb - 1), ("plateau", row.qc),
+              ("right", row.qd - 1), ("zero", hiq)]
+    out: list[dict[str, Any]] = []
+    below = loq - 1
+    for kind, upto in pieces:
+        top = min(upto, hiq)
+        if top <= below:
+            continue
+        if out and out[-1]["kind"] == kind:
+            out[-1]["upto"] = _c16(top)
+        else:
+            out.append({"kind": kind, "upto": _c16(top)})
+        below = top
+        if top >= hiq:
+            break
+    return out
+
+
+def _fold(rows: list[int], tnorm: TNorm, prefix: str) -> str:
+    """C expression of the firing of the memberships ``m[rows]`` (product or minimum)."""
+    if not rows:
+        return f"{prefix.upper()}_ONE"
+    expr = f"m[{rows[0]}]"
+    for r in rows[1:]:
+        expr = (f"{prefix}_mul({expr}, m[{r}])" if tnorm is TNorm.PRODUCT
+                else f"({expr} < m[{r}] ? {expr} : m[{r}])")
+    return expr
 
 
 def fixed_context(system: IT2Sugeno | T1Sugeno, prefix: str, real_name: str, width: int
@@ -402,25 +431,41 @@ def fixed_context(system: IT2Sugeno | T1Sugeno, prefix: str, real_name: str, wid
     type1 = bool(tables.type1)
     crisp = bool(tables.crisp)
     type1_exact = type1 and (reducer is None or reducer.exact)
-    biggest = max(n_rows + 1, n_rules + 1, n_in)
-    idx_bytes = 1 if biggest < 255 else 2
     dep = dependencies(tables)
     trap = []
     for row in plan.rows:
+        segs = _segments(row, fmt.in_lo[row.inp], fmt.in_hi[row.inp])
         trap.append({
-            "qa": row.qa, "qb": row.qb, "qc": row.qc, "qd": row.qd,
+            "segments": segs, "sloped": any(g["kind"] in ("left", "right") for g in segs),
             "kl": row.left.k, "cl": row.left.cint, "fl": row.left.cfrac, "sl": row.left.sh,
-            "ol": row.left.origin, "kr": row.right.k, "cr": row.right.cint,
-            "fr": row.right.cfrac, "sr": row.right.sh, "or": row.right.origin,
+            "ol_c": _c16(row.left.origin), "kr": row.right.k, "cr": row.right.cint,
+            "fr": row.right.cfrac, "sr": row.right.sh, "or_c": _c16(row.right.origin),
             "h": row.height, "inp": row.inp, "row": row.row,
-            "label": row_label(system, row.row), "dep": dep[row.row],
+            "label": row_label(system, row.row),
+            "dep": None if dep[row.row] == n_rows else dep[row.row],
         })
-    trap.sort(key=lambda e: e["dep"] != n_rows)
+    trap.sort(key=lambda e: e["dep"] is not None)
+    any_s8 = any((g["kind"] == "left" and e["sl"] == 8) or (g["kind"] == "right" and
+                                                         e["sr"] == 8)
+                 for e in trap for g in e["segments"])
+    rules = []
+    for r in range(n_rules):
+        ups = [int(v) for v in tables.upper_rows_s[r] if v != n_rows]
+        los = [int(v) for v in tables.lower_rows_s[r] if v != n_rows]
+        rules.append({
+            "index": r, "ups": ups, "fu": _fold(ups, system.tnorm, prefix),
+            "fl": _fold(los, system.tnorm, prefix),
+            "product": len(ups) > 1 and system.tnorm is TNorm.PRODUCT,
+            "y": plan.y_lo_q[r] - plan.y_min, "ylo": plan.y_lo_q[r] - plan.y_min,
+            "yhi": plan.y_hi_q[r] - plan.y_min,
+        })
     ord_hi = [int(v) for v in tables.order_hi_s]
     iterative = red_name in ("km", "ekm", "eiasc")
     need_hi_gather = (not crisp and not type1_exact and red_name in ("exhaustive", "km", "ekm",
                                                                       "eiasc")
                       and ord_hi != list(range(n_rules)))
+    if need_hi_gather and n_rules > 254:  # pragma: no cover - n_rules <= 127 (checked)
+        raise UnsupportedFeatureError("too many rules")
     max_iter = reducer._cap(n_rules) if (reducer is not None and iterative) else 0
     names = [inp.name for inp in system.inputs]
     description = (
@@ -435,24 +480,19 @@ def fixed_context(system: IT2Sugeno | T1Sugeno, prefix: str, real_name: str, wid
         "ctype": "int16_t", "real_name": real_name, "width": width,
         "header_name": f"{prefix}.h",
         "inputs": [{"name": n, "lo_text": repr(inp.universe[0]),
-                    "hi_text": repr(inp.universe[1]), "frac": f, "lo_q": lo, "hi_q": hi}
+                    "hi_text": repr(inp.universe[1]), "frac": f, "lo_q": lo, "hi_q": hi,
+                    "lo_c": _c16(lo), "hi_c": _c16(hi), "clip_lo": lo > fmt.int_min,
+                    "clip_hi": hi < fmt.int_max}
                    for n, inp, f, lo, hi in zip(names, system.inputs, fmt.in_frac, fmt.in_lo,
                                                 fmt.in_hi, strict=True)],
         "n_in": n_in, "n_rules": n_rules, "n_rows": n_rows,
-        "lo": list(fmt.in_lo), "hi": list(fmt.in_hi),
-        "trap": trap, "trap_h1": all(r.height == 1 << M_FRAC for r in plan.rows),
-        "idx_type": "unsigned char" if idx_bytes == 1 else "unsigned short",
-        "idx_bytes": idx_bytes, "idx_none": 255 if idx_bytes == 1 else 65535,
-        "ru": tables.upper_rows_s.tolist(), "rl": tables.lower_rows_s.tolist(),
-        "type1": type1, "crisp": crisp, "type1_exact": type1_exact,
-        "y_lo": [v - plan.y_min for v in plan.y_lo_q],
-        "y_hi": [v - plan.y_min for v in plan.y_hi_q], "y_min": plan.y_min,
-        "need_ord_hi": need_hi_gather, "need_hi_gather": need_hi_gather, "ord_hi": ord_hi,
+        "trap": trap, "any_s8": any_s8, "rules": rules,
+        "type1": type1, "crisp": crisp, "type1_exact": type1_exact, "y_min": plan.y_min,
+        "need_hi_gather": need_hi_gather, "ord_hi": ord_hi,
         "reducer": red_name, "reducer_title": TITLES[red_name].split(" (")[0],
         "reducer_text": TITLES[red_name], "max_iter": max_iter,
         "max_iter_text": f"{max_iter} iterations" if iterative else "(not iterative)",
         "tnorm": system.tnorm.value, "extra": fmt.extra_bits, "out_frac": fmt.out_frac,
         "zero_value": None if plan.zero_q is None else plan.zero_q,
-        "combine": _combine(system.tnorm, prefix),
     }
     return ctx, fmt
