@@ -327,8 +327,8 @@ def fixed_error_bound(system: IT2Sugeno | T1Sugeno, fmt: Any, x: ArrayLike, *,
        (units ``2**-24``) with ``p`` the number of products (mentioned inputs minus one), each
        rounded to nearest; minimum: ``max_i e_i``, no rounding. ``E_r`` is the larger of the
        rule's upper and lower bounds. A rule whose upper firing rounds to 0 is dropped, which
-       stays within ``E_r``; so does a lower firing rounded above the upper one (the C then
-       keeps the rule at the larger value).
+       stays within ``E_r``; so does a lower firing rounded above the upper one (the C clamps
+       it to the upper).
     3. *Type reduction.* The exact reducers find, in exact integer arithmetic, the true minimum
        (maximum) of the centroid of the integer firings over their box, so
        :func:`float_error_bound`'s sensitivity step applies with no arithmetic term:
@@ -392,7 +392,7 @@ def fixed_error_bound(system: IT2Sugeno | T1Sugeno, fmt: Any, x: ArrayLike, *,
     else:
         n_prod = np.zeros(t.n_rules, dtype=int)
     shares["products"] = (0.5 * step_m * n_prod)[:, None] * np.ones_like(fl_c)
-    big_e = sum(shares.values())
+    big_e = shares["input"] + shares["rows"] + shares["products"]
     sum_e = big_e.sum(axis=0)
     scale = 2.0 ** -fmt.out_frac
     y_lo, y_hi = t.y_lo_s, t.y_hi_s
@@ -404,38 +404,31 @@ def fixed_error_bound(system: IT2Sugeno | T1Sugeno, fmt: Any, x: ArrayLike, *,
         reducer is None or reducer.exact))
     with np.errstate(divide="ignore", invalid="ignore"):
         if name == "nie-tan":
+            # one centroid of the midpoints with weights fl + fu, each perturbed by 2 E
             ym = 0.5 * (y_lo + y_hi)
             w = fl_c + fu_c
             ref = np.einsum("rn,r->n", w, ym) / w.sum(axis=0)
+            weights = (2.0 * np.abs(ym[:, None] - ref[None, :]),) * 2
             denom = sl + su - 6.0 * sum_e
-            cons = 0.5 * float(np.max(dy_lo + dy_hi))
-
-            def sens(e: FloatArray, ref_c: FloatArray = ref) -> tuple[FloatArray, FloatArray]:
-                v = np.einsum("rn,rn->n", 2.0 * e, np.abs(ym[:, None] - ref_c[None, :]))
-                b = np.where(denom > 0, v / denom, np.inf)
-                return b, b
-            cons_l = cons_r = cons
+            cons_l = cons_r = 0.5 * float(np.max(dy_lo + dy_hi))
         else:
             ref_l, ref_r = EXHAUSTIVE.reduce_rules_first(fl_c, fu_c, y_lo, y_hi, t.order_ident,
                                                          t.order_hi_s)
+            weights = (np.abs(y_lo[:, None] - ref_l[None, :]),
+                       np.abs(y_hi[:, None] - ref_r[None, :]))
             denom = sl - 3.0 * sum_e
-
-            def sens(e: FloatArray) -> tuple[FloatArray, FloatArray]:
-                bl = np.einsum("rn,rn->n", e, np.abs(y_lo[:, None] - ref_l[None, :]))
-                br = np.einsum("rn,rn->n", e, np.abs(y_hi[:, None] - ref_r[None, :]))
-                ok = denom > 0
-                return (np.where(ok, bl / denom, np.inf), np.where(ok, br / denom, np.inf))
             cons_l, cons_r = float(dy_lo.max()), float(dy_hi.max())
-    terms: dict[str, tuple[FloatArray, FloatArray, FloatArray]] = {}
-    for key in ("input", "rows", "products"):
-        bl, br = sens(shares[key])
-        terms[key] = (bl, br, 0.5 * (bl + br))
+        terms: dict[str, tuple[FloatArray, FloatArray, FloatArray]] = {}
+        for key in ("input", "rows", "products"):
+            bl, br = (np.where(denom > 0, np.einsum("rn,rn->n", shares[key], wt) / denom, np.inf)
+                      for wt in weights)
+            terms[key] = (bl, br, 0.5 * (bl + br))
     ones = np.ones(arr.shape[0])
     terms["consequents"] = (cons_l * ones, cons_r * ones, 0.5 * (cons_l + cons_r) * ones)
     half = 0.5 * scale
     u_out = half if one_div else (0.5 + 2.0 ** -fmt.extra_bits) * scale
     terms["output"] = (half * ones, half * ones, u_out * ones)
-    total = [sum(terms[k][j] for k in FIXED_TERMS) for j in range(3)]
+    total = [np.sum([terms[k][j] for k in FIXED_TERMS], axis=0) for j in range(3)]
     return FixedBound(yl=total[0], yr=total[1], u=total[2], terms=terms)
 
 

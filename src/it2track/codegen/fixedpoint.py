@@ -432,7 +432,7 @@ def fixed_context(system: IT2Sugeno | T1Sugeno, prefix: str, real_name: str, wid
     crisp = bool(tables.crisp)
     type1_exact = type1 and (reducer is None or reducer.exact)
     dep = dependencies(tables)
-    trap = []
+    trap: list[dict[str, Any]] = []
     for row in plan.rows:
         segs = _segments(row, fmt.in_lo[row.inp], fmt.in_hi[row.inp])
         trap.append({
@@ -487,6 +487,9 @@ def fixed_context(system: IT2Sugeno | T1Sugeno, prefix: str, real_name: str, wid
                                                 fmt.in_hi, strict=True)],
         "n_in": n_in, "n_rules": n_rules, "n_rows": n_rows,
         "trap": trap, "any_s8": any_s8, "rules": rules,
+        "needs_mul": system.tnorm is TNorm.PRODUCT and any(
+            len([v for v in rows if v != n_rows]) > 1
+            for rows in (*tables.upper_rows_s.tolist(), *tables.lower_rows_s.tolist())),
         "type1": type1, "crisp": crisp, "type1_exact": type1_exact, "y_min": plan.y_min,
         "need_hi_gather": need_hi_gather, "ord_hi": ord_hi,
         "reducer": red_name, "reducer_title": TITLES[red_name].split(" (")[0],
