@@ -24,7 +24,7 @@ import sys
 import tempfile
 import time
 
-from it2track.codegen.mcu import measure_costs
+from it2track.codegen.costs import measure_costs
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -50,8 +50,8 @@ def main(argv: list[str] | None = None) -> int:
     print()
     print(table.as_markdown())
     print()
-    same = all(r.equals_host_float for r in table.rows)
-    print(f"AVR outputs equal the host float build bit for bit: {same}")
+    same = all(r.equals_host for r in table.rows)
+    print(f"AVR outputs equal the host build of the same C bit for bit: {same}")
     print(f"measured in {elapsed:.1f} s (load average {os.getloadavg()[0]:.2f})")
     if args.figure:
         from it2track.report.mcu import write_mcu_cost_figure

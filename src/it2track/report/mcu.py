@@ -1,5 +1,5 @@
 """Figure: what one IT2FLC step costs on a microcontroller (from a
-:class:`~it2track.codegen.mcu.CostTable`).
+:class:`~it2track.codegen.costs.CostTable`).
 
 Left: the worst and mean time of one controller step on the ATmega328P at 16 MHz (simavr cycle
 counts) per type reducer, against the 1 ms aim and the paper's 10 ms control period. Right: the
@@ -15,7 +15,8 @@ from pathlib import Path
 from matplotlib.figure import Figure
 
 from ..atomicfile import atomic_open
-from ..codegen.mcu import CONTROL_PERIOD_S, CostTable
+from ..codegen.costs import CostTable
+from ..codegen.mcu import CONTROL_PERIOD_S
 
 __all__ = ["mcu_cost_figure", "write_mcu_cost_figure"]
 
