@@ -17,8 +17,8 @@ from codegen_helpers import random_system, skip_without
 
 import it2track
 from it2track.codegen import RealType, generate_c
-from it2track.codegen.host import HostLibrary, build_host_library
 from it2track.codegen.costs import measure_costs
+from it2track.codegen.host import HostLibrary, build_host_library
 from it2track.codegen.mcu import (
     ARM_FLAGS,
     AVR_CLOCK_HZ,
