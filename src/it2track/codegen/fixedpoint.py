@@ -28,10 +28,18 @@ the input from the slope's first grid point inside the universe (16 bits), ``K``
 input step and ``C + c / 2**s`` the row's value at that point, exactly rounded constants
 (``s = 16``, or 8 for a slope steeper than 2**16 per input step); the result is clamped to the
 row's height. Thresholds are compared in integers (``floor``/``ceil`` of the breakpoints), so
-every branch is decided exactly. Firing products are rounded ``24 x 24 -> 24`` bit products
-(three 16-bit multiplications; a factor of exactly 1 is passed through).
+every branch is decided exactly. Firing products are rounded ``24 x 24 -> 24`` bit products (a
+factor of exactly 1 is passed through).
 
-*Type reduction* runs on the integer firings with consequents ``y'`` = ``y`` in the output's
+*The C.* Rows and rules are unrolled into straight-line code with their constants inline (no
+tables). On an AVR with a hardware multiplier the three exact products (16 x 32 -> 48 bits,
+the same accumulated into a 48-bit sum, and the rounded 24 x 24 bit product: 8, 8 and 9 MUL
+instructions) and the division are short inline assembly; elsewhere, or with
+``<PREFIX>_PORTABLE`` defined, plain C computes the same bits (a test compiles both for the AVR
+and compares them).
+
+*Type reduction* runs on the integer firings (a lower firing that rounding put above the upper
+one is clamped to it) with consequents ``y'`` = ``y`` in the output's
 ``Q(F_o)`` minus the smallest consequent (so everything is unsigned): sums ``sum f y'`` in
 48 bits, ``sum f`` in 32. The exact reducers compare a candidate centroid with a consequent
 by one multiplication (``y' den < num``), exactly, so exhaustive, KM, EKM and EIASC find the
