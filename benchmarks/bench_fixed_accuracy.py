@@ -86,8 +86,9 @@ def main(argv: list[str] | None = None) -> int:
             a, b = metrics[name][fx], metrics[name][py]
             nz = b != 0
             rel = float((np.abs(a - b)[nz] / np.abs(b[nz])).max()) if nz.any() else 0.0
+            zero = float(np.abs(a[~nz]).max()) if (~nz).any() else 0.0
             print(f"  {name:<8} relative {rel:.1e}  absolute {float(np.abs(a - b).max()):.1e}"
-                  f"  ({int((~nz).sum())} runs where both are {float(np.abs(a[~nz]).max()) if (~nz).any() else 0:g})")
+                  f"  ({int((~nz).sum())} runs where both are {zero:g})")
     return 0
 
 
