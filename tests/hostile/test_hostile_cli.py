@@ -105,7 +105,7 @@ case("sim-trajectory-unknown", [*SIM, "--trajectory", "nope"], "--trajectory nop
 case("sim-trajectory-fifo", [*SIM, "--trajectory", "fifo.csv"], "--trajectory fifo.csv",
      "FIFO")
 case("sim-trajectory-binary", [*SIM, "--trajectory", "binary.csv"], "binary.csv", "binary")
-case("sim-plant-unknown", [*SIM, "--plant", "gazebo"], "--plant 'gazebo'", "kinematic, mujoco")
+case("sim-plant-unknown", [*SIM, "--plant", "gazebo"], "--plant gazebo", "kinematic, mujoco")
 case("sim-friction-kinematic", [*SIM, "--friction", "wet"], "--friction", "--plant mujoco")
 case("sim-friction-word", [*SIM, "--plant", "mujoco", "--friction", "snowy"],
      "--friction 'snowy'", "dry, wet, icy")

@@ -110,7 +110,7 @@ def linear_motor_nlsys(dt: float = 0.0):
 
 def test_continuous_nlsys_is_integrated_with_the_input_held() -> None:
     """A nonlinear system that is the linear motor: solve_ivp per period equals exact ZOH."""
-    spec = from_control(linear_motor_nlsys(), method="Radau", rtol=1e-11, atol=1e-12)
+    spec = from_control(linear_motor_nlsys(), method="DOP853", rtol=1e-11, atol=1e-12)
     assert isinstance(spec, NonlinearSpec)
     plant = spec.build(ts=0.01)
     assert isinstance(plant, NonlinearPlant) and plant.continuous

@@ -40,7 +40,7 @@ import scipy.integrate
 from numpy.typing import ArrayLike, NDArray
 
 from .._extras import require
-from .linear import DT_RTOL, LinearSpec
+from .linear import DT_RTOL, LinearSpec, limit_text
 
 __all__ = ["NonlinearPlant", "NonlinearSpec", "from_control"]
 
@@ -253,7 +253,7 @@ class NonlinearSpec:
             "dt": 0.0 if sys.dt is None else sys.dt,
             "inputs": list(sys.input_labels), "outputs": list(sys.output_labels),
             "states": list(sys.state_labels), "x0": list(self.x0),
-            "input_limits": [list(p) for p in self.input_limits or ()],
+            "input_limits": [[limit_text(v) for v in p] for p in self.input_limits or ()],
             "method": self.method, "rtol": self.rtol, "atol": self.atol,
         }  # fmt: skip
 

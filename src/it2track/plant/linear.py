@@ -67,6 +67,20 @@ def _matrix(value: object, key: str, rows: int | None, cols: int | None) -> Matr
     return tuple(tuple(float(v) for v in row) for row in out)
 
 
+#: How :meth:`LinearSpec.to_dict` writes an unbounded input limit (JSON has no infinity).
+INFINITE_LIMITS = {"-inf": -math.inf, "inf": math.inf}
+
+
+def limit_value(value: object) -> object:
+    """An input limit as given, with the strings ``"inf"``/``"-inf"`` read as infinities."""
+    return INFINITE_LIMITS.get(value, value) if isinstance(value, str) else value
+
+
+def limit_text(value: float) -> float | str:
+    """An input limit for a table: infinities as ``"inf"``/``"-inf"`` (JSON-safe)."""
+    return value if math.isfinite(value) else ("inf" if value > 0 else "-inf")
+
+
 def _names(value: object, key: str, n: int, default: str) -> tuple[str, ...]:
     if value is None or value == ():
         return tuple(f"{default}[{i}]" for i in range(n)) if n != 1 else (default,)
@@ -95,7 +109,8 @@ class LinearSpec:
         0 (default): continuous time. A number > 0: discrete time sampled every ``dt`` s
         (must equal the loop's period). ``True``: discrete at whatever period the loop uses.
     input_limits : sequence of (float, float), optional
-        ``(low, high)`` per input (``-inf``/``inf`` allowed); default unbounded.
+        ``(low, high)`` per input (``-inf``/``inf``, or the strings ``"-inf"``/``"inf"``,
+        allowed); default unbounded.
     x0 : array_like, shape (n,), optional
         Initial state (default zeros).
     input_names, output_names : sequence of str, optional
@@ -161,10 +176,10 @@ class LinearSpec:
         if limits is None:
             limits = ((-math.inf, math.inf),) * m
         try:
-            pairs = tuple((float(lo), float(hi)) for lo, hi in limits)
+            given = [tuple(limit_value(v) for v in pair) for pair in limits]
+            pairs = tuple((float(lo), float(hi)) for lo, hi in given)  # type: ignore[arg-type]
             ok = len(pairs) == m and all(
-                not isinstance(v, bool) and isinstance(v, Real)
-                for pair in limits for v in pair
+                not isinstance(v, bool) and isinstance(v, Real) for pair in given for v in pair
             )
         except (TypeError, ValueError):
             ok = False
@@ -260,14 +275,14 @@ class LinearSpec:
         -------
         dict
             ``kind = "lti"``, the matrices as lists of rows and the other fields (infinite
-            limits as ``inf``, which TOML writes and reads).
+            limits as the strings ``"inf"``/``"-inf"``, which JSON can hold).
         """
         return {
             "kind": self.kind, "name": self.name,
             "A": [list(r) for r in self.a], "B": [list(r) for r in self.b],
             "C": [list(r) for r in self.c], "D": [list(r) for r in self.d or ()],
             "dt": self.dt, "x0": list(self.x0 or ()),
-            "input_limits": [list(p) for p in self.input_limits or ()],
+            "input_limits": [[limit_text(v) for v in p] for p in self.input_limits or ()],
             "input_names": list(self.input_names), "output_names": list(self.output_names),
         }  # fmt: skip
 

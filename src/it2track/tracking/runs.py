@@ -200,7 +200,9 @@ class Trace:
     runs : RunTable
         The runs, in the order of the first axis below.
     series : dict of str -> ndarray, shape (B, N+1)
-        One array per name in :data:`TRACE_FIELDS` (axis 0: run, axis 1: time).
+        One array per name in :data:`TRACE_FIELDS` (axis 0: run, axis 1: time); for runs
+        following reference signals, :data:`~it2track.tracking.siso.REFERENCE_FIELDS` and
+        ``"y.<name>"`` per plant output.
     metrics : dict of str -> ndarray, shape (B,)
         The metrics of :mod:`it2track.tracking.metrics`.
     """

@@ -67,7 +67,9 @@ __all__ = [
     "LoopConfig",
     "PoseTiming",
     "RunTable",
+    "Target",
     "Trace",
+    "check_task",
     "run_grid",
     "simulate",
     "simulate_metrics",
@@ -76,10 +78,14 @@ __all__ = [
 
 FloatArray = NDArray[np.float64]
 
+#: What a run follows: a trajectory (the robot, by heading) or a reference signal (a
+#: single-input plant).
+Target = Trajectory | Reference
+
 
 def _check_inputs(
     controllers: Sequence[HeadingController],
-    trajectories: Sequence[Trajectory] | Sequence[Reference],
+    trajectories: Sequence[Target],
     runs: RunTable,
     config: LoopConfig | None = None,
     *,
@@ -124,6 +130,29 @@ def _check_inputs(
         hint=("use simulate_metrics (metrics only) or fewer runs" if record
               else "lower batch_size"),
     )
+
+
+def check_task(trajectories: Sequence[Target], config: LoopConfig) -> None:
+    """Check, before any simulation, that ``config.plant`` fits the task ``trajectories``
+    selects: trajectories need a robot plant (or None), reference signals a single-input plant.
+
+    Parameters
+    ----------
+    trajectories : sequence of Trajectory, or sequence of Reference
+        The targets of the runs (all of one kind).
+    config : LoopConfig
+        Its plant is built (for ``config.ts`` and ``config.robot``) and checked.
+
+    Raises
+    ------
+    ValueError
+        If the targets mix trajectories and references, the plant does not fit, or a
+        target cannot be sampled; the message names the plant and what it lacks.
+    """
+    _check_inputs([], trajectories, RunTable([], [], [], []))
+    if not trajectories:
+        raise ValueError("no trajectories or references given")
+    _engine(trajectories, config)
 
 
 def _references(targets: Sequence[Trajectory | Reference]) -> bool:
@@ -187,7 +216,7 @@ def _run(
 
 def simulate(
     controllers: Sequence[HeadingController],
-    trajectories: Sequence[Trajectory] | Sequence[Reference],
+    trajectories: Sequence[Target],
     runs: RunTable,
     config: LoopConfig | None = None,
 ) -> Trace:
@@ -230,7 +259,7 @@ def simulate(
 
 def simulate_metrics(
     controllers: Sequence[HeadingController],
-    trajectories: Sequence[Trajectory] | Sequence[Reference],
+    trajectories: Sequence[Target],
     runs: RunTable,
     config: LoopConfig | None = None,
     *,
