@@ -46,18 +46,20 @@ knows nothing else about it::
   numbers shared across controllers are the loop's business).
 
 **Robots.** The heading-tracking task (the paper's loop, DESIGN.md sec. 5) needs a
-:class:`RobotPlant`: a differential-drive robot with inputs :data:`ROBOT_INPUTS` (wheel voltages, V) and outputs
-:data:`ROBOT_OUTPUTS` (pose, wheel speeds, body speeds), whose ``initial_state`` also takes the
-start ``pose`` of every run (at rest there). The paper's kinematic robot
-(:class:`~it2track.plant.kinematic.KinematicPlant`) is the reference implementation.
+:class:`RobotPlant`: a differential-drive robot with inputs :data:`ROBOT_INPUTS` (wheel
+voltages, V) and outputs :data:`ROBOT_OUTPUTS` (pose, wheel speeds, body speeds), whose
+``initial_state`` also takes the start ``pose`` of every run (at rest there). The paper's
+kinematic robot (:class:`~it2track.plant.kinematic.KinematicPlant`) is the reference
+implementation.
 
 **Describing a plant in a configuration.** A :class:`~it2track.tracking.LoopConfig` names
-its plant by a :class:`PlantSpec`: a frozen, picklable description (safe to send to worker processes) whose ``build(ts=..., robot=...)``
-returns the :class:`Plant` for one control period and one robot geometry (robot plants build
-from ``robot``; other plants ignore it). ``kind`` names the family in TOML tables
-(``[plant] kind = "..."``) and ``to_dict()`` gives the table back (plain values, including
-``kind``). ``LoopConfig(plant=None)`` is the paper's kinematic robot, which the compiled engine
-runs; every other plant runs on the numpy engine through this protocol.
+its plant by a :class:`PlantSpec`: a frozen, picklable description (safe to send to worker
+processes) whose ``build(ts=..., robot=...)`` returns the :class:`Plant` for one control
+period and one robot geometry (robot plants build from ``robot``; other plants ignore it).
+``kind`` names the family in TOML tables (``[plant] kind = "..."``) and ``to_dict()`` gives the
+table back (plain values, including ``kind``). ``LoopConfig(plant=None)`` is the paper's
+kinematic robot, which the compiled engine runs; every other plant runs on the numpy engine
+through this protocol.
 """
 
 from __future__ import annotations
