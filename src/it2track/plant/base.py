@@ -1,7 +1,7 @@
 """The plant protocol: what the closed loop needs from any plant (DESIGN.md sec. 1 and 10).
 
 A *plant* is a batch of ``B`` independent copies of one dynamic system, sampled every control
-period ``ts``. The closed loop (:mod:`it2track.tracking`) drives it through four members and
+period ``ts``. The closed loop (:mod:`it2track.tracking`) drives it through these members and
 knows nothing else about it::
 
     state = plant.initial_state(B)                  # B runs at rest (robots: pose=...)
@@ -11,8 +11,8 @@ knows nothing else about it::
         if k < N:                                   # to plant.input_limits
             state = plant.step(state, u, k * ts)    # one period, u held (zero-order hold)
 
-Members of a :class:`Plant`
----------------------------
+**Members of a plant.**
+
 ``ts`` : float
     The control period, s, the plant was built (discretised) for.
 ``input_names``, ``output_names`` : tuple of str
@@ -34,8 +34,8 @@ Members of a :class:`Plant`
     a plant with direct feedthrough reports the output just before the new input is applied).
     The caller may read it until the next ``step`` and must not modify it.
 
-Rules every plant follows
--------------------------
+**Rules every plant follows.**
+
 * **Batch independence.** Run ``b``'s numbers depend on run ``b``'s initial state and inputs
   only, bit for bit, whatever the batch size or the other runs: no reductions or BLAS calls
   across runs (their summation order changes with the batch), no shared random state. This is
@@ -45,23 +45,21 @@ Rules every plant follows
 * **No noise.** Outputs are the true ones; the loop adds measurement noise (common random
   numbers shared across controllers are the loop's business).
 
-Robots
-------
-The heading-tracking task (the paper's loop, DESIGN.md sec. 5) needs a :class:`RobotPlant`: a
-differential-drive robot with inputs :data:`ROBOT_INPUTS` (wheel voltages, V) and outputs
-:data:`ROBOT_OUTPUTS` (pose, wheel speeds, body speeds), whose ``initial_state`` also takes the
-start ``pose`` of every run (at rest there). The paper's kinematic robot
-(:class:`~it2track.plant.kinematic.KinematicPlant`) is the reference implementation.
+**Robots.** The heading-tracking task (the paper's loop, DESIGN.md sec. 5) needs a
+:class:`RobotPlant`: a differential-drive robot with inputs :data:`ROBOT_INPUTS` (wheel
+voltages, V) and outputs :data:`ROBOT_OUTPUTS` (pose, wheel speeds, body speeds), whose
+``initial_state`` also takes the start ``pose`` of every run (at rest there). The paper's
+kinematic robot (:class:`~it2track.plant.kinematic.KinematicPlant`) is the reference
+implementation.
 
-Describing a plant in a configuration
--------------------------------------
-A :class:`~it2track.tracking.LoopConfig` names its plant by a :class:`PlantSpec`: a frozen,
-picklable description (safe to send to worker processes) whose ``build(ts=..., robot=...)``
-returns the :class:`Plant` for one control period and one robot geometry (robot plants build
-from ``robot``; other plants ignore it). ``kind`` names the family in TOML tables
-(``[plant] kind = "..."``) and ``to_dict()`` gives the table back (plain values, including
-``kind``). ``LoopConfig(plant=None)`` is the paper's kinematic robot, which the compiled engine
-runs; every other plant runs on the numpy engine through this protocol.
+**Describing a plant in a configuration.** A :class:`~it2track.tracking.LoopConfig` names
+its plant by a :class:`PlantSpec`: a frozen, picklable description (safe to send to worker
+processes) whose ``build(ts=..., robot=...)`` returns the :class:`Plant` for one control
+period and one robot geometry (robot plants build from ``robot``; other plants ignore it).
+``kind`` names the family in TOML tables (``[plant] kind = "..."``) and ``to_dict()`` gives the
+table back (plain values, including ``kind``). ``LoopConfig(plant=None)`` is the paper's
+kinematic robot, which the compiled engine runs; every other plant runs on the numpy engine
+through this protocol.
 """
 
 from __future__ import annotations
