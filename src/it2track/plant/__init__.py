@@ -10,7 +10,7 @@ from .base import check_plant, check_robot_plant
 from .drive import DifferentialDrive, RobotParams, body_velocity, continuous_rhs
 from .kinematic import KinematicPlant
 from .motor import MotorParams
-from .mujoco_model import SURFACES, PhysicsParams, Surface
+from .mujoco_model import PhysicsParams, Surface
 from .mujoco_plant import MujocoPlant, MujocoSpec
 from .mujoco_robot import MujocoRobot, PhysicsDivergedError
 from .noise import (
@@ -22,7 +22,6 @@ from .noise import (
 )
 
 __all__ = [
-    "SURFACES",
     "DifferentialDrive",
     "HeadingNoise",
     "KinematicPlant",
