@@ -12,7 +12,7 @@ from .kinematic import KinematicPlant
 from .motor import MotorParams
 from .mujoco_model import PhysicsParams, Surface
 from .mujoco_plant import MujocoPlant, MujocoSpec
-from .mujoco_robot import MujocoRobot, PhysicsDivergedError
+from .mujoco_robot import MujocoRobot
 from .noise import (
     HeadingNoise,
     held_sample_index,
@@ -29,7 +29,6 @@ __all__ = [
     "MujocoPlant",
     "MujocoRobot",
     "MujocoSpec",
-    "PhysicsDivergedError",
     "PhysicsParams",
     "RobotParams",
     "Surface",

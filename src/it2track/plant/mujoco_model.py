@@ -105,6 +105,15 @@ class Surface:
     def named(cls, name: str) -> Surface:
         """The surface of :data:`SURFACES` called ``name`` (``"dry"``, ``"wet"``, ``"icy"``).
 
+        Parameters
+        ----------
+        name : str
+            The surface's name.
+
+        Returns
+        -------
+        Surface
+
         Raises
         ------
         ValueError
@@ -312,6 +321,11 @@ class PhysicsParams:
     def chassis_inertia(self, robot: RobotParams) -> tuple[float, float, float]:
         """Principal moments of inertia of the chassis box about its centre, kg m^2.
 
+        Parameters
+        ----------
+        robot : RobotParams
+            The geometry (half-track l, wheel radius r).
+
         Returns
         -------
         (Ixx, Iyy, Izz) : tuple of float
@@ -329,6 +343,11 @@ class PhysicsParams:
         rotors of inertia ``J + J_c`` in the common mode (both wheels turning alike: straight
         motion) and ``J + J_d`` in the differential mode (turning on the spot).
 
+        Parameters
+        ----------
+        robot : RobotParams
+            The geometry (half-track l, wheel radius r).
+
         Returns
         -------
         (J_c, J_d) : tuple of float
@@ -344,11 +363,26 @@ class PhysicsParams:
         return spin + mass * r * r / 2.0, spin + yaw * r * r / (2.0 * l_ * l_)
 
     def track_width(self, robot: RobotParams) -> float:
-        """Width of the chassis between the wheels' inner faces, ``2 l - wheel_width``, m."""
+        """Width of the chassis between the wheels' inner faces, ``2 l - wheel_width``, m.
+
+        Parameters
+        ----------
+        robot : RobotParams
+            The geometry (half-track l, wheel radius r).
+
+        Returns
+        -------
+        float
+        """
         return 2.0 * robot.half_track - self.wheel_width
 
     def wheel_inertia(self, robot: RobotParams) -> tuple[float, float]:
         """Moments of inertia of one wheel (uniform disc), kg m^2.
+
+        Parameters
+        ----------
+        robot : RobotParams
+            The geometry (half-track l, wheel radius r).
 
         Returns
         -------
