@@ -51,8 +51,10 @@ def _compiled(*, inline: bool = False) -> Any:
 
 
 exp = _compiled()(exp_scalar)
-log = _compiled()(log_scalar)
-cospi = _compiled()(cospi_scalar)
+# (inlined into their one caller, _curve: a compiled function of their own would cost its own
+# share of the cold compile time)
+log = _compiled(inline=True)(log_scalar)
+cospi = _compiled(inline=True)(cospi_scalar)
 
 
 @_compiled(inline=True)
@@ -106,113 +108,81 @@ def _memberships(P, X, L, S):
                 v = X[i, j]
                 z = ((v - (b if v <= mid else a)) - 0.0) / c
                 S[k, j] = d * exp((-0.5 * z) * z)
-        else:
-            _curves(kind, a, b, c, d, h, X, i, L, S, k)
+        elif kind == 19:  # scaled and lagged row a (MATLAB's type-2 lower MF)
+            up = int(a)  # (row, scale peak, lag, peak)
+            for j in range(L):
+                S[k, j] = b * fmin(fmax((S[up, j] / d - c) / (1.0 - c), 0.0), 1.0)
+        else:  # one scalar function for the other shapes: compiled once, small
+            for j in range(L):
+                S[k, j] = _curve(kind, a, b, c, d, h, X[i, j])
     for j in range(L):
         S[n_rows, j] = 1.0
 
 
 @_compiled()
-def _curves(kind, a, b, c, d, h, X, i, L, S, k):
-    """Row ``k`` of the kinds of :mod:`.curves` and :mod:`.shapes` (their numpy ``__call__``
-    operation for operation; parameters as each class's ``kernel_row`` documents)."""
+def _curve(kind, a, b, c, d, h, v):
+    """The membership at ``v`` of a row of the kinds of :mod:`.curves` and :mod:`.shapes`
+    (their numpy ``__call__`` operation for operation; parameters as each class's
+    ``kernel_row`` documents)."""
     if kind == 4:  # bell (center, width, 2 slope, h)
+        t = abs((v - a) / b)
         if c == int(c) and c <= MAX_SQUARING:
-            n = int(c)
-            for j in range(L):
-                t = abs((X[i, j] - a) / b)
-                r = 1.0
-                base = t
-                m = n
-                while m:
-                    if m & 1:
-                        r = r * base
-                    m >>= 1
-                    if m:
-                        base = base * base
-                S[k, j] = d * (1.0 / (1.0 + r))
-        else:
-            for j in range(L):
-                t = abs((X[i, j] - a) / b)
-                S[k, j] = d * (1.0 / (1.0 + exp(c * log(t))))
-    elif kind == 5:  # sigmoid (inflection, slope, h)
-        for j in range(L):
-            S[k, j] = c * (1.0 / (1.0 + exp(-b * (X[i, j] - a))))
-    elif kind == 6 or kind == 7:  # sigmoid difference / product (left, rising, right, falling, h)
-        for j in range(L):
-            v = X[i, j]
-            s1 = 1.0 / (1.0 + exp(-b * (v - a)))
-            s2 = 1.0 / (1.0 + exp(-d * (v - c)))
-            S[k, j] = h * (abs(s1 - s2) if kind == 6 else s1 * s2)
-    elif kind == 8 or kind == 9:  # S / Z shape (start, end, h)
-        for j in range(L):
-            S[k, j] = c * _spline(X[i, j], a, b, kind == 8)
-    elif kind == 10:  # Pi shape (a, b, c, d, h)
-        for j in range(L):
-            v = X[i, j]
-            S[k, j] = h * (_spline(v, a, b, True) * _spline(v, c, d, False))
-    elif kind == 11:  # Gaussian product (mean_a, sigma_a, mean_b, sigma_b, h)
-        for j in range(L):
-            v = X[i, j]
-            za = fmin(v - a, 0.0) / b
-            zb = fmax(v - c, 0.0) / d
-            S[k, j] = h * (exp(-0.5 * za * za) * exp(-0.5 * zb * zb))
-    elif kind == 12:  # cosine (center, width, h)
+            r = 1.0
+            base = t
+            m = int(c)
+            while m:
+                if m & 1:
+                    r = r * base
+                m >>= 1
+                if m:
+                    base = base * base
+            return d * (1.0 / (1.0 + r))
+        return d * (1.0 / (1.0 + exp(c * log(t))))
+    if kind == 5:  # sigmoid (inflection, slope, h)
+        return c * (1.0 / (1.0 + exp(-b * (v - a))))
+    if kind == 6 or kind == 7:  # sigmoid difference / product (left, rising, right, falling, h)
+        s1 = 1.0 / (1.0 + exp(-b * (v - a)))
+        s2 = 1.0 / (1.0 + exp(-d * (v - c)))
+        return h * (abs(s1 - s2) if kind == 6 else s1 * s2)
+    if kind == 8 or kind == 9:  # S / Z shape (start, end, h)
+        return c * _spline(v, a, b, kind == 8)
+    if kind == 10:  # Pi shape (a, b, c, d, h)
+        return h * (_spline(v, a, b, True) * _spline(v, c, d, False))
+    if kind == 11:  # Gaussian product (mean_a, sigma_a, mean_b, sigma_b, h)
+        za = fmin(v - a, 0.0) / b
+        zb = fmax(v - c, 0.0) / d
+        return h * (exp(-0.5 * za * za) * exp(-0.5 * zb * zb))
+    if kind == 12:  # cosine (center, width, h)
         half = 0.5 * b
-        lo = a - half
-        hi = a + half
-        for j in range(L):
-            v = X[i, j]
-            inside = (v >= lo) & (v <= hi)
-            u = (v - a) / half if inside else 1.0
-            S[k, j] = c * (0.5 * (1.0 + cospi(u)) if inside else 0.0)
-    elif kind == 13:  # spike (center, width, h)
-        q = 10.0 / b
-        for j in range(L):
-            S[k, j] = c * exp(-abs(q * (X[i, j] - a)))
-    elif kind == 14:  # concave (inflection, end, h)
-        for j in range(L):
-            v = X[i, j]
-            if a < b:
-                y = (b - a) / ((2.0 * b - a) - v) if v < b else 1.0
-            else:
-                y = (a - b) / ((a - 2.0 * b) + v) if v > b else 1.0
-            S[k, j] = c * y
-    elif kind == 15:  # rectangle (start, end, h)
-        for j in range(L):
-            v = X[i, j]
-            S[k, j] = c if (v >= a) & (v <= b) else 0.0
-    elif kind == 16:  # step (edge, rising, closed, h)
-        for j in range(L):
-            v = X[i, j]
-            if b != 0.0:
-                on = (v >= a) if c != 0.0 else (v > a)
-            else:
-                on = (v <= a) if c != 0.0 else (v < a)
-            S[k, j] = d if on else 0.0
-    elif kind == 17:  # arc (start, end, h)
+        if (v >= a - half) & (v <= a + half):
+            return c * (0.5 * (1.0 + cospi((v - a) / half)))
+        return c * 0.0
+    if kind == 13:  # spike (center, width, h)
+        return c * exp(-abs(10.0 / b * (v - a)))
+    if kind == 14:  # concave (inflection, end, h)
+        if a < b:
+            return c * ((b - a) / ((2.0 * b - a) - v) if v < b else 1.0)
+        return c * ((a - b) / ((a - 2.0 * b) + v) if v > b else 1.0)
+    if kind == 15:  # rectangle (start, end, h)
+        return c if (v >= a) & (v <= b) else 0.0
+    if kind == 16:  # step (edge, rising, closed, h)
+        if b != 0.0:
+            on = (v >= a) if c != 0.0 else (v > a)
+        else:
+            on = (v <= a) if c != 0.0 else (v < a)
+        return d if on else 0.0
+    if kind == 17:  # arc (start, end, h)
         r = b - a
-        for j in range(L):
-            v = X[i, j]
-            e = v - b
-            arc = math.sqrt(fmax(r * r - e * e, 0.0)) / abs(r)
-            if a < b:
-                y = 1.0 if v > b else (arc if v >= a else 0.0)
-            else:
-                y = 1.0 if v < b else (arc if v <= a else 0.0)
-            S[k, j] = c * y
-    elif kind == 18:  # semi-ellipse (start, end, h)
-        r = (b - a) / 2.0
-        m = a + r
-        for j in range(L):
-            v = X[i, j]
-            e = v - m
-            y = math.sqrt(fmax(r * r - e * e, 0.0)) / r
-            S[k, j] = c * (y if (v >= a) & (v <= b) else 0.0)
-    else:  # scaled and lagged row a (MATLAB's type-2 lower MF): (row, scale peak, lag, peak)
-        up = int(a)
-        for j in range(L):
-            S[k, j] = b * fmin(fmax((S[up, j] / d - c) / (1.0 - c), 0.0), 1.0)
+        e = v - b
+        arc = math.sqrt(fmax(r * r - e * e, 0.0)) / abs(r)
+        if a < b:
+            return c * (1.0 if v > b else (arc if v >= a else 0.0))
+        return c * (1.0 if v < b else (arc if v <= a else 0.0))
+    # semi-ellipse (start, end, h)
+    r = (b - a) / 2.0
+    e = v - (a + r)
+    y = math.sqrt(fmax(r * r - e * e, 0.0)) / r
+    return c * (y if (v >= a) & (v <= b) else 0.0)
 
 
 @_compiled(inline=True)
@@ -231,15 +201,31 @@ def _spline(v, a, b, rising):
 
 @_compiled()
 def _firing(P, L, S, flb, fub):
-    n_in, n_rules = int(P[N_IN]), int(P[N_RULES])
+    n_in, n_rows, n_rules = int(P[N_IN]), int(P[N_ROWS]), int(P[N_RULES])
     o_ur, o_lr = int(P[O_UR]), int(P[O_LR])
     code = int(P[TNORM])
-    if code > MINIMUM:
-        _firing_mentioned(P, L, S, flb, fub, code)
-        return
     prod = code == PRODUCT
     for r in range(n_rules):
         b = r * n_in
+        if code > MINIMUM:
+            # AND over the inputs the rule mentions only (tables' fold for the t-norms whose
+            # identity is not exact): the first one copied, the others folded left to right.
+            first = True
+            for i in range(n_in):
+                u = int(P[o_ur + b + i])
+                lw = int(P[o_lr + b + i])
+                if u == n_rows:
+                    continue
+                if first:
+                    for j in range(L):
+                        S[fub + r, j] = S[u, j]
+                        S[flb + r, j] = S[lw, j]
+                    first = False
+                else:
+                    for j in range(L):
+                        S[fub + r, j] = _tnorm(code, S[fub + r, j], S[u, j])
+                        S[flb + r, j] = _tnorm(code, S[flb + r, j], S[lw, j])
+            continue
         u = int(P[o_ur + b])
         lw = int(P[o_lr + b])
         for j in range(L):
@@ -272,31 +258,6 @@ def _tnorm(code, a, b):
         ab = a * b
         return ab / (a + b - ab) if a + b != 0.0 else 0.0
     return fmin(a, b) if a + b > 1.0 else 0.0  # nilpotent minimum
-
-
-@_compiled()
-def _firing_mentioned(P, L, S, flb, fub, code):
-    """AND over the inputs each rule mentions only (tables' fold for t-norms whose identity
-    is not exact): the first one copied, the others folded left to right."""
-    n_in, n_rows, n_rules = int(P[N_IN]), int(P[N_ROWS]), int(P[N_RULES])
-    o_ur, o_lr = int(P[O_UR]), int(P[O_LR])
-    for r in range(n_rules):
-        b = r * n_in
-        first = True
-        for i in range(n_in):
-            u = int(P[o_ur + b + i])
-            lw = int(P[o_lr + b + i])
-            if u == n_rows:
-                continue
-            if first:
-                for j in range(L):
-                    S[fub + r, j] = S[u, j]
-                    S[flb + r, j] = S[lw, j]
-                first = False
-            else:
-                for j in range(L):
-                    S[fub + r, j] = _tnorm(code, S[fub + r, j], S[u, j])
-                    S[flb + r, j] = _tnorm(code, S[flb + r, j], S[lw, j])
 
 
 @_compiled(inline=True)
