@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 
 from .. import __version__
-from ..fuzzy import IT2Sugeno, MFKind, T1Sugeno, TNorm
+from ..fuzzy import IT2Sugeno, MFKind, T1Sugeno, TNorm, WeightedDefuzzifier
 from ..io.errors import UnsupportedFeatureError
 from .fixedpoint import FixedFormat, fixed_context
 from .lowering import TITLES, dependencies, environment, reducer_of, row_label
@@ -172,6 +172,9 @@ def check_supported(system: object) -> None:
             )
     if system.tnorm not in (TNorm.PRODUCT, TNorm.MINIMUM):
         raise UnsupportedFeatureError(f"t-norm {system.tnorm!r} has no C implementation")
+    if isinstance(system, T1Sugeno) and system.defuzzifier is not WeightedDefuzzifier.AVERAGE:
+        raise UnsupportedFeatureError(
+            f"defuzzifier {system.defuzzifier!r} has no C implementation (weighted average only)")
     reducer_of(system)
 
 

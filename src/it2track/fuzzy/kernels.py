@@ -9,11 +9,14 @@ would raise (NaN input, zero firing without ``on_zero_firing``, no convergence) 
 hands the call back to it, so errors and messages are the reference's.
 
 What the kernels implement (an allow-list; anything else goes to numpy): exactly the classes
-``IT2Sugeno`` and ``T1Sugeno`` (not subclasses), membership rows of the kinds ``TRAPEZOID``,
-``GAUSSIAN``, ``UM_GAUSSIAN_UPPER``, ``UM_GAUSSIAN_LOWER``, tables with no rule-language
-``features``, both t-norms, the six built-in reducers (matched by their kernels, so a custom
-:class:`~.reducers.TypeReducer` goes to numpy) with their ``max_iter``, and both zero-firing
-policies.
+``IT2Sugeno`` and ``T1Sugeno`` (not subclasses; ``T1Sugeno`` with either weighted
+defuzzifier), membership rows of every :class:`~.kinds.MFKind` but ``OTHER`` (the
+triangles, trapezoids and Gaussians of :mod:`.membership`, every class of :mod:`.curves` and
+:mod:`.shapes` but ``Discrete``, and MATLAB's scaled and lagged lower MFs), tables with no
+rule-language ``features``, every t-norm, the six built-in reducers (matched by their kernels,
+so a custom :class:`~.reducers.TypeReducer` goes to numpy) with their ``max_iter``, and both
+zero-firing policies. The new shapes, t-norms and ``wtsum`` are compiled only for the systems
+that use them (:func:`extended`).
 
 Engine choice: the environment variable ``IT2TRACK_ENGINE`` is ``auto`` (default: compiled
 where supported and numba is importable), ``numpy`` (never compile; numba is not even
@@ -41,10 +44,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import reducers as _r
+from .kinds import MFKind
+from .norms import WeightedDefuzzifier
 from .rules import TNorm
-from .tables import MFKind
 
-__all__ = ["ENGINE_ENV", "engine", "interval", "output", "pack", "supported"]
+__all__ = ["ENGINE_ENV", "engine", "extended", "interval", "output", "pack", "supported"]
 
 FloatArray = NDArray[np.float64]
 
@@ -52,8 +56,14 @@ FloatArray = NDArray[np.float64]
 ENGINE_ENV = "IT2TRACK_ENGINE"
 _ENGINES = ("auto", "numpy", "compiled")
 #: Membership kinds the kernels implement (codes in ``_jit._memberships``).
-_KINDS = frozenset({MFKind.TRAPEZOID, MFKind.GAUSSIAN, MFKind.UM_GAUSSIAN_UPPER,
-                    MFKind.UM_GAUSSIAN_LOWER})  # fmt: skip
+_KINDS = frozenset(MFKind) - {MFKind.OTHER}
+#: ... of which these need no extended specialisation (see :func:`extended`).
+_BASIC_KINDS = frozenset({MFKind.TRAPEZOID, MFKind.GAUSSIAN, MFKind.UM_GAUSSIAN_UPPER,
+                          MFKind.UM_GAUSSIAN_LOWER})
+#: t-norm codes of the kernels (``_jit.PRODUCT`` ...).
+_TNORMS = {TNorm.PRODUCT: 0, TNorm.MINIMUM: 1, TNorm.BOUNDED_DIFFERENCE: 2,
+           TNorm.DRASTIC_PRODUCT: 3, TNorm.EINSTEIN_PRODUCT: 4, TNorm.HAMACHER_PRODUCT: 5,
+           TNorm.NILPOTENT_MINIMUM: 6}  # fmt: skip
 #: Rule-language features (``SystemTables.features``) the kernels implement.
 _FEATURES: frozenset[str] = frozenset()
 #: Built-in reducers by their kernels -> code in ``_jit``.
@@ -61,7 +71,7 @@ _REDUCERS: dict[Any, int] = {
     _r._exhaustive_left: 0, _r._km_left: 1, _r._ekm_left: 2, _r._eiasc_left: 3,
     _r._nie_tan: 4, _r._wu_mendel: 5,
 }  # fmt: skip
-_T1 = 6
+_T1, _T1_SUM = 6, 7
 _PARALLEL_MIN = 8192  # fewer points than this: the serial kernel (no thread start-up)
 _jit: Any = None
 
@@ -118,7 +128,10 @@ def supported(system: Any) -> str | None:
     kinds = {MFKind(int(k)) for k in t.mf_kind}
     if not kinds <= _KINDS:
         return f"membership kinds {sorted(k.name for k in kinds - _KINDS)} are not compiled"
-    if system.tnorm not in (TNorm.PRODUCT, TNorm.MINIMUM):
+    for k in np.flatnonzero(t.mf_kind == MFKind.SCALED_LAGGED):
+        if not 0 <= t.mf_params[k, 0] < k:  # (the tables put the upper row first)
+            return f"scaled-lagged row {k} reads row {t.mf_params[k, 0]:g}, not an earlier one"
+    if system.tnorm not in _TNORMS:
         return f"t-norm {system.tnorm!r} is not compiled"
     if kind == "it2":
         red = system.reducer
@@ -126,6 +139,23 @@ def supported(system: Any) -> str | None:
         if kernel not in _REDUCERS:
             return f"reducer {red.name!r} is not a built-in one"
     return None
+
+
+def extended(system: Any) -> bool:
+    """True if ``system`` (one :func:`supported` accepts) needs the kernels' extended
+    specialisation: a membership kind of :mod:`.curves`/:mod:`.shapes` (or MATLAB's lagged
+    lower MF), a t-norm other than product/minimum, or ``wtsum``.
+
+    The kernels are compiled twice over, lazily: without these (``ext`` left out: numba
+    prunes their branches, so a system like the paper's compiles exactly the code it did
+    before they existed) and, the first time a system needs them, with them.
+    """
+    t = system.tables
+    return bool(
+        not {MFKind(int(k)) for k in t.mf_kind} <= _BASIC_KINDS
+        or _TNORMS[system.tnorm] > 1
+        or (_compiled_as(system) == "t1" and system.defuzzifier is not WeightedDefuzzifier.AVERAGE)
+    )
 
 
 def pack(system: Any) -> FloatArray:
@@ -146,7 +176,8 @@ def pack(system: Any) -> FloatArray:
         code = _REDUCERS[kernel]
         max_iter = red._cap(r)
     else:
-        code, max_iter = _T1, 1
+        code = _T1 if system.defuzzifier is WeightedDefuzzifier.AVERAGE else _T1_SUM
+        max_iter = 1
     eps = np.finfo(np.float64).eps
     tol_l = (8.0 + 2.0 * r) * eps * max(1.0, float(np.abs(y_lo).max()))
     tol_r = (8.0 + 2.0 * r) * eps * max(1.0, float(np.abs(y_hs).max()))
@@ -159,7 +190,7 @@ def pack(system: Any) -> FloatArray:
         0.5 * (y_lo + y_hi), y_hi,
     ]  # fmt: skip
     header = [
-        t.n_inputs, t.n_rows, r, code, 0 if system.tnorm is TNorm.PRODUCT else 1, max_iter,
+        t.n_inputs, t.n_rows, r, code, _TNORMS[system.tnorm], max_iter,
         system.on_zero_firing is not None,
         0.0 if system.on_zero_firing is None else system.on_zero_firing,
         tol_l, tol_r, round(r / 2.4), round(r / 1.7),
@@ -182,9 +213,13 @@ def _entry(system: Any) -> FloatArray | None:
     except KeyError:
         pass
     packed = None
+    ext = False
     if engine() != "numpy" and supported(system) is None and load_jit() is not None:
         packed = pack(system)
-    object.__setattr__(system, "_kernel_pack", packed)  # immutable system: a derived cache
+        ext = extended(system)
+    # immutable system: derived caches (set before the pack, which output() looks up first)
+    object.__setattr__(system, "_kernel_ext", ext)
+    object.__setattr__(system, "_kernel_pack", packed)
     return packed
 
 
@@ -216,7 +251,10 @@ def output(system: Any, xs: tuple[Any, ...]) -> float | None:
         b = _float(b)
         if b is None:
             return None
-    u: float = _jit.scalar2(packed, a, b)
+    if system.__dict__["_kernel_ext"]:
+        u: float = _jit.scalar2(packed, a, b, True)
+    else:
+        u = _jit.scalar2(packed, a, b)  # (ext left out: the basic specialisation)
     return u if u == u else None  # NaN: the reference raises
 
 
@@ -237,7 +275,8 @@ def interval(
     out_b = out_a if crisp else np.empty(n)
     status = np.empty(n, dtype=np.int8)
     bounds = _split(n, threads() if n >= _PARALLEL_MIN else 1, _jit.BLOCK)
-    run_threads([(_jit.batch, (packed, x, out_a, out_b, status, crisp, a, b))
+    ext = (True,) if system.__dict__["_kernel_ext"] else ()  # (left out: basic, see extended)
+    run_threads([(_jit.batch, (packed, x, out_a, out_b, status, crisp, a, b, *ext))
                  for a, b in bounds])  # fmt: skip
     if status.any():
         return None

@@ -83,6 +83,7 @@ from ..fuzzy import (
     Output,
     Reducer,
     Rule,
+    Sampling,
     ScaledLagged,
     SNorm,
     T1Mamdani,
@@ -94,6 +95,7 @@ from ..fuzzy import (
     TypeReduction,
     UncertainMeanGaussianLower,
     UncertainMeanGaussianUpper,
+    WeightedDefuzzifier,
 )
 from ..fuzzy import AnySystem as System
 from .errors import FisFormatError, UnsupportedFeatureError
@@ -245,6 +247,13 @@ def dumps(system: System) -> str:
         raise TypeError(f"can only write IT2Sugeno, T1Sugeno, IT2Mamdani or T1Mamdani systems, "
                         f"got {type(system)}")
     mamdani = isinstance(system, IT2Mamdani | T1Mamdani)
+    for what, value, carried in (
+            ("defuzzifier", getattr(system, "defuzzifier", None),
+             (None, WeightedDefuzzifier.AVERAGE, *Defuzzifier)),
+            ("sampling", getattr(system, "sampling", Sampling.ENDPOINTS),
+             (Sampling.ENDPOINTS,))):
+        if value not in carried:  # (not carried by this format yet: refuse, never drop)
+            raise UnsupportedFeatureError(f"the .toml format cannot carry the {what} {value!r}")
     lines = [
         "# it2track fuzzy system; load with it2track.io.load(path)",
         f"format = {_toml_string(FORMAT)}",

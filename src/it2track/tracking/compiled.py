@@ -44,6 +44,9 @@ def supported(controller: HeadingController) -> str | None:
         return None
     if type(controller) is FuzzyHeadingController:
         why = fuzzy_kernels.supported(controller.fls)
+        if why is None and fuzzy_kernels.extended(controller.fls):
+            why = ("its membership kinds, t-norm or defuzzifier need the fuzzy kernels' "
+                   "extended specialisation, which the closed-loop kernel does not compile")
         return None if why is None else f"its fuzzy system: {why}"
     return f"{type(controller).__name__} is not a built-in heading controller"
 
