@@ -163,7 +163,7 @@ MALFORMED = [
     (TIPPER, "DefuzzMethod='wtaver'", "DefuzzMethod='wtsum'", "DefuzzMethod",
      "'wtsum' is not supported"),
     (TIPPER, "'constant',[5]", "'constant',[5 6]", "'constant',[5 6]", "needs one number"),
-    (TIPPER, "'gaussmf',[1.5 0]", "'gaussmf',[1.5 0 1]", "[1.5 0 1]", "gaussmf needs 2"),
+    (TIPPER, "'gaussmf',[1.5 0]", "'gaussmf',[1.5]", "[1.5]", "gaussmf needs 2"),
     (TIPPER, "'gaussmf',[1.5 0]", "'gaussmf',[0 0]", "[0 0]", "sigma"),
     (TIPPER, "'gaussmf',[1.5 0]", "'gaussmf',[1.5 0],'LowerScale',1", "LowerScale",
      "unknown MF property 'LowerScale'"),

@@ -31,7 +31,7 @@ from ..fuzzy import (
     Triangle,
     UncertainMeanGaussianUpper,
 )
-from ._matlab import Document, MFValue, ParsedRule, fmt_number, fmt_string, fmt_vector
+from ._matlab import Document, MFValue, ParsedRule
 from .errors import FisFormatError, UnsupportedFeatureError
 
 __all__ = [
@@ -40,7 +40,10 @@ __all__ = [
     "build_rules",
     "check_writable",
     "consequent_tables",
+    "fmt_number",
     "fmt_rule",
+    "fmt_string",
+    "fmt_vector",
     "guard",
     "linear_from",
     "mamdani_indices",
@@ -95,12 +98,16 @@ def mf_from_matlab(doc: Document, mfv: MFValue, *, with_height: bool) -> Members
             )
         raise doc.error(mfv.line, f"unknown MF type {kind!r}")
     n = _COUNTS[kind] + (1 if with_height else 0)
-    if len(mfv.params) != n:
+    p = list(mfv.params)
+    if len(p) > n and doc.lenient:
+        doc.warn(mfv.line, f"{kind} {fmt_vector(p)} has {len(p)} parameters; read as "
+                 f"{fmt_vector(p[:n])}, as MATLAB's {kind} uses the first {n}")
+        p = p[:n]
+    if len(p) != n:
         form = _PARAMS[kind][:-1] + (" h]" if with_height else "]")
         raise doc.error(
             mfv.line, f"{kind} needs {n} parameters {form}, got {len(mfv.params)}"
         )
-    p = list(mfv.params)
     h = p.pop() if with_height else 1.0
     with guard(doc, mfv.line, f"MF {mfv.name!r}"):
         if kind == "trimf":
@@ -227,7 +234,8 @@ def build_rules(
     for pr in parsed:
         antecedent: list[str | None] = []
         negated: list[bool] = []
-        for inp, index in zip(inputs, pr.antecedent, strict=True):
+        for inp, code in zip(inputs, pr.antecedent, strict=True):
+            index = _whole(doc, pr.line, code)
             if abs(index) > len(inp.sets):
                 raise doc.error(
                     pr.line,
@@ -239,7 +247,8 @@ def build_rules(
         if all(a is None for a in antecedent):
             raise doc.error(pr.line, "rule mentions no input (all antecedent indices are 0)")
         cons: list[Consequent] = []
-        for k, (out, table) in enumerate(zip(pr.consequent, consequents, strict=True)):
+        for k, (code, table) in enumerate(zip(pr.consequent, consequents, strict=True)):
+            out = _whole(doc, pr.line, code)
             if out < 0:
                 raise doc.error(pr.line, f"negated consequent ({out}) is not supported")
             if out > len(table):
@@ -261,6 +270,22 @@ def build_rules(
                               connective="or" if pr.connection == 2 else "and",
                               negated=negated))
     return rules
+
+
+#: Octave's and fuzzylite's hedges, by the fraction of a rule index (in hundredths)
+_HEDGES = {1: "seldom", 5: "somewhat", 20: "very", 30: "extremely", 40: "very very", 99: "any"}
+
+
+def _whole(doc: Document, line: int, code: float) -> int:
+    """A rule index as an integer; a fraction is Octave's and fuzzylite's hedge, refused."""
+    whole = math.trunc(code)
+    if code == whole:
+        return int(whole)
+    hundredths = round(100 * (abs(code) - abs(whole)))
+    hedge = _HEDGES.get(hundredths)
+    meaning = f" (the hedge {hedge!r} of Octave and fuzzylite)" if hedge else ""
+    raise doc.error(line, f"rule index {code:g} has a fraction{meaning}: hedges are not "
+                    "supported")
 
 
 def linear_from(doc: Document, mfv: MFValue, n_inputs: int, *, interval: bool) -> Linear:
@@ -299,6 +324,27 @@ def system_of(
 # ---------------------------------------------------------------------------------------------
 # Writers
 # ---------------------------------------------------------------------------------------------
+
+
+def fmt_number(x: float) -> str:
+    """Shortest text that reads back to exactly ``x`` (``repr``), ``-12.0`` written ``-12``."""
+    value = float(x)
+    if not math.isfinite(value):
+        raise UnsupportedFeatureError(f"cannot write the non-finite number {value!r}")
+    text = repr(value)
+    return text[:-2] if text.endswith(".0") else text
+
+
+def fmt_vector(values: Sequence[float]) -> str:
+    """``[a b c]`` with every number written by :func:`fmt_number`."""
+    return "[" + " ".join(fmt_number(v) for v in values) + "]"
+
+
+def fmt_string(text: str, what: str) -> str:
+    """A single-quoted MATLAB string (``'`` doubled); ``what`` names it in errors."""
+    if any(ch in text for ch in "\n\r"):
+        raise UnsupportedFeatureError(f"{what} {text!r} contains a line break")
+    return "'" + text.replace("'", "''") + "'"
 
 
 def _key(value: float) -> tuple[float, bool]:

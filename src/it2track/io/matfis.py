@@ -106,8 +106,8 @@ Mamdani ``resolution`` other than 101, centre-of-sets type reduction, and a Mamd
 from __future__ import annotations
 
 import math
-from decimal import Decimal, localcontext
-from fractions import Fraction
+from collections.abc import Sequence
+from typing import Any
 
 from ..fuzzy import (
     EIASC,
@@ -116,12 +116,10 @@ from ..fuzzy import (
     KM,
     NIE_TAN,
     WU_MENDEL,
-    Aggregation,
     AnySystem,
+    Connective,
     Consequent,
     Defuzzifier,
-    Gaussian,
-    Implication,
     Input,
     IT2Mamdani,
     IT2Set,
@@ -130,25 +128,20 @@ from ..fuzzy import (
     MembershipFunction,
     Output,
     PiecewiseLinear,
-    ScaledLagged,
+    Rule,
     SNorm,
     T1Mamdani,
     T1Sugeno,
     TNorm,
-    Trapezoid,
-    Triangle,
     TypeReducer,
     TypeReduction,
 )
-from ..fuzzy.mamdani import RESOLUTION
 from ._common import (
-    build_input,
-    build_rules,
     check_writable,
     consequent_tables,
-    fmt_rule,
-    guard,
-    linear_from,
+    fmt_number,
+    fmt_string,
+    fmt_vector,
     mamdani_indices,
     mf_from_matlab,
     mf_to_matlab,
@@ -156,17 +149,19 @@ from ._common import (
     sugeno_span,
     system_of,
 )
-from ._matlab import (
-    Document,
-    MFValue,
-    Section,
-    fmt_number,
-    fmt_string,
-    fmt_vector,
+from ._fisfile import (
+    FisReader,
+    header_lines,
+    mamdani_methods,
+    reducer_name,
+    rules_lines,
+    variable_lines,
 )
+from ._lowerlag import LOWER_KEYS, lag_foot, lower_from, scale_lag
+from ._matlab import Document, Entry, MFValue, Section
 from .errors import UnsupportedFeatureError
 
-__all__ = ["dumps", "loads"]
+__all__ = ["dumps", "lag_foot", "loads"]
 
 _READ_REDUCERS: dict[str, TypeReducer] = {
     "karnikmendel": KM,
@@ -185,35 +180,147 @@ _WRITE_REDUCERS = {
     "nie-tan": "nietan",
     "wu-mendel": "wumendel",
 }
-_SYSTEM_KEYS = {
+_SYSTEM_KEYS = frozenset({
     "Name", "Type", "Version", "NumInputs", "NumOutputs", "NumRules", "AndMethod", "OrMethod",
     "ImpMethod", "AggMethod", "DefuzzMethod", "TypeReductionMethod",
+})
+#: fuzzylite's keys: harmless at these values, refused at others
+_FUZZYLITE_FLAGS = {"Enabled": 1.0, "LockPrevious": 0.0, "LockRange": 0.0}
+_FLAG_MEANING = {
+    "Enabled": "a disabled variable",
+    "LockPrevious": "keeping the previous output where no rule fires (state)",
+    "LockRange": "clipping the output to its Range",
 }
 _TNORMS = {"prod": TNorm.PRODUCT, "min": TNorm.MINIMUM}
 _SNORMS = {"max": SNorm.MAXIMUM, "probor": SNorm.PROBOR}
-_IMPLICATIONS = {"min": Implication.MINIMUM, "prod": Implication.PRODUCT}
-_LOWER_KEYS = ("LowerScale", "LowerLag")
 
 
-def _variable(doc: Document, section: Section, *, type2: bool, cls: type) -> Input:
-    doc.check_keys(section, {"Name", "Range", "NumMFs"}, r"MF[1-9]\d{0,8}")
-    name_entry = doc.entry(section, "Name")
-    universe = doc.universe(doc.entry(section, "Range"))
-    n_mfs_entry = doc.entry(section, "NumMFs")
-    n_mfs = doc.integer(n_mfs_entry, minimum=1)
-    doc.check_mf_keys(section, n_mfs, n_mfs_entry)
-    sets = []
-    for j in range(1, n_mfs + 1):
-        mfv = doc.mf(doc.entry(section, f"MF{j}"), extras=_LOWER_KEYS if type2 else ())
-        upper = mf_from_matlab(doc, mfv, with_height=False)
-        _check_shoulders(doc, mfv, upper, universe)
-        lower = _lower_from(doc, mfv, upper) if type2 else upper
-        sets.append((IT2Set(upper, lower, mfv.name), mfv.line, mfv.line))
-    var = build_input(doc, doc.string(name_entry), universe, sets, name_entry.line)
-    if cls is Output:
-        with guard(doc, name_entry.line):
-            return Output(var.name, var.universe, var.sets)
-    return var
+class _Reader(FisReader):
+    suffix = ".fis"
+    lenient = True
+    system_keys = _SYSTEM_KEYS
+    variable_keys = frozenset({"Name", "Range", "NumMFs", "Enabled"})
+    sugeno_output_keys = frozenset({"Name", "Range", "NumMFs", *_FUZZYLITE_FLAGS, "Default"})
+
+    def __init__(self, text: str, path: str) -> None:
+        super().__init__(text, path)
+        self.type2 = False
+        self.defaults: list[float | None] = []
+        self.no_and: int | None = None
+        self.no_or: int | None = None
+
+    def header(self, system: Section) -> dict[str, Any]:
+        doc = self.doc
+        self.type2 = "TypeReductionMethod" in system.entries
+        and_name, self.no_and = self._norm(system, "AndMethod", tuple(_TNORMS),
+                                           "min" if self.mamdani else "prod")
+        or_name, self.no_or = self._norm(system, "OrMethod", tuple(_SNORMS), "max")
+        options: dict[str, Any] = {"tnorm": _TNORMS[and_name], "snorm": _SNORMS[or_name]}
+        if self.mamdani:
+            options.update(self.mamdani_options(system))
+            allowed = ("centroid",) if self.type2 else tuple(d.value for d in Defuzzifier)
+            defuzz, _ = doc.method(system, "DefuzzMethod", allowed, "centroid")
+            if not self.type2:
+                options["defuzzifier"] = Defuzzifier.from_name(defuzz)
+        else:
+            for key in ("ImpMethod", "AggMethod"):  # MATLAB's Sugeno systems ignore them
+                if key in system.entries:
+                    doc.string(system.entries[key])
+            doc.method(system, "DefuzzMethod", ("wtaver",), "wtaver")
+        if self.type2:
+            entry = system.entries["TypeReductionMethod"]
+            method = doc.string(entry)
+            if method.strip().lower() not in _READ_REDUCERS:
+                known = ", ".join(_READ_REDUCERS)
+                raise doc.error(
+                    entry.line, f"unknown TypeReductionMethod {method!r} (known: {known})"
+                )
+            options["reducer"] = _READ_REDUCERS[method.strip().lower()]
+        return options
+
+    def _norm(self, system: Section, key: str, allowed: tuple[str, ...], default: str
+              ) -> tuple[str, int | None]:
+        """A norm method; fuzzylite writes ``''`` for "none" (one-input systems): the default,
+        with the line kept to refuse a rule that needs it."""
+        entry = system.entries.get(key)
+        if entry is not None and self.doc.string(entry) == "":
+            return default, entry.line
+        value, _ = self.doc.method(system, key, allowed, default)
+        return value, None
+
+    def input_extras(self, section: Section) -> None:
+        self._flags(section)
+
+    def output_extras(self, section: Section) -> None:
+        self._flags(section)
+        default = section.entries.get("Default")
+        value: float | None = None
+        if default is None:
+            lo, hi = self.doc.universe(self.doc.entry(section, "Range"))
+            value = (lo + hi) / 2
+            if not math.isfinite(value):
+                raise self.doc.error(section.entries["Range"].line, "output Range is too wide")
+        elif default.value.strip().lower() != "nan":
+            value = self.doc.number(default)
+        self.defaults.append(value)
+
+    def _flags(self, section: Section) -> None:
+        for key, harmless in _FUZZYLITE_FLAGS.items():
+            entry = section.entries.get(key)
+            if entry is not None and self.doc.number(entry) != harmless:
+                raise self.doc.error(
+                    entry.line, f"{key}={entry.value} ({_FLAG_MEANING[key]}) is not supported"
+                )
+
+    def sets(self, section: Section, n: int, count_entry: Entry, universe: tuple[float, float]
+             ) -> list[tuple[IT2Set, int, int]]:
+        sets = []
+        for entry in self.mf_lines(section, n, count_entry):
+            mfv = self.doc.mf(entry, extras=LOWER_KEYS if self.type2 else ())
+            upper = mf_from_matlab(self.doc, mfv, with_height=False)
+            _check_shoulders(self.doc, mfv, upper, universe)
+            lower = lower_from(self.doc, mfv, upper) if self.type2 else upper
+            sets.append((IT2Set(upper, lower, mfv.name), mfv.line, mfv.line))
+        return sets
+
+    def constant(self, mfv: MFValue) -> Consequent:
+        if len(mfv.params) != 1:
+            raise self.doc.error(
+                mfv.line, f"'constant' needs one number, got {len(mfv.params)}"
+            )
+        return (mfv.params[0], mfv.params[0])
+
+    def check_rules(self, rules: Sequence[Rule]) -> None:
+        for rule, parsed in zip(rules, self.doc.sections["Rules"].rows, strict=True):
+            used = sum(label is not None for label in rule.antecedent)
+            missing = self.no_or if rule.connective is Connective.OR else self.no_and
+            if used > 1 and missing is not None:
+                key = "OrMethod" if rule.connective is Connective.OR else "AndMethod"
+                raise self.doc.error(
+                    parsed[1], f"this rule joins {used} inputs with "
+                    f"{rule.connective.value.upper()}, but {key}='' (line {missing}) names no "
+                    "operator",
+                )
+
+    def finish(self, options: dict[str, Any], inputs: list[Input], outputs: list[Output],
+               names: list[str], ranges: list[tuple[tuple[float, float], Section]],
+               consequents: list[list[Consequent]], rules: list[Rule]) -> AnySystem:
+        defaults = self.defaults
+        if any(d is None for d in defaults) and any(d is not None for d in defaults):
+            section = ranges[[d is None for d in defaults].index(True)][1]
+            raise self.doc.error(section.entries["Default"].line,
+                                 "Default=nan for some outputs and not others")
+        if defaults[0] is not None:
+            options["on_zero_firing"] = defaults[0] if len(defaults) == 1 else tuple(defaults)
+        if self.mamdani:
+            options["outputs"] = tuple(outputs)
+            cls: type = IT2Mamdani if self.type2 else T1Mamdani
+        else:
+            cls = IT2Sugeno if self.type2 else T1Sugeno
+            if len(names) > 1 or names != ["output1"]:
+                options["outputs"] = tuple(names)
+        return system_of(self.doc, self.doc.sections["System"].line, cls, inputs=tuple(inputs),
+                         rules=tuple(rules), **options)
 
 
 def loads(text: str, path: str = "<string>") -> AnySystem:
@@ -223,102 +330,14 @@ def loads(text: str, path: str = "<string>") -> AnySystem:
     ------
     FisFormatError
         On any malformed or unsupported content, naming ``path``, the line and the problem.
-    """
-    doc = Document(text, path)
-    system = doc.section("System")
-    doc.check_keys(system, _SYSTEM_KEYS)
-    name, fis_type = doc.system_type(system)
-    mamdani = fis_type == "mamdani"
-    if "Version" in system.entries:
-        doc.number(system.entries["Version"])
-    type2 = "TypeReductionMethod" in system.entries
-    options: dict[str, object] = {
-        "name": name,
-        "tnorm": _TNORMS[doc.method(system, "AndMethod", tuple(_TNORMS),
-                                    "min" if mamdani else "prod")],
-        "snorm": _SNORMS[doc.method(system, "OrMethod", tuple(_SNORMS), "max")],
-    }
-    if mamdani:
-        options["implication"] = _IMPLICATIONS[
-            doc.method(system, "ImpMethod", tuple(_IMPLICATIONS), "min")]
-        options["aggregation"] = Aggregation.from_name(
-            doc.method(system, "AggMethod", ("max", "sum", "probor"), "max"))
-        allowed = ("centroid",) if type2 else tuple(d.value for d in Defuzzifier)
-        defuzz = doc.method(system, "DefuzzMethod", allowed, "centroid")
-        if not type2:
-            options["defuzzifier"] = Defuzzifier.from_name(defuzz)
-    else:
-        for key in ("ImpMethod", "AggMethod"):
-            if key in system.entries:
-                doc.string(system.entries[key])
-        doc.method(system, "DefuzzMethod", ("wtaver",), "wtaver")
-    if type2:
-        entry = system.entries["TypeReductionMethod"]
-        method = doc.string(entry)
-        if method.strip().lower() not in _READ_REDUCERS:
-            known = ", ".join(_READ_REDUCERS)
-            raise doc.error(
-                entry.line, f"unknown TypeReductionMethod {method!r} (known: {known})"
-            )
-        options["reducer"] = _READ_REDUCERS[method.strip().lower()]
-    counts = doc.counts(system)
-    inputs = [
-        _variable(doc, doc.section(f"Input{k}", promised_by=counts.n_in_entry), type2=type2,
-                  cls=Input)
-        for k in range(1, counts.n_inputs + 1)
-    ]
-    outputs: list[Output] = []
-    names: list[str] = []
-    midpoints: list[float] = []
-    consequents: list[list[Consequent]] = []
-    for k in range(1, counts.n_outputs + 1):
-        output = doc.section(f"Output{k}", promised_by=counts.n_out_entry)
-        range_entry = doc.entry(output, "Range")
-        out_lo, out_hi = doc.universe(range_entry)
-        midpoint = (out_lo + out_hi) / 2
-        if not math.isfinite(midpoint):
-            raise doc.error(range_entry.line, "output Range is too wide")
-        midpoints.append(midpoint)
-        if mamdani:
-            out = _variable(doc, output, type2=type2, cls=Output)
-            assert isinstance(out, Output)
-            outputs.append(out)
-            consequents.append([s.name for s in out.sets])
-            continue
-        doc.check_keys(output, {"Name", "Range", "NumMFs"}, r"MF[1-9]\d{0,8}")
-        names.append(doc.string(doc.entry(output, "Name")))
-        n_out_mfs_entry = doc.entry(output, "NumMFs")
-        n_out_mfs = doc.integer(n_out_mfs_entry, minimum=1)
-        doc.check_mf_keys(output, n_out_mfs, n_out_mfs_entry)
-        table: list[Consequent] = []
-        for j in range(1, n_out_mfs + 1):
-            mfv = doc.mf(doc.entry(output, f"MF{j}"))
-            if mfv.type == "linear":
-                table.append(linear_from(doc, mfv, counts.n_inputs, interval=False))
-                continue
-            if mfv.type != "constant":
-                raise doc.error(
-                    mfv.line, f"unknown output MF type {mfv.type!r} (expected 'constant' or "
-                    "'linear')"
-                )
-            if len(mfv.params) != 1:
-                raise doc.error(
-                    mfv.line, f"'constant' needs one number, got {len(mfv.params)}"
-                )
-            table.append((mfv.params[0], mfv.params[0]))
-        consequents.append(table)
 
-    parsed = doc.counted_rules(counts)
-    rules = build_rules(doc, parsed, inputs, consequents)
-    options["on_zero_firing"] = midpoints[0] if len(midpoints) == 1 else tuple(midpoints)
-    if mamdani:
-        options["outputs"] = tuple(outputs)
-        cls: type = IT2Mamdani if type2 else T1Mamdani
-    else:
-        cls = IT2Sugeno if type2 else T1Sugeno
-        if len(names) > 1 or names != ["output1"]:
-            options["outputs"] = tuple(names)
-    return system_of(doc, system.line, cls, inputs=tuple(inputs), rules=tuple(rules), **options)
+    Warns
+    -----
+    FisFormatWarning
+        For what is read as MATLAB's ``readfis`` reads it but may not be what was meant
+        (an unknown key, extra MF parameters, a misnumbered ``MF`` line).
+    """
+    return _Reader(text, path).read()
 
 
 def _check_shoulders(
@@ -339,62 +358,6 @@ def _check_shoulders(
             )
 
 
-def _lower_from(doc: Document, mfv: MFValue, upper: MembershipFunction) -> MembershipFunction:
-    """The lower MF of a type-2 ``.fis`` MF line (``LowerScale``, ``LowerLag``)."""
-    for key in _LOWER_KEYS:
-        if key not in mfv.extras:
-            raise doc.error(
-                mfv.line,
-                f"type-2 MF needs 'LowerScale',s,'LowerLag',l after its parameters "
-                f"(missing {key!r})",
-            )
-    scale_v = mfv.extras["LowerScale"]
-    lag_v = mfv.extras["LowerLag"]
-    if len(scale_v) != 1:
-        raise doc.error(mfv.line, "LowerScale must be one number")
-    scale = float(scale_v[0])
-    if not 0.0 < scale <= 1.0:
-        raise doc.error(mfv.line, f"LowerScale={scale:g} must satisfy 0 < scale <= 1")
-    if len(lag_v) not in (1, 2):
-        raise doc.error(mfv.line, "LowerLag must be one number or two (left, right)")
-    lags = (Fraction(lag_v[0]), Fraction(lag_v[-1]))
-    for lag in lags:
-        if not 0 <= lag < 1:
-            raise doc.error(mfv.line, f"LowerLag={float(lag):g} must satisfy 0 <= lag < 1")
-    if scale == 1.0 and lags == (0, 0):
-        return upper
-    with guard(doc, mfv.line, f"MF {mfv.name!r}"):
-        if isinstance(upper, PiecewiseLinear):
-            a, b, c, d, _ = upper.as_trapezoid()
-            la = lag_foot(a, b, lags[0])
-            ld = lag_foot(d, c, lags[1])
-            if isinstance(upper, Triangle):
-                return Triangle(la, b, ld, scale)
-            return Trapezoid(la, b, c, ld, scale)
-        if lags[0] != lags[1]:
-            raise doc.error(
-                mfv.line, f"a two-sided LowerLag needs a trimf or trapmf, not {mfv.type}"
-            )
-        return ScaledLagged(upper, scale, float(lags[0]))
-
-
-def lag_foot(foot: float, peak: float, lag: Fraction) -> float:
-    """Where a lower MF side starts: ``foot + lag * (peak - foot)``, rounded once.
-
-    The upper MF side rises from ``foot`` (value 0) to ``peak`` (value 1), so it reaches the
-    value ``lag`` there. The expression is evaluated exactly (rational arithmetic) and rounded
-    to the nearest float, so that a lag written with enough digits reproduces any foot.
-    """
-    if foot == peak or lag == 0:
-        return foot
-    return float(Fraction(foot) + lag * (Fraction(peak) - Fraction(foot)))
-
-
-# ---------------------------------------------------------------------------------------------
-# Writing
-# ---------------------------------------------------------------------------------------------
-
-
 def _mf_lines(var: Input, *, type2: bool, what_kind: str) -> list[str]:
     lines = []
     for j, s in enumerate(var.sets, start=1):
@@ -403,13 +366,36 @@ def _mf_lines(var: Input, *, type2: bool, what_kind: str) -> list[str]:
         kind, params = _widen_shoulders(kind, params, var.universe)
         line = f"MF{j}={fmt_string(s.name, 'set name')}:'{kind}',{fmt_vector(params)}"
         if type2:
-            scale, lags = _scale_lag(s, what)
+            scale, lags = scale_lag(s, what)
             lag_text = f"[{lags[0]} {lags[1]}]" if len(lags) == 2 else lags[0]
             line += f",'LowerScale',{fmt_number(scale)},'LowerLag',{lag_text}"
         elif not s.is_type1:
             raise UnsupportedFeatureError(f"{what} has a footprint in a type-1 system")
         lines.append(line)
     return lines
+
+
+def _check_sugeno(tables: list[list[Consequent]]) -> None:
+    for table in tables:
+        for cons in table:
+            if isinstance(cons, Linear):
+                if not cons.crisp:
+                    raise UnsupportedFeatureError(
+                        "MATLAB's linear Sugeno outputs have crisp coefficients; this system "
+                        "has interval coefficients (save as .t2fis or .toml)"
+                    )
+            elif isinstance(cons, tuple) and cons[0] != cons[1]:
+                raise UnsupportedFeatureError(
+                    "MATLAB's Sugeno systems have crisp consequents; this system has "
+                    "interval consequents (save as .t2fis or .toml)"
+                )
+
+
+def _consequent_mf(j: int, cons: Consequent) -> str:
+    if isinstance(cons, Linear):
+        return f"MF{j}='mf{j}':'linear',{fmt_vector([*cons.lo, cons.constant_lo])}"
+    assert isinstance(cons, tuple)
+    return f"MF{j}='mf{j}':'constant',[{fmt_number(cons[0])}]"
 
 
 def dumps(system: AnySystem) -> str:
@@ -423,14 +409,8 @@ def dumps(system: AnySystem) -> str:
     """
     check_writable(system, ".fis")
     type2 = isinstance(system, IT2Sugeno | IT2Mamdani)
-    mamdani = isinstance(system, IT2Mamdani | T1Mamdani)
-    extra: list[str] = []
     if isinstance(system, IT2Mamdani | T1Mamdani):
-        if system.resolution != RESOLUTION:
-            raise UnsupportedFeatureError(
-                f"the .fis format cannot carry resolution={system.resolution} (MATLAB "
-                f"evaluates {RESOLUTION} points); save as .toml"
-            )
+        imp, agg = mamdani_methods(system, ".fis")
         if isinstance(system, IT2Mamdani) and (
             system.type_reduction is not TypeReduction.CENTROID
         ):
@@ -447,91 +427,30 @@ def dumps(system: AnySystem) -> str:
                     f"the output range ({middle!r} for {out.name!r}), not on_zero_firing="
                     f"{zero!r}; save as .toml"
                 )
-        imp = "min" if system.implication is Implication.MINIMUM else "prod"
-        agg = system.aggregation.value
         defuzz = (system.defuzzifier.value if isinstance(system, T1Mamdani) else "centroid")
         which = mamdani_indices(system)
     else:
         imp, agg, defuzz = "prod", "sum", "wtaver"
         tables, which = consequent_tables(system)
-        for table in tables:
-            for cons in table:
-                if isinstance(cons, Linear):
-                    if not cons.crisp:
-                        raise UnsupportedFeatureError(
-                            "MATLAB's linear Sugeno outputs have crisp coefficients; this system "
-                            "has interval coefficients (save as .t2fis or .toml)"
-                        )
-                elif isinstance(cons, tuple) and cons[0] != cons[1]:
-                    raise UnsupportedFeatureError(
-                        "MATLAB's Sugeno systems have crisp consequents; this system has "
-                        "interval consequents (save as .t2fis or .toml)"
-                    )
-    lines = [
-        "[System]",
-        f"Name={fmt_string(system.name, 'system name')}",
-        f"Type='{'mamdani' if mamdani else 'sugeno'}'",
-        "Version=2.0",
-        f"NumInputs={system.n_inputs}",
-        f"NumOutputs={system.n_outputs}",
-        f"NumRules={system.n_rules}",
-        f"AndMethod='{'prod' if system.tnorm is TNorm.PRODUCT else 'min'}'",
-        f"OrMethod='{system.snorm.value}'",
-        f"ImpMethod='{imp}'",
-        f"AggMethod='{agg}'",
-        f"DefuzzMethod='{defuzz}'",
-        *extra,
-    ]
+        _check_sugeno(tables)
+    extra: list[str] = []
     if isinstance(system, IT2Sugeno | IT2Mamdani):
-        reducer = system.reducer
-        if reducer.name not in _WRITE_REDUCERS:
-            raise UnsupportedFeatureError(f"reducer {reducer.name!r} has no .fis name")
-        method = _WRITE_REDUCERS[reducer.name]
-        if reducer.max_iter != _READ_REDUCERS[method].max_iter:
-            raise UnsupportedFeatureError(
-                f"the .fis format cannot carry max_iter={reducer.max_iter!r}; save as .toml"
-            )
-        lines.append(f"TypeReductionMethod='{method}'")
+        method = reducer_name(system.reducer, _WRITE_REDUCERS, _READ_REDUCERS, ".fis")
+        extra.append(f"TypeReductionMethod='{method}'")
+    lines = header_lines(system, imp=imp, agg=agg, defuzz=defuzz, extra=extra)
     for k, inp in enumerate(system.inputs, start=1):
-        lines += [
-            "",
-            f"[Input{k}]",
-            f"Name={fmt_string(inp.name, 'input name')}",
-            f"Range={fmt_vector(inp.universe)}",
-            f"NumMFs={len(inp.sets)}",
-        ]
-        lines += _mf_lines(inp, type2=type2, what_kind="input")
+        lines += variable_lines(f"Input{k}", inp.name, inp.universe, len(inp.sets),
+                                _mf_lines(inp, type2=type2, what_kind="input"))
     if isinstance(system, IT2Mamdani | T1Mamdani):
         for k, out in enumerate(system.outputs, start=1):
-            lines += [
-                "",
-                f"[Output{k}]",
-                f"Name={fmt_string(out.name, 'output name')}",
-                f"Range={fmt_vector(out.universe)}",
-                f"NumMFs={len(out.sets)}",
-            ]
-            lines += _mf_lines(out, type2=type2, what_kind="output")
+            lines += variable_lines(f"Output{k}", out.name, out.universe, len(out.sets),
+                                    _mf_lines(out, type2=type2, what_kind="output"))
     else:
         for k, (out_name, table) in enumerate(zip(system.output_names, tables, strict=True)):
-            lo, hi = output_range(sugeno_span(table), system.zero_firing_value(k))
-            lines += [
-                "",
-                f"[Output{k + 1}]",
-                f"Name={fmt_string(out_name, 'output name')}",
-                f"Range={fmt_vector((lo, hi))}",
-                f"NumMFs={len(table)}",
-            ]
-            for j, cons in enumerate(table, start=1):
-                if isinstance(cons, Linear):
-                    params = fmt_vector([*cons.lo, cons.constant_lo])
-                    lines.append(f"MF{j}='mf{j}':'linear',{params}")
-                else:
-                    assert isinstance(cons, tuple)
-                    lines.append(f"MF{j}='mf{j}':'constant',[{fmt_number(cons[0])}]")
-    lines += ["", "[Rules]"]
-    for rule, outs in zip(system.rules, which, strict=True):
-        lines.append(fmt_rule(system, rule, outs))
-    return "\n".join(lines) + "\n"
+            mfs = [_consequent_mf(j, cons) for j, cons in enumerate(table, start=1)]
+            universe = output_range(sugeno_span(table), system.zero_firing_value(k))
+            lines += variable_lines(f"Output{k + 1}", out_name, universe, len(table), mfs)
+    return "\n".join(lines + rules_lines(system, which)) + "\n"
 
 
 def _widen_shoulders(
@@ -553,53 +472,3 @@ def _widen_shoulders(
     return "trapmf", (a, b, c, d)
 
 
-def _scale_lag(s: IT2Set, what: str) -> tuple[float, tuple[str, ...]]:
-    """``(LowerScale, LowerLag)`` such that the reader rebuilds ``s.lower`` exactly."""
-    upper, lower = s.upper, s.lower
-    piecewise = isinstance(upper, PiecewiseLinear)
-    if lower is upper or lower == upper:
-        return 1.0, ("0", "0") if piecewise else ("0",)
-    if isinstance(lower, ScaledLagged) and (lower.upper is upper or lower.upper == upper):
-        if piecewise:
-            raise UnsupportedFeatureError(
-                f"{what}: a ScaledLagged lower MF of a triangle/trapezoid is not the MATLAB "
-                "lower MF (use IT2Set.from_scale_lag, which builds a trapezoid)"
-            )
-        return float(lower.scale), (fmt_number(lower.lag),)
-    if type(upper) is Gaussian and type(lower) is Gaussian:
-        assert isinstance(upper, Gaussian) and isinstance(lower, Gaussian)
-        if lower.mean == upper.mean and lower.sigma == upper.sigma and upper.h == 1.0:
-            return float(lower.h), ("0",)
-    if piecewise and isinstance(lower, PiecewiseLinear) and type(lower) in (Triangle, Trapezoid):
-        assert isinstance(upper, PiecewiseLinear)
-        a, b, c, d, h = upper.as_trapezoid()
-        la, lb, lc, ld, lh = lower.as_trapezoid()
-        if lb == b and lc == c and h == 1.0 and a <= la and ld <= d:
-            left = _solve_lag(a, b, la)
-            right = _solve_lag(d, c, ld)
-            if left is not None and right is not None:
-                return lh, (left, right)
-    raise UnsupportedFeatureError(
-        f"{what}: its lower MF {lower!r} is not a LowerScale/LowerLag image of its upper MF "
-        f"{upper!r}, the only lower MFs MATLAB's type-2 .fis can describe; save as .t2fis or "
-        ".toml"
-    )
-
-
-def _solve_lag(foot: float, peak: float, target: float) -> str | None:
-    """The shortest decimal lag in ``[0, 1)`` for which :func:`lag_foot` gives ``target``."""
-    if foot == peak:
-        return "0" if target == foot else None
-    exact = (Fraction(target) - Fraction(foot)) / (Fraction(peak) - Fraction(foot))
-    if not 0 <= exact < 1:
-        return None
-    if exact == 0:
-        return "0"
-    for digits in range(1, 60):
-        with localcontext() as ctx:
-            ctx.prec = digits
-            text = str(Decimal(exact.numerator) / Decimal(exact.denominator))
-        lag = Fraction(text)
-        if 0 <= lag < 1 and lag_foot(foot, peak, lag) == target:
-            return text
-    return None  # pragma: no cover - 60 digits always suffice for doubles
