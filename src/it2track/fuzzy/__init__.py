@@ -1,7 +1,10 @@
 """General interval type-2 and type-1 fuzzy logic: Sugeno, TSK and Mamdani (knows nothing
 about robots).
 
-Imports numpy only. One concept per module: :mod:`.membership` (type-1 MFs), :mod:`.sets`
+Imports numpy only. One concept per module: :mod:`.membership` (type-1 MFs: triangles,
+trapezoids, Gaussians), :mod:`.curves` (bell, sigmoids, S/Z/Pi splines, two-sided Gaussian,
+cosine, spike), :mod:`.shapes` (ramps, rectangle, binary, discrete, concave, arc,
+semi-ellipse), :mod:`.terms` (MATLAB's and fuzzylite's names of them), :mod:`.sets`
 (IT2 sets), :mod:`.norms` (t-norms, s-norms, implication, aggregation, defuzzifiers),
 :mod:`.rules` (variables and rules), :mod:`.tables` (the lowering to arrays and the rule
 firing), :mod:`.reducers` (type reduction), :mod:`.sugeno` (Sugeno/TSK
@@ -10,6 +13,27 @@ systems), :mod:`.mamdani` (Mamdani systems, centroid and centre-of-sets type red
 :mod:`.surface` (control surfaces).
 """
 
+from .curves import (
+    Bell,
+    Cosine,
+    GaussianProduct,
+    PiShape,
+    Sigmoid,
+    SigmoidDifference,
+    SigmoidProduct,
+    Spike,
+    SShape,
+    ZShape,
+    dsigmf,
+    gauss2mf,
+    gbellmf,
+    pimf,
+    psigmf,
+    sigmf,
+    smf,
+    zmf,
+)
+from .kinds import MFKind
 from .mamdani import (
     AnySystem,
     IT2Mamdani,
@@ -24,6 +48,7 @@ from .membership import (
     Gaussian,
     MembershipFunction,
     PiecewiseLinear,
+    Term,
     Trapezoid,
     Triangle,
     UncertainMeanGaussianLower,
@@ -32,7 +57,15 @@ from .membership import (
     trapmf,
     trimf,
 )
-from .norms import Aggregation, Connective, Defuzzifier, Implication, SNorm, TNorm
+from .norms import (
+    Aggregation,
+    Connective,
+    Defuzzifier,
+    Implication,
+    SNorm,
+    TNorm,
+    WeightedDefuzzifier,
+)
 from .reducers import (
     EIASC,
     EKM,
@@ -47,58 +80,118 @@ from .reducers import (
 )
 from .rules import Consequent, Input, Linear, Output, Rule, rules_from_table
 from .sets import IT2Set, ScaledLagged
+from .shapes import (
+    Arc,
+    Binary,
+    Concave,
+    Discrete,
+    LinearSShape,
+    LinearZShape,
+    Ramp,
+    Rectangle,
+    SemiEllipse,
+    linsmf,
+    linzmf,
+)
 from .sugeno import FuzzySystem, IT2Sugeno, T1Sugeno
 from .surface import control_surface
-from .tables import FEATURES, MFKind, SystemTables
+from .tables import FEATURES, SystemTables
+from .terms import (
+    FUZZYLITE_TERMS,
+    MATLAB_MFS,
+    from_fuzzylite,
+    from_matlab,
+    fuzzylite_consequent,
+    to_fuzzylite,
+    to_matlab,
+)
 
 __all__ = [
     "EIASC",
     "EKM",
     "EXHAUSTIVE",
     "FEATURES",
+    "FUZZYLITE_TERMS",
     "KM",
+    "MATLAB_MFS",
     "NIE_TAN",
     "WU_MENDEL",
     "Aggregation",
     "AnySystem",
+    "Arc",
+    "Bell",
+    "Binary",
+    "Concave",
     "Connective",
     "Consequent",
     "ConvergenceError",
+    "Cosine",
     "Defuzzifier",
+    "Discrete",
     "FuzzySystem",
     "Gaussian",
+    "GaussianProduct",
     "IT2Mamdani",
     "IT2Set",
     "IT2Sugeno",
     "Implication",
     "Input",
     "Linear",
+    "LinearSShape",
+    "LinearZShape",
     "MFKind",
     "MamdaniSystem",
     "MamdaniTables",
     "MembershipFunction",
     "Output",
+    "PiShape",
     "PiecewiseLinear",
+    "Ramp",
+    "Rectangle",
     "Reducer",
     "Rule",
     "SNorm",
+    "SShape",
     "ScaledLagged",
+    "SemiEllipse",
+    "Sigmoid",
+    "SigmoidDifference",
+    "SigmoidProduct",
+    "Spike",
     "SystemTables",
     "T1Mamdani",
     "T1Sugeno",
     "TNorm",
+    "Term",
     "Trapezoid",
     "Triangle",
     "TypeReducer",
     "TypeReduction",
     "UncertainMeanGaussianLower",
     "UncertainMeanGaussianUpper",
+    "WeightedDefuzzifier",
+    "ZShape",
     "ZeroFiringError",
     "control_surface",
     "defuzzify",
+    "dsigmf",
+    "from_fuzzylite",
+    "from_matlab",
+    "fuzzylite_consequent",
+    "gauss2mf",
     "gaussmf",
+    "gbellmf",
+    "linsmf",
+    "linzmf",
+    "pimf",
+    "psigmf",
     "rules_from_table",
     "set_centroid",
+    "sigmf",
+    "smf",
+    "to_fuzzylite",
+    "to_matlab",
     "trapmf",
     "trimf",
+    "zmf",
 ]

@@ -41,8 +41,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import reducers as _r
+from .kinds import MFKind
+from .norms import WeightedDefuzzifier
 from .rules import TNorm
-from .tables import MFKind
 
 __all__ = ["ENGINE_ENV", "engine", "interval", "output", "pack", "supported"]
 
@@ -112,6 +113,8 @@ def supported(system: Any) -> str | None:
         return f"membership kinds {sorted(k.name for k in kinds - _KINDS)} are not compiled"
     if system.tnorm not in (TNorm.PRODUCT, TNorm.MINIMUM):
         return f"t-norm {system.tnorm!r} is not compiled"
+    if type(system) is T1Sugeno and system.defuzzifier is not WeightedDefuzzifier.AVERAGE:
+        return f"defuzzifier {system.defuzzifier!r} is not compiled"
     if type(system) is IT2Sugeno:
         red = system.reducer
         kernel = red._approx if red._approx is not None else red._left

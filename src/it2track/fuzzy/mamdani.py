@@ -223,22 +223,32 @@ class MamdaniTables:
         n = f.shape[1]
         out = np.zeros((mf.shape[1], n))
         clip = self.implication is Implication.MINIMUM
-        if self.aggregation is Aggregation.MAXIMUM:
+        scale = self.implication is Implication.PRODUCT
+        if self.aggregation is Aggregation.MAXIMUM and (clip or scale):
             # max_r I(f_r, mu_s) = I(max_r f_r, mu_s) for the rules r of set s: I is monotone
-            # in f and rounding is monotone, so this is exact.
+            # in f and rounding is monotone, so this is exact (for min and product; a rounded
+            # Einstein product, say, need not be monotone to the last bit).
             for s in np.unique(sets):
                 strongest = f[sets == s].max(axis=0)
                 term = (np.minimum(strongest[None, :], mf[s][:, None]) if clip
                         else mf[s][:, None] * strongest[None, :])
                 np.maximum(out, term, out=out)
             return out
+        tnorm = self.implication.tnorm
         for r in range(f.shape[0]):
             mu = mf[sets[r]][:, None]
-            term = np.minimum(f[r][None, :], mu) if clip else mu * f[r][None, :]
+            if clip:
+                term = np.minimum(f[r][None, :], mu)
+            elif scale:
+                term = mu * f[r][None, :]
+            else:
+                term = tnorm.pair(f[r][None, :], mu)
             if self.aggregation is Aggregation.SUM:
                 out += term
-            else:
+            elif self.aggregation is Aggregation.PROBOR:
                 out += term - out * term
+            else:
+                out = self.aggregation.snorm.pair(out, term)
         return out
 
 

@@ -12,18 +12,20 @@ Shoulders follow the IT2FLS-toolbox (and MATLAB) convention: a triangle ``[a b c
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from typing import Protocol, runtime_checkable
+from dataclasses import dataclass, fields
+from typing import ClassVar, Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .kinds import MFKind, Row
 from .libm import exp
 
 __all__ = [
     "Gaussian",
     "MembershipFunction",
     "PiecewiseLinear",
+    "Term",
     "Trapezoid",
     "Triangle",
     "UncertainMeanGaussianLower",
@@ -116,6 +118,64 @@ def _check_finite(owner: str, **values: float) -> None:
 def _check_height(owner: str, h: float) -> None:
     if not 0.0 < h <= 1.0:
         raise ValueError(f"{owner}: height h={h!r} must satisfy 0 < h <= 1")
+
+
+class Term:
+    """Base of the membership classes of :mod:`.curves` and :mod:`.shapes` (fuzzylite's one
+    class per term): each is a frozen dataclass of its parameters (height ``h`` last), checks
+    them on construction, evaluates itself (``term(x)``), lowers itself to a row of the
+    compiled kernels (:meth:`kernel_row`) and names itself in MATLAB's and fuzzylite's
+    vocabulary (:attr:`MATLAB`, :meth:`matlab_params`, :attr:`FUZZYLITE`,
+    :meth:`fuzzylite_params`; see :mod:`.terms` for the factories every reader and writer
+    goes through).
+    """
+
+    #: MATLAB's name of the function (``"gbellmf"``), ``None`` if MATLAB has none.
+    MATLAB: ClassVar[str | None] = None
+    #: fuzzylite's name of the term (``"Bell"``), ``None`` if fuzzylite has none.
+    FUZZYLITE: ClassVar[str | None] = None
+
+    def __call__(self, x: ArrayLike) -> FloatArray:
+        raise NotImplementedError
+
+    def kernel_row(self) -> Row:
+        """``(kind, 5 parameters)`` of the compiled kernels (:class:`~.kinds.MFKind`)."""
+        return MFKind.OTHER, (0.0, 0.0, 0.0, 0.0, 0.0)
+
+    def matlab_params(self) -> tuple[float, ...]:
+        """The parameter vector of :attr:`MATLAB` (its documented order), height excluded."""
+        raise NotImplementedError(f"{type(self).__name__} has no MATLAB membership function")
+
+    def fuzzylite_params(self) -> tuple[float, ...]:
+        """The parameters of :attr:`FUZZYLITE` in fuzzylite's order, height excluded."""
+        return tuple(float(getattr(self, f.name)) for f in fields(self)  # type: ignore[arg-type]
+                     if f.name != "h")
+
+    def _name(self) -> str:
+        values = ", ".join(f"{f.name}={getattr(self, f.name)!r}"
+                           for f in fields(self))  # type: ignore[arg-type]
+        return f"{type(self).__name__}({values})"
+
+    def _check(self, *, nonzero: tuple[str, ...] = (), positive: tuple[str, ...] = (),
+               infinite_ok: tuple[str, ...] = ()) -> str:
+        """Check finiteness (but ``infinite_ok``), ``!= 0``, ``> 0`` and the height; returns
+        the term's name for further messages."""
+        name = self._name()
+        finite = {f.name: getattr(self, f.name) for f in fields(self)  # type: ignore[arg-type]
+                  if f.name not in infinite_ok}
+        _check_finite(name, **finite)
+        for key in infinite_ok:
+            value = getattr(self, key)
+            if not isinstance(value, int | float | np.floating | np.integer) or math.isnan(value):
+                raise ValueError(f"{name}: parameter {key}={value!r} must be a number")
+        for key in nonzero:
+            if getattr(self, key) == 0:
+                raise ValueError(f"{name}: {key}={getattr(self, key)!r} must be != 0")
+        for key in positive:
+            if not getattr(self, key) > 0:
+                raise ValueError(f"{name}: {key}={getattr(self, key)!r} must be > 0")
+        _check_height(name, getattr(self, "h", 1.0))
+        return name
 
 
 class PiecewiseLinear:

@@ -1,32 +1,70 @@
 """The operators of fuzzy inference, as Enums: t-norms, s-norms, implication, aggregation,
-and type-1 defuzzification.
+and type-1 defuzzification (Mamdani and weighted).
 
 Each member is a strategy with a documented formula; command lines and files name them by the
-member's value (``TNorm.from_name("prod")`` etc.). Their numpy forms (:meth:`TNorm.pair`
-and friends) are the reference semantics the fuzzy systems use.
+member's value or name, case and ``_``/``-`` insensitive (``TNorm.from_name("prod")``,
+``SNorm.from_name("EinsteinSum")``). Their numpy forms (:meth:`TNorm.pair` and friends) are
+the reference semantics the fuzzy systems use. The t-norms and s-norms are fuzzylite's (its
+documentation defines each; MATLAB has ``min``/``prod`` and ``max``/``probor``):
 
-- ``TNorm.PRODUCT`` / ``TNorm.MINIMUM``: ``a b`` / ``min(a, b)`` (AND);
-- ``SNorm.MAXIMUM`` / ``SNorm.PROBOR``: ``max(a, b)`` / ``a + b - a b`` (OR);
-- ``Implication.MINIMUM`` / ``Implication.PRODUCT``: clip / scale an output set by the firing;
-- ``Aggregation.MAXIMUM`` / ``SUM`` / ``PROBOR``: combine the implied output sets;
-- ``Defuzzifier``: type-1 Mamdani centroid, bisector, mean / smallest / largest of maximum.
+========================  ============================================  ==============
+t-norm ``T(a, b)``        formula                                       value
+========================  ============================================  ==============
+``MINIMUM``               ``min(a, b)``                                 ``min``
+``PRODUCT``               ``a b``                                       ``product``
+``BOUNDED_DIFFERENCE``    ``max(0, a + b - 1)``                         (its name)
+``DRASTIC_PRODUCT``       ``min(a, b)`` if ``max(a, b) = 1``, else 0
+``EINSTEIN_PRODUCT``      ``a b / (2 - (a + b - a b))``
+``HAMACHER_PRODUCT``      ``a b / (a + b - a b)``, 0 if ``a + b = 0``
+``NILPOTENT_MINIMUM``     ``min(a, b)`` if ``a + b > 1``, else 0
+========================  ============================================  ==============
+
+========================  ============================================  ==============
+s-norm ``S(a, b)``        formula                                       value
+========================  ============================================  ==============
+``MAXIMUM``               ``max(a, b)``                                 ``max``
+``PROBOR``                ``a + b - a b`` (algebraic sum)               ``probor``
+``BOUNDED_SUM``           ``min(1, a + b)``                             (its name)
+``DRASTIC_SUM``           ``max(a, b)`` if ``min(a, b) = 0``, else 1
+``EINSTEIN_SUM``          ``(a + b) / (1 + a b)``
+``HAMACHER_SUM``          ``(a + b - 2 a b) / (1 - a b)``, 1 if ``a b = 1``
+``NILPOTENT_MAXIMUM``     ``max(a, b)`` if ``a + b < 1``, else 1
+``NORMALIZED_SUM``        ``(a + b) / max(1, a + b)``
+``UNBOUNDED_SUM``         ``a + b``                                     ``sum``
+========================  ============================================  ==============
+
+- A rule's AND folds the t-norm over the antecedents it mentions, left to right in input
+  order; its OR folds the s-norm (both are each other's identity-free fold: an input the
+  rule does not mention takes no part, so ``T(a, 1)`` is never computed).
+- ``Implication``: Mamdani implication, any t-norm (``min`` clips, ``product`` scales);
+- ``Aggregation``: combines the implied output sets, any s-norm (``sum`` is MATLAB's
+  unbounded sum);
+- ``Defuzzifier``: type-1 Mamdani centroid, bisector, mean / smallest / largest of maximum;
+- ``WeightedDefuzzifier``: Sugeno/Tsukamoto weighted average (MATLAB ``wtaver``) or sum
+  (``wtsum``).
 """
 
 from __future__ import annotations
 
 import enum
+from collections.abc import Callable
 from typing import Self
 
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["Aggregation", "Connective", "Defuzzifier", "Implication", "SNorm", "TNorm"]
+__all__ = ["Aggregation", "Connective", "Defuzzifier", "Implication", "SNorm", "TNorm",
+           "WeightedDefuzzifier"]
 
 FloatArray = NDArray[np.float64]
 
 
+def _squash(text: str) -> str:
+    return text.strip().lower().replace("_", "").replace("-", "").replace(" ", "")
+
+
 class _Named(enum.Enum):
-    """An Enum looked up by its value or member name (case-insensitive)."""
+    """An Enum looked up by its value or member name (case, ``_`` and ``-`` insensitive)."""
 
     @classmethod
     def _aliases(cls) -> dict[str, str]:
@@ -38,23 +76,72 @@ class _Named(enum.Enum):
 
     @classmethod
     def from_name(cls, name: str) -> Self:
-        """The member whose value or name is ``name`` (case-insensitive)."""
-        key = str(name).strip().lower()
-        key = cls._aliases().get(key, key)
+        """The member whose value, name or alias is ``name`` (case, ``_``, ``-`` insensitive)."""
+        key = _squash(str(name))
+        key = {_squash(k): v for k, v in cls._aliases().items()}.get(key, key)
         for member in cls:
-            if key in (member.value, member.name.lower()):
+            if key in (_squash(member.value), _squash(member.name)):
                 return member
         choices = ", ".join(repr(m.value) for m in cls)
         raise ValueError(f"unknown {cls._label()} {name!r}; choose one of {choices}")
 
 
+def _where(cond: NDArray[np.bool_], a: FloatArray, b: FloatArray | float) -> FloatArray:
+    out: FloatArray = np.where(cond, a, b)
+    return out
+
+
+def _t_einstein(a: FloatArray, b: FloatArray) -> FloatArray:
+    ab = a * b
+    result: FloatArray = ab / (2.0 - (a + b - ab))
+    return result
+
+
+def _t_hamacher(a: FloatArray, b: FloatArray) -> FloatArray:
+    ab = a * b
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return _where(a + b != 0.0, ab / (a + b - ab), 0.0)
+
+
+def _s_hamacher(a: FloatArray, b: FloatArray) -> FloatArray:
+    ab = a * b
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return _where(ab != 1.0, (a + b - 2.0 * ab) / (1.0 - ab), 1.0)
+
+
+_T: dict[str, Callable[[FloatArray, FloatArray], FloatArray]] = {
+    "product": np.multiply,
+    "min": np.minimum,
+    "bounded_difference": lambda a, b: np.maximum(0.0, a + b - 1.0),
+    "drastic_product": lambda a, b: _where(np.maximum(a, b) == 1.0, np.minimum(a, b), 0.0),
+    "einstein_product": _t_einstein,
+    "hamacher_product": _t_hamacher,
+    "nilpotent_minimum": lambda a, b: _where(a + b > 1.0, np.minimum(a, b), 0.0),
+}
+
+_S: dict[str, Callable[[FloatArray, FloatArray], FloatArray]] = {
+    "max": np.maximum,
+    "probor": lambda a, b: a + b - a * b,
+    "bounded_sum": lambda a, b: np.minimum(1.0, a + b),
+    "drastic_sum": lambda a, b: _where(np.minimum(a, b) == 0.0, np.maximum(a, b), 1.0),
+    "einstein_sum": lambda a, b: (a + b) / (1.0 + a * b),
+    "hamacher_sum": _s_hamacher,
+    "nilpotent_maximum": lambda a, b: _where(a + b < 1.0, np.maximum(a, b), 1.0),
+    "normalized_sum": lambda a, b: (a + b) / np.maximum(1.0, a + b),
+    "sum": np.add,
+}
+
+
 class TNorm(_Named):
-    """Conjunction of the antecedents (eqs. 13-14 use the product): ``a b`` or ``min(a, b)``.
+    """Conjunction of the antecedents (eqs. 13-14 use the product); formulas in the module
+    docstring.
 
     Examples
     --------
     >>> TNorm.from_name("prod") is TNorm.PRODUCT
     True
+    >>> float(TNorm.from_name("EinsteinProduct").pair(np.float64(0.5), np.float64(0.5)))
+    0.2
     """
 
     @classmethod
@@ -63,23 +150,30 @@ class TNorm(_Named):
 
     PRODUCT = "product"
     MINIMUM = "min"
+    BOUNDED_DIFFERENCE = "bounded_difference"
+    DRASTIC_PRODUCT = "drastic_product"
+    EINSTEIN_PRODUCT = "einstein_product"
+    HAMACHER_PRODUCT = "hamacher_product"
+    NILPOTENT_MINIMUM = "nilpotent_minimum"
 
     @classmethod
     def _aliases(cls) -> dict[str, str]:
-        return {"prod": "product", "minimum": "min"}
+        return {"prod": "product", "minimum": "min", "algebraic_product": "product"}
 
     def pair(self, a: FloatArray, b: FloatArray) -> FloatArray:
         """``T(a, b)`` elementwise."""
-        return np.multiply(a, b) if self is TNorm.PRODUCT else np.minimum(a, b)
+        return _T[self.value](a, b)
 
 
 class SNorm(_Named):
-    """Disjunction of the antecedents of an OR rule: ``max(a, b)`` or ``a + b - a b``.
+    """Disjunction of the antecedents of an OR rule; formulas in the module docstring.
 
     Examples
     --------
     >>> float(SNorm.PROBOR.pair(np.float64(0.5), np.float64(0.5)))
     0.75
+    >>> float(SNorm.from_name("einstein_sum").pair(np.float64(0.5), np.float64(0.5)))
+    0.8
     """
 
     @classmethod
@@ -88,6 +182,13 @@ class SNorm(_Named):
 
     MAXIMUM = "max"
     PROBOR = "probor"
+    BOUNDED_SUM = "bounded_sum"
+    DRASTIC_SUM = "drastic_sum"
+    EINSTEIN_SUM = "einstein_sum"
+    HAMACHER_SUM = "hamacher_sum"
+    NILPOTENT_MAXIMUM = "nilpotent_maximum"
+    NORMALIZED_SUM = "normalized_sum"
+    UNBOUNDED_SUM = "sum"
 
     @classmethod
     def _aliases(cls) -> dict[str, str]:
@@ -95,9 +196,7 @@ class SNorm(_Named):
 
     def pair(self, a: FloatArray, b: FloatArray) -> FloatArray:
         """``S(a, b)`` elementwise."""
-        if self is SNorm.MAXIMUM:
-            return np.maximum(a, b)
-        return a + b - a * b
+        return _S[self.value](a, b)
 
 
 class Connective(_Named):
@@ -112,7 +211,8 @@ class Connective(_Named):
 
 
 class Implication(_Named):
-    """Mamdani implication: an output set's membership ``mu(y)`` under firing ``f``.
+    """Mamdani implication: an output set's membership ``mu(y)`` under firing ``f`` is
+    ``T(f, mu(y))`` for a t-norm ``T`` (same members and formulas as :class:`TNorm`).
 
     ``MINIMUM``: ``min(f, mu(y))`` (clipping); ``PRODUCT``: ``f mu(y)`` (scaling).
     """
@@ -123,17 +223,29 @@ class Implication(_Named):
 
     MINIMUM = "min"
     PRODUCT = "product"
+    BOUNDED_DIFFERENCE = "bounded_difference"
+    DRASTIC_PRODUCT = "drastic_product"
+    EINSTEIN_PRODUCT = "einstein_product"
+    HAMACHER_PRODUCT = "hamacher_product"
+    NILPOTENT_MINIMUM = "nilpotent_minimum"
 
     @classmethod
     def _aliases(cls) -> dict[str, str]:
-        return {"prod": "product", "minimum": "min"}
+        return TNorm._aliases()
+
+    @property
+    def tnorm(self) -> TNorm:
+        """The t-norm this implication applies."""
+        return TNorm(self.value)
 
 
 class Aggregation(_Named):
-    """Mamdani aggregation of the implied output sets of all rules, pointwise on the grid.
+    """Mamdani aggregation of the implied output sets of all rules, pointwise on the grid:
+    any s-norm (same formulas as :class:`SNorm`), folded over the rules in rule order.
 
-    ``MAXIMUM``: ``max``; ``SUM``: the plain sum (may exceed 1; centroids are unaffected by
-    the scale); ``PROBOR``: probabilistic OR ``a + b - a b``.
+    ``MAXIMUM``: ``max``; ``SUM``: the plain sum (MATLAB's ``sum``, fuzzylite's
+    ``UnboundedSum``: may exceed 1; centroids are unaffected by the scale); ``PROBOR``:
+    probabilistic OR ``a + b - a b`` (fuzzylite's ``AlgebraicSum``).
     """
 
     @classmethod
@@ -143,10 +255,21 @@ class Aggregation(_Named):
     MAXIMUM = "max"
     SUM = "sum"
     PROBOR = "probor"
+    BOUNDED_SUM = "bounded_sum"
+    DRASTIC_SUM = "drastic_sum"
+    EINSTEIN_SUM = "einstein_sum"
+    HAMACHER_SUM = "hamacher_sum"
+    NILPOTENT_MAXIMUM = "nilpotent_maximum"
+    NORMALIZED_SUM = "normalized_sum"
 
     @classmethod
     def _aliases(cls) -> dict[str, str]:
-        return {"maximum": "max"}
+        return {**SNorm._aliases(), "unbounded_sum": "sum"}
+
+    @property
+    def snorm(self) -> SNorm:
+        """The s-norm this aggregation folds."""
+        return SNorm(self.value)
 
 
 class Defuzzifier(_Named):
@@ -166,3 +289,28 @@ class Defuzzifier(_Named):
     MOM = "mom"
     SOM = "som"
     LOM = "lom"
+
+
+class WeightedDefuzzifier(_Named):
+    """Output of a type-1 Sugeno or Tsukamoto system from the rules' firing ``w_r`` and
+    consequents ``z_r``.
+
+    ``AVERAGE``: ``sum(w z) / sum(w)`` (MATLAB ``wtaver``, fuzzylite ``WeightedAverage``);
+    ``SUM``: ``sum(w z)`` (MATLAB ``wtsum``, fuzzylite ``WeightedSum``).
+
+    Examples
+    --------
+    >>> WeightedDefuzzifier.from_name("WeightedSum") is WeightedDefuzzifier.SUM
+    True
+    """
+
+    @classmethod
+    def _label(cls) -> str:
+        return "weighted defuzzifier"
+
+    AVERAGE = "wtaver"
+    SUM = "wtsum"
+
+    @classmethod
+    def _aliases(cls) -> dict[str, str]:
+        return {"weighted_average": "wtaver", "weighted_sum": "wtsum"}

@@ -31,9 +31,10 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from .norms import WeightedDefuzzifier
 from .reducers import EXHAUSTIVE, TypeReducer
 from .system import BLOCK, _SystemBase
-from .tables import SystemTables
+from .tables import EXACT_IDENTITY, SystemTables
 
 __all__ = ["FuzzySystem", "IT2Sugeno", "T1Sugeno"]
 
@@ -113,7 +114,8 @@ class IT2Sugeno(_SystemBase):
         )
 
     def _scalar_output(self, x: list[float]) -> float | None:
-        if self.reducer is not EXHAUSTIVE or self._c.features:
+        if self.reducer is not EXHAUSTIVE or self._c.features or (
+                self.tnorm not in EXACT_IDENTITY):
             return None
         c = self._c
         fl, fu = self._firing_scalar(x)
@@ -151,7 +153,8 @@ def _exhaustive_scalar(fl: list[float], fu: list[float], y: list[float], *, left
 
 @dataclass(frozen=True, kw_only=True)
 class T1Sugeno(_SystemBase):
-    """Type-1 Sugeno system: ``u = sum(f y) / sum(f)`` (MATLAB's ``wtaver``).
+    """Type-1 Sugeno system: ``u = sum(f y) / sum(f)`` (MATLAB's ``wtaver``) or ``sum(f y)``
+    (``wtsum``).
 
     Every set must be type-1 (an :class:`IT2Set` whose lower MF is its upper MF, or a
     ``(name, mf)`` pair given to :class:`Input`).
@@ -163,15 +166,18 @@ class T1Sugeno(_SystemBase):
         Crisp consequents only: numbers (zero-order) or :class:`~it2track.fuzzy.rules.Linear`
         with crisp coefficients (first-order, ``y = c0 + sum ci xi``).
     tnorm : TNorm
-        ``TNorm.PRODUCT`` (default) or ``TNorm.MINIMUM``.
+        AND of the antecedents: ``TNorm.PRODUCT`` (default) or any other t-norm.
     on_zero_firing : float, tuple of float or None
         Output where no rule fires (one per output, or one for all); ``None`` (default) raises
-        :class:`~it2track.fuzzy.reducers.ZeroFiringError` instead.
+        :class:`~it2track.fuzzy.reducers.ZeroFiringError` instead (also for ``wtsum``).
     name : str
     snorm : SNorm
-        S-norm of OR rules: ``SNorm.MAXIMUM`` (default) or ``SNorm.PROBOR``.
+        S-norm of OR rules: ``SNorm.MAXIMUM`` (default) or any other s-norm.
     outputs : tuple of str
         Output names, one per consequent of each rule (default: one unnamed output).
+    defuzzifier : WeightedDefuzzifier
+        ``WeightedDefuzzifier.AVERAGE`` (default, ``wtaver``) or ``SUM`` (``wtsum``: the sum
+        of the rules' firing times consequent, in rule order).
 
     Examples
     --------
@@ -185,7 +191,11 @@ class T1Sugeno(_SystemBase):
     1.125
     """
 
+    defuzzifier: WeightedDefuzzifier = WeightedDefuzzifier.AVERAGE
+
     def __post_init__(self) -> None:
+        if not isinstance(self.defuzzifier, WeightedDefuzzifier):
+            raise ValueError(f"defuzzifier={self.defuzzifier!r} must be a WeightedDefuzzifier")
         super().__post_init__()
         for inp in self.inputs:
             for s in inp.sets:
@@ -204,20 +214,21 @@ class T1Sugeno(_SystemBase):
         n = x.shape[1]
         u = np.empty(n)
         linear = "linear" in c.features
+        average = self.defuzzifier is WeightedDefuzzifier.AVERAGE
         with np.errstate(divide="ignore", invalid="ignore"):
             for start in range(0, n, BLOCK):
                 stop = min(start + BLOCK, n)
                 _, f = c.firing_block(x[:, start:stop], self.tnorm)
                 if linear:
                     yb = c.consequents_block(x[:, start:stop])[0]
-                    u[start:stop] = (f * yb).sum(axis=0) / f.sum(axis=0)
-                    continue
-                num = f[0] * y[0]
-                den = f[0].copy()
-                for r in range(1, f.shape[0]):
-                    num += f[r] * y[r]
-                    den += f[r]
-                u[start:stop] = num / den
+                    num, den = (f * yb).sum(axis=0), f.sum(axis=0)
+                else:
+                    num = f[0] * y[0]
+                    den = f[0].copy()
+                    for r in range(1, f.shape[0]):
+                        num += f[r] * y[r]
+                        den += f[r]
+                u[start:stop] = num / den if average else np.where(den != 0.0, num, np.nan)
         if math.isnan(float(np.add.reduce(u))):
             bad = np.isnan(u)
             zero = self.zero_firing_value(k)
@@ -227,7 +238,7 @@ class T1Sugeno(_SystemBase):
         return u, u.copy()
 
     def _scalar_output(self, x: list[float]) -> float | None:
-        if self._c.features:
+        if self._c.features or self.tnorm not in EXACT_IDENTITY:
             return None
         _, f = self._firing_scalar(x)
         y = self._c.y_lo_s
@@ -239,7 +250,7 @@ class T1Sugeno(_SystemBase):
         if den == 0.0:
             zero = self.zero_firing_value(0)
             return None if zero is None else float(zero)
-        return num / den
+        return num / den if self.defuzzifier is WeightedDefuzzifier.AVERAGE else num
 
 
 FuzzySystem = IT2Sugeno | T1Sugeno

@@ -17,7 +17,6 @@ antecedents).
 
 from __future__ import annotations
 
-import enum
 import math
 import threading
 from collections.abc import Sequence
@@ -26,15 +25,18 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .kinds import MFKind, Row
 from .membership import (
     Gaussian,
     MembershipFunction,
     PiecewiseLinear,
+    Term,
     UncertainMeanGaussianLower,
     UncertainMeanGaussianUpper,
 )
 from .norms import Connective, SNorm, TNorm
 from .rules import Input, Linear, Rule
+from .sets import ScaledLagged
 
 __all__ = ["FEATURES", "MFKind", "SystemTables"]
 
@@ -44,30 +46,14 @@ FEATURES = frozenset({"not", "or", "weights", "linear", "outputs"})
 FloatArray = NDArray[np.float64]
 
 
-class MFKind(enum.IntEnum):
-    """Shape code of a membership row, with the meaning of its 5 parameters ``p``.
-
-    ``TRAPEZOID``
-        ``h clip(min((x - a) / wl, (d - x) / wr), 0, 1)`` with ``p = (a, wl, d, wr, h)``;
-        a left shoulder has ``a = -inf, wl = 1``, a right shoulder ``d = +inf, wr = 1``
-        (triangles are trapezoids with ``b == c``).
-    ``GAUSSIAN``
-        ``h exp(-z^2 / 2)``, ``z = (x - mean) / sigma``; ``p = (mean, sigma, h, 0, 0)``.
-    ``UM_GAUSSIAN_UPPER`` / ``UM_GAUSSIAN_LOWER``
-        Bounds of a Gaussian with uncertain mean in ``[m1, m2]``; ``p = (m1, m2, sigma, h, 0)``
-        (see :class:`~it2track.fuzzy.membership.UncertainMeanGaussianUpper` / ``Lower``).
-    ``OTHER``
-        Any other callable: only the numpy evaluation knows it (parameters 0).
-    """
-
-    TRAPEZOID = 0
-    GAUSSIAN = 1
-    UM_GAUSSIAN_UPPER = 2
-    UM_GAUSSIAN_LOWER = 3
-    OTHER = 255
+#: t-norms whose identity 1 is exact (``T(f, 1) == f`` in floating point): the rows of inputs
+#: a rule does not mention may take part in the fold as the constant 1.
+EXACT_IDENTITY = frozenset({TNorm.PRODUCT, TNorm.MINIMUM})
 
 
-def _encode(mf: MembershipFunction) -> tuple[MFKind, tuple[float, float, float, float, float]]:
+def _encode(mf: MembershipFunction) -> Row:
+    if isinstance(mf, Term):
+        return mf.kernel_row()
     if isinstance(mf, PiecewiseLinear):
         pa, pb, pc, pd, ph = mf.as_trapezoid()
         return MFKind.TRAPEZOID, (
@@ -142,7 +128,7 @@ class SystemTables:
         mention (row ``M``) are left out (the s-norm's identity is 0). An OR rule with one
         antecedent equals an AND rule and is lowered as one. All False unless ``"or"``.
     snorm : SNorm
-        ``SNorm.MAXIMUM`` (``max(a, b)``) or ``SNorm.PROBOR`` (``a + b - a b``), folded over
+        Any :class:`~it2track.fuzzy.norms.SNorm` (default ``max(a, b)``), folded over
         the antecedents left to right.
     weight : ndarray, shape (R,)
         Rule weights in [0, 1]; both firing bounds are multiplied by them after the t-norm /
@@ -205,6 +191,8 @@ class SystemTables:
             for k, (other, j) in enumerate(zip(mfs, mf_input, strict=True)):
                 if j == i and (other is mf or other == mf):
                     return k
+            if isinstance(mf, ScaledLagged):
+                row_of(mf.upper, i)  # its upper MF is a row before it (the kernels read it)
             mfs.append(mf)
             mf_input.append(i)
             return len(mfs) - 1
@@ -231,6 +219,13 @@ class SystemTables:
         self.mfs = tuple(mfs)
         self.mf_input = np.array(mf_input, dtype=np.intp)
         encoded = [_encode(mf) for mf in mfs]
+        for k, mf in enumerate(mfs):
+            if isinstance(mf, ScaledLagged):
+                up = next(j for j in range(k) if mf_input[j] == mf_input[k]
+                          and (mfs[j] is mf.upper or mfs[j] == mf.upper))
+                peak = float(getattr(mf.upper, "h", 1.0))
+                encoded[k] = (MFKind.SCALED_LAGGED, (float(up), mf.scale * peak,
+                                                     float(mf.lag), peak, 0.0))
         self.mf_kind = np.array([int(k) for k, _ in encoded], dtype=np.intp)
         self.mf_params = np.array([p for _, p in encoded], dtype=np.float64).reshape(n_rows, 5)
         # Piecewise-linear rows are evaluated together as one trapezoid bank.
@@ -320,6 +315,10 @@ class SystemTables:
         lo_ext[unused & self.is_or_s[:, None]] = zero
         self.up_ext_s, self.lo_ext_s = up_ext, lo_ext
         self.type1_firing = bool(np.array_equal(up_ext, lo_ext))
+        # For t-norms without an exact identity: which inputs each (sorted) rule mentions,
+        # and the first of them (where its AND fold starts).
+        self.mentioned_s = ~unused
+        self.first_s = np.argmax(self.mentioned_s, axis=1)
         self._local = threading.local()
         self.outputs: tuple[SystemTables, ...] = (self,)
         if _output is None and n_outputs > 1:
@@ -406,7 +405,7 @@ class SystemTables:
         n = x.shape[1]
         ws = self.workspace(n)
         m = self.memberships(x, out=ws["m"][:, :n])
-        if self.general_firing:
+        if self.general_firing or tnorm not in EXACT_IDENTITY:
             return self._firing_general(m, tnorm, n)
         tmp = ws["tmp"][:, :n]
         result = []
@@ -427,7 +426,8 @@ class SystemTables:
     def _firing_general(
         self, m: FloatArray, tnorm: TNorm, n: int
     ) -> tuple[FloatArray, FloatArray]:
-        """Firing with NOT, OR rules and weights (the meaning documented on the class)."""
+        """Firing with NOT, OR rules, weights and t-norms other than product and minimum (the
+        meaning documented on the class)."""
         rows = self.n_rows
         ext = np.empty((2 * rows + 2, n))
         ext[:rows] = m[:rows]
@@ -444,13 +444,15 @@ class SystemTables:
                 col = ext[idx[:, i]]
                 if tnorm is TNorm.PRODUCT:
                     np.multiply(f, col, out=f)
-                else:
+                elif tnorm is TNorm.MINIMUM:
                     np.minimum(f, col, out=f)
+                else:  # fold over the mentioned inputs only (T(f, 1) may differ from f)
+                    start = self.first_s == i
+                    f[start] = col[start]
+                    more = self.mentioned_s[:, i] & (self.first_s < i)
+                    f[more] = tnorm.pair(f[more], col[more])
                 if any_or:
-                    if self.snorm is SNorm.MAXIMUM:
-                        np.maximum(g, col, out=g)
-                    else:
-                        g = g + col - g * col
+                    g = self.snorm.pair(g, col)
             if any_or:
                 np.copyto(f, g, where=self.is_or_s[:, None])
             if "weights" in self.features:
