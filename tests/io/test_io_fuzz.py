@@ -1,4 +1,5 @@
-"""Fuzzing: random byte mutations of valid files raise nothing but FisFormatError.
+"""Fuzzing: random byte mutations of valid files raise nothing but FisFormatError (and warn
+nothing but FisFormatWarning).
 
 A seeded loop (reproducible; a failure message carries the seed and the mutated bytes). Loaded
 systems must also evaluate, where the only allowed error is ValueError (e.g. ZeroFiringError
@@ -7,6 +8,7 @@ where a mutated rule base leaves a hole).
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -15,7 +17,7 @@ from io_systems import random_system
 
 from it2track import heading_fls
 from it2track.fuzzy import IT2Mamdani, IT2Sugeno, T1Mamdani, T1Sugeno
-from it2track.io import FORMATS, FisFormatError, dumps, load
+from it2track.io import FORMATS, FisFormatError, FisFormatWarning, dumps, load
 
 DATA = Path(__file__).parent / "data"
 MUTATIONS_PER_FILE = 250
@@ -81,7 +83,14 @@ def test_mutations_raise_only_fis_format_error(name: str, data: bytes, tmp_path)
         mutant = mutate(data, rng)
         target.write_bytes(mutant)
         try:
-            system = load(target)
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                system = load(target)
+            for warning in caught:  # only the documented warning, naming this file
+                assert isinstance(warning.message, FisFormatWarning), warning
+                assert warning.message.path == str(target)
+                line = warning.message.line
+                assert line is None or 1 <= line <= mutant.count(b"\n") + 1, warning
         except FisFormatError as err:
             assert err.path == str(target)
             assert err.line is None or 1 <= err.line <= mutant.count(b"\n") + 1, err

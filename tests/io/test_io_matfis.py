@@ -160,7 +160,9 @@ def test_writer_rejects(system, match: str) -> None:
 
 
 MALFORMED = [
-    (TIPPER, "DefuzzMethod='wtaver'", "DefuzzMethod='wtsum'", "DefuzzMethod",
+    (TIPPER, "DefuzzMethod='wtaver'", "DefuzzMethod='wtmean'", "DefuzzMethod",
+     "'wtmean' is not supported"),
+    (T2, "DefuzzMethod='wtaver'", "DefuzzMethod='wtsum'", "DefuzzMethod",
      "'wtsum' is not supported"),
     (TIPPER, "'constant',[5]", "'constant',[5 6]", "'constant',[5 6]", "needs one number"),
     (TIPPER, "'gaussmf',[1.5 0]", "'gaussmf',[1.5]", "[1.5]", "gaussmf needs 2"),

@@ -37,12 +37,13 @@ from ..atomicfile import atomic_write_text
 from ..fuzzy import AnySystem
 from . import fcl, matfis, t2fis, tomlfmt
 from ._matlab import decode
-from .errors import FisFormatError, UnsupportedFeatureError
+from .errors import FisFormatError, FisFormatWarning, UnsupportedFeatureError
 
 __all__ = [
     "FORMATS",
     "READ_ONLY",
     "FisFormatError",
+    "FisFormatWarning",
     "UnsupportedFeatureError",
     "dumps",
     "format_of",

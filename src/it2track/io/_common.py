@@ -8,6 +8,7 @@ building with line-accurate errors, and a guard that turns numeric trouble and t
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import math
 from collections.abc import Iterator, Sequence
 
@@ -17,7 +18,6 @@ from ..fuzzy import (
     AnySystem,
     Connective,
     Consequent,
-    Gaussian,
     Input,
     IT2Mamdani,
     IT2Set,
@@ -27,15 +27,14 @@ from ..fuzzy import (
     Rule,
     T1Mamdani,
     T1Sugeno,
-    Trapezoid,
-    Triangle,
     UncertainMeanGaussianUpper,
 )
+from ..fuzzy.terms import MATLAB_MFS, from_fuzzylite, to_matlab
 from ._matlab import Document, MFValue, ParsedRule
 from .errors import FisFormatError, UnsupportedFeatureError
 
 __all__ = [
-    "SUPPORTED_MF_TYPES",
+    "FUZZYLITE_FIS_NAMES",
     "build_input",
     "build_rules",
     "check_writable",
@@ -56,15 +55,11 @@ __all__ = [
     "system_of",
 ]
 
-#: MATLAB MF types we read (and write).
-SUPPORTED_MF_TYPES = ("trimf", "trapmf", "gaussmf", "gauss2mf")
-#: MATLAB MF types that exist but that it2track has no class for.
-_KNOWN_UNSUPPORTED = (
-    "gbellmf", "sigmf", "dsigmf", "psigmf", "pimf", "smf", "zmf", "linsmf", "linzmf",
-)
-_PARAMS = {"trimf": "[a b c]", "trapmf": "[a b c d]", "gaussmf": "[sigma c]",
-           "gauss2mf": "[sigma1 c1 sigma2 c2]"}
-_COUNTS = {"trimf": 3, "trapmf": 4, "gaussmf": 2, "gauss2mf": 4}
+#: fuzzylite's ``.fis`` names of its own terms (parameters in fuzzylite's order)
+FUZZYLITE_FIS_NAMES = {
+    "rampmf": "Ramp", "rectmf": "Rectangle", "cosinemf": "Cosine", "spikemf": "Spike",
+    "concavemf": "Concave", "discretemf": "Discrete", "binarymf": "Binary",
+}
 
 
 @contextlib.contextmanager
@@ -88,75 +83,61 @@ def guard(doc: Document, line: int | None, what: str = "") -> Iterator[None]:
 
 
 def mf_from_matlab(doc: Document, mfv: MFValue, *, with_height: bool) -> MembershipFunction:
-    """Our MF for ``'type',[params]`` (toolbox convention: ``with_height`` appends ``h``)."""
+    """Our MF for ``'type',[params]`` (toolbox convention: ``with_height`` appends ``h``).
+
+    MATLAB's functions go through :func:`~it2track.fuzzy.terms.from_matlab`'s table; a lenient
+    document also reads fuzzylite's names of its own terms (``'rampmf'``, ``'cosinemf'``, ...,
+    parameters in fuzzylite's order) and MATLAB's extra parameters (ignored, with a warning).
+    A ``gauss2mf`` with equal sigmas and ``c1 <= c2`` is our uncertain-mean Gaussian upper MF
+    (the same function).
+    """
     kind = mfv.type
-    if kind not in _COUNTS:
-        if kind.lower() in _KNOWN_UNSUPPORTED:
-            raise doc.error(
-                mfv.line,
-                f"unsupported MF type {kind!r} (it2track reads {', '.join(SUPPORTED_MF_TYPES)})",
-            )
-        raise doc.error(mfv.line, f"unknown MF type {kind!r}")
-    n = _COUNTS[kind] + (1 if with_height else 0)
+    spec = MATLAB_MFS.get(kind)
+    if spec is None:
+        if doc.lenient and kind in FUZZYLITE_FIS_NAMES:
+            with guard(doc, mfv.line, f"MF {mfv.name!r}"):
+                return from_fuzzylite(FUZZYLITE_FIS_NAMES[kind], mfv.params)
+        known = ", ".join([*MATLAB_MFS, *(FUZZYLITE_FIS_NAMES if doc.lenient else ())])
+        raise doc.error(mfv.line, f"unknown MF type {kind!r} (known: {known})")
+    n = spec.count + (1 if with_height else 0)
     p = list(mfv.params)
     if len(p) > n and doc.lenient:
         doc.warn(mfv.line, f"{kind} {fmt_vector(p)} has {len(p)} parameters; read as "
                  f"{fmt_vector(p[:n])}, as MATLAB's {kind} uses the first {n}")
         p = p[:n]
     if len(p) != n:
-        form = _PARAMS[kind][:-1] + (" h]" if with_height else "]")
+        form = spec.params[:-1] + (" h]" if with_height else "]")
         raise doc.error(
             mfv.line, f"{kind} needs {n} parameters {form}, got {len(mfv.params)}"
         )
     h = p.pop() if with_height else 1.0
     with guard(doc, mfv.line, f"MF {mfv.name!r}"):
-        if kind == "trimf":
-            return Triangle(p[0], p[1], p[2], h)
-        if kind == "trapmf":
-            return Trapezoid(p[0], p[1], p[2], p[3], h)
-        if kind == "gaussmf":
-            return Gaussian(p[1], p[0], h)
-        sigma1, c1, sigma2, c2 = p
-        if sigma1 != sigma2 or c1 > c2:
-            raise doc.error(
-                mfv.line,
-                "gauss2mf is supported only as an uncertain-mean Gaussian: sigma1 == sigma2 "
-                f"and c1 <= c2 (got {fmt_vector(p)})",
-            )
-        return UncertainMeanGaussianUpper(c1, c2, sigma1, h)
+        if kind == "gauss2mf" and p[0] == p[2] and p[1] <= p[3]:
+            return UncertainMeanGaussianUpper(p[1], p[3], p[0], h)
+        return spec.build(p, h)
 
 
 def mf_to_matlab(
     mf: MembershipFunction, *, with_height: bool, what: str
 ) -> tuple[str, tuple[float, ...]]:
-    """``(type, params)`` of one of our MFs; ``what`` names it in errors."""
-    kind = type(mf)
-    params: tuple[float, ...]
-    if kind is Triangle:
-        assert isinstance(mf, Triangle)
-        kind_name, params, h = "trimf", (mf.a, mf.b, mf.c), mf.h
-    elif kind is Trapezoid:
-        assert isinstance(mf, Trapezoid)
-        kind_name, params, h = "trapmf", (mf.a, mf.b, mf.c, mf.d), mf.h
-    elif kind is Gaussian:
-        assert isinstance(mf, Gaussian)
-        kind_name, params, h = "gaussmf", (mf.sigma, mf.mean), mf.h
-    elif kind is UncertainMeanGaussianUpper:
-        assert isinstance(mf, UncertainMeanGaussianUpper)
-        kind_name, params, h = "gauss2mf", (mf.sigma, mf.m1, mf.sigma, mf.m2), mf.h
-    else:
+    """``(type, params)`` of one of our MFs (``with_height``: the height appended); ``what``
+    names it in errors."""
+    h = float(getattr(mf, "h", 1.0))
+    try:
+        kind, params = to_matlab(mf if h == 1.0 else dataclasses.replace(mf, h=1.0))  # type: ignore[type-var]
+    except (ValueError, TypeError):
         raise UnsupportedFeatureError(
-            f"{what} is a {kind.__name__}, which has no MATLAB MF type (these formats carry "
-            "Triangle, Trapezoid, Gaussian and UncertainMeanGaussianUpper); save as .toml"
-        )
+            f"{what} is a {type(mf).__name__}, which has no MATLAB MF type (these formats carry "
+            f"{', '.join(MATLAB_MFS)}); save as .toml"
+        ) from None
     values = tuple(float(v) for v in params)
     if with_height:
-        return kind_name, (*values, float(h))
-    if float(h) != 1.0:
+        return kind, (*values, h)
+    if h != 1.0:
         raise UnsupportedFeatureError(
-            f"{what} has height h={h!r}; MATLAB's {kind_name} has no height parameter (only 1)"
+            f"{what} has height h={h!r}; MATLAB's {kind} has no height parameter (only 1)"
         )
-    return kind_name, values
+    return kind, values
 
 
 def mf_line(key: str, name: str, kind: str, params: Sequence[float], what: str) -> str:

@@ -12,7 +12,7 @@ exactly (``repr``) and lay out the sections both formats write alike.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any, ClassVar
+from typing import Any, ClassVar, TypeVar
 
 from ..fuzzy import (
     Aggregation,
@@ -24,6 +24,7 @@ from ..fuzzy import (
     IT2Set,
     Output,
     Rule,
+    SNorm,
     T1Mamdani,
     TNorm,
     TypeReducer,
@@ -44,6 +45,7 @@ from .errors import UnsupportedFeatureError
 
 __all__ = [
     "FisReader",
+    "fis_name",
     "fmt_number",
     "fmt_string",
     "fmt_vector",
@@ -55,7 +57,14 @@ __all__ = [
 ]
 
 _MF_PATTERN = r"MF[1-9]\d{0,8}"
-IMPLICATIONS = {"min": Implication.MINIMUM, "prod": Implication.PRODUCT}
+_E = TypeVar("_E", TNorm, SNorm, Implication, Aggregation)
+
+
+def fis_name(member: TNorm | SNorm | Implication | Aggregation) -> str:
+    """The ``.fis`` name of an operator: MATLAB's ``'prod'`` for the product, else its value
+    (``'min'``, ``'probor'``, ``'sum'``, and the names Octave and fuzzylite write, e.g.
+    ``'einstein_product'``)."""
+    return "prod" if member.value == "product" else str(member.value)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -173,16 +182,26 @@ class FisReader:
             )
         return self.constant(mfv)
 
-    def tnorm(self, system: Section, key: str, allowed: dict[str, TNorm], default: str
-              ) -> TNorm:
-        value, _ = self.doc.method(system, key, tuple(allowed), default)
-        return allowed[value]
+    def operator(self, system: Section, key: str, kind: type[_E], default: _E) -> _E:
+        """An operator of ``[System]`` (``AndMethod='min'``) by its MATLAB, Octave or
+        fuzzylite name (see :func:`fis_name`); ``default`` when absent."""
+        entry = system.entries.get(key)
+        if entry is None:
+            return default
+        value = self.doc.string(entry)
+        try:
+            return kind.from_name(value)
+        except ValueError:
+            choices = ", ".join(repr(fis_name(m)) for m in kind)
+            raise self.doc.error(entry.line, f"{key}={value!r} is not supported ({choices})"
+                                 ) from None
 
     def mamdani_options(self, system: Section) -> dict[str, Any]:
         """``implication`` and ``aggregation`` of a Mamdani ``[System]``."""
-        imp, _ = self.doc.method(system, "ImpMethod", tuple(IMPLICATIONS), "min")
-        agg, _ = self.doc.method(system, "AggMethod", ("max", "sum", "probor"), "max")
-        return {"implication": IMPLICATIONS[imp], "aggregation": Aggregation.from_name(agg)}
+        return {
+            "implication": self.operator(system, "ImpMethod", Implication, Implication.MINIMUM),
+            "aggregation": self.operator(system, "AggMethod", Aggregation, Aggregation.MAXIMUM),
+        }
 
     # -- the dialect's hooks -----------------------------------------------------------------
     def system_type(self, system: Section) -> str:
@@ -244,8 +263,7 @@ def mamdani_methods(system: IT2Mamdani | T1Mamdani, suffix: str) -> tuple[str, s
             f"the {suffix} format cannot carry resolution={system.resolution} (MATLAB "
             f"evaluates {RESOLUTION} points); save as .toml"
         )
-    imp = "min" if system.implication is Implication.MINIMUM else "prod"
-    return imp, system.aggregation.value
+    return fis_name(system.implication), fis_name(system.aggregation)
 
 
 def reducer_name(reducer: TypeReducer, names: dict[str, str],
@@ -275,8 +293,8 @@ def header_lines(system: AnySystem, *, imp: str, agg: str, defuzz: str,
         f"NumInputs={system.n_inputs}",
         f"NumOutputs={system.n_outputs}",
         f"NumRules={system.n_rules}",
-        f"AndMethod='{'prod' if system.tnorm is TNorm.PRODUCT else 'min'}'",
-        f"OrMethod='{system.snorm.value}'",
+        f"AndMethod='{fis_name(system.tnorm)}'",
+        f"OrMethod='{fis_name(system.snorm)}'",
         f"ImpMethod='{imp}'",
         f"AggMethod='{agg}'",
         f"DefuzzMethod='{defuzz}'",

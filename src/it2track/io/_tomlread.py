@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from ..fuzzy import (
+    Discrete,
     Input,
     IT2Set,
     Linear,
@@ -21,7 +22,7 @@ from ..fuzzy import (
     Rule,
     ScaledLagged,
 )
-from ._tomlschema import MAX_DEPTH, MF_TYPES
+from ._tomlschema import INFINITE_OK, MAX_DEPTH, MF_TYPES
 from .errors import FisFormatError
 
 __all__ = ["Reader", "kind_of"]
@@ -131,13 +132,16 @@ class Reader:
             raise self.error(where, f"expected a string, got {kind_of(value)}")
         return value
 
-    def number(self, value: object, where: Sequence[str | int]) -> float:
+    def number(self, value: object, where: Sequence[str | int], *,
+               infinite_ok: bool = False) -> float:
         if isinstance(value, bool) or not isinstance(value, int | float):
             raise self.error(where, f"expected a number, got {kind_of(value)}")
         try:
             number = float(value)
         except OverflowError:
             number = math.inf
+        if math.isinf(number) and infinite_ok:
+            return number
         if not math.isfinite(number):
             raise self.error(where, f"number {value!r} must be finite")
         return number
@@ -170,8 +174,20 @@ class Reader:
         if kind in MF_TYPES:
             cls, fields = MF_TYPES[kind]
             self.keys(table, {"type", *fields}, {f for f in fields if f != "h"}, where)
-            args = [self.number(table[f], (*where, f)) if f in table else 1.0 for f in fields]
+            args = [self.number(table[f], (*where, f), infinite_ok=(kind, f) in INFINITE_OK)
+                    if f in table else 1.0 for f in fields]
             return self.guarded(where, lambda: cls(*args))
+        if kind == "discrete":
+            self.keys(table, {"type", "points", "h"}, {"points"}, where)
+            points = []
+            for item in self.array(table["points"], (*where, "points")):
+                pair = self.array(item, (*where, "points"))
+                if len(pair) != 2:
+                    raise self.error((*where, "points"), "expected [x, y] pairs")
+                points.append((self.number(pair[0], (*where, "points")),
+                               self.number(pair[1], (*where, "points"))))
+            h = self.number(table["h"], (*where, "h")) if "h" in table else 1.0
+            return self.guarded(where, lambda: Discrete(points, h))
         if kind == "scaled-lagged":
             self.keys(table, {"type", "scale", "lag", "upper"}, {"scale", "lag"}, where)
             scale = self.number(table["scale"], (*where, "scale"))
@@ -183,7 +199,7 @@ class Reader:
             else:
                 raise self.error(where, "a scaled-lagged MF needs 'upper' here")
             return self.guarded(where, lambda: ScaledLagged(upper, scale, lag))
-        known = ", ".join([*MF_TYPES, "scaled-lagged"])
+        known = ", ".join([*MF_TYPES, "discrete", "scaled-lagged"])
         raise self.error((*where, "type"), f"unknown MF type {kind!r} (known: {known})")
 
     def set(self, value: object, where: Sequence[str | int]) -> IT2Set:

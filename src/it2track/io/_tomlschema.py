@@ -4,19 +4,40 @@ keys and the membership-function tables (type name -> class and fields), shared 
 
 from __future__ import annotations
 
+import dataclasses
+import re
+
 from ..fuzzy import (
+    Arc,
+    Bell,
+    Binary,
+    Concave,
+    Cosine,
     Gaussian,
+    GaussianProduct,
     IT2Mamdani,
     IT2Sugeno,
+    LinearSShape,
+    LinearZShape,
+    PiShape,
+    Ramp,
+    Rectangle,
+    SemiEllipse,
+    Sigmoid,
+    SigmoidDifference,
+    SigmoidProduct,
+    Spike,
+    SShape,
     T1Mamdani,
     T1Sugeno,
     Trapezoid,
     Triangle,
     UncertainMeanGaussianLower,
     UncertainMeanGaussianUpper,
+    ZShape,
 )
 
-__all__ = ["FORMAT", "KINDS", "MAX_DEPTH", "MF_TYPES", "TOP_KEYS", "VERSION"]
+__all__ = ["FORMAT", "INFINITE_OK", "KINDS", "MAX_DEPTH", "MF_TYPES", "TOP_KEYS", "VERSION"]
 
 FORMAT = "it2track-fuzzy-system"
 VERSION = 1
@@ -29,6 +50,17 @@ MF_TYPES: dict[str, tuple[type, tuple[str, ...]]] = {
     "uncertain-mean-gaussian-upper": (UncertainMeanGaussianUpper, ("m1", "m2", "sigma", "h")),
     "uncertain-mean-gaussian-lower": (UncertainMeanGaussianLower, ("m1", "m2", "sigma", "h")),
 }
+#: MATLAB's and fuzzylite's terms: the class name in kebab case (``SigmoidDifference`` ->
+#: ``"sigmoid-difference"``), the dataclass fields as keys (``Discrete``: ``points``, an array
+#: of ``[x, y]`` pairs, read apart)
+TERMS = (Bell, Sigmoid, SigmoidDifference, SigmoidProduct, SShape, ZShape, PiShape,
+         GaussianProduct, Cosine, Spike, LinearSShape, LinearZShape, Ramp, Rectangle, Binary,
+         Concave, Arc, SemiEllipse)
+for _cls in TERMS:
+    MF_TYPES[re.sub(r"(?<!^)(?=[A-Z])", "-", _cls.__name__).lower()] = (
+        _cls, tuple(f.name for f in dataclasses.fields(_cls)))
+#: (type, key) of MF fields that may be infinite (fuzzylite's ``Binary 0.5 inf``)
+INFINITE_OK = {("binary", "direction")}
 MAX_DEPTH = 8
 TOP_KEYS = {
     "format", "version", "kind", "name", "tnorm", "reducer", "reducer_max_iter",

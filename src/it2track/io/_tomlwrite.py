@@ -11,6 +11,7 @@ from collections.abc import Mapping, Sequence
 from ..fuzzy import AnySystem as System
 from ..fuzzy import (
     Connective,
+    Discrete,
     Input,
     IT2Mamdani,
     IT2Sugeno,
@@ -20,7 +21,9 @@ from ..fuzzy import (
     ScaledLagged,
     SNorm,
     T1Mamdani,
+    T1Sugeno,
     TypeReducer,
+    WeightedDefuzzifier,
 )
 from ._tomlschema import FORMAT, KINDS, MAX_DEPTH, MF_TYPES, VERSION
 from .errors import UnsupportedFeatureError
@@ -55,7 +58,13 @@ def _toml_key(key: str) -> str:
     return key if re.fullmatch(r"[A-Za-z0-9_-]+", key) else _toml_string(key)
 
 
+class _Infinite(float):
+    """An infinity the schema allows (``Binary``'s direction), written ``inf``/``-inf``."""
+
+
 def _toml_value(value: object) -> str:
+    if isinstance(value, _Infinite):
+        return "inf" if value > 0 else "-inf"
     if isinstance(value, str):
         return _toml_string(value)
     if isinstance(value, bool):
@@ -86,8 +95,14 @@ def _mf_table(mf: MembershipFunction, *, of: MembershipFunction | None, what: st
                 value = float(getattr(mf, field))
                 if field == "h" and value == 1.0:
                     continue
-                table[field] = value
+                table[field] = _Infinite(value) if math.isinf(value) else value
             return table
+    if kind is Discrete:
+        assert isinstance(mf, Discrete)
+        table = {"type": "discrete", "points": [[x, y] for x, y in mf.points]}
+        if mf.h != 1.0:
+            table["h"] = float(mf.h)
+        return table
     if kind is ScaledLagged:
         assert isinstance(mf, ScaledLagged)
         table = {"type": "scaled-lagged", "scale": float(mf.scale), "lag": float(mf.lag)}
@@ -96,7 +111,7 @@ def _mf_table(mf: MembershipFunction, *, of: MembershipFunction | None, what: st
         return table
     raise UnsupportedFeatureError(
         f"{what} is a {kind.__name__}, which the TOML format cannot carry (it carries "
-        f"{', '.join(c.__name__ for c, _ in MF_TYPES.values())} and ScaledLagged)"
+        f"{', '.join(c.__name__ for c, _ in MF_TYPES.values())}, Discrete and ScaledLagged)"
     )
 
 
@@ -176,7 +191,8 @@ def dumps(system: System) -> str:
         ]
     if isinstance(system, IT2Mamdani):
         lines.append(f"type_reduction = {_toml_string(system.type_reduction.value)}")
-    if isinstance(system, T1Mamdani):
+    if isinstance(system, T1Mamdani) or (
+            isinstance(system, T1Sugeno) and system.defuzzifier is not WeightedDefuzzifier.AVERAGE):
         lines.append(f"defuzzifier = {_toml_string(system.defuzzifier.value)}")
     if system.on_zero_firing is not None:
         zero = system.on_zero_firing

@@ -107,7 +107,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import Any
+from typing import Any, TypeVar
 
 from ..fuzzy import (
     EIASC,
@@ -135,6 +135,7 @@ from ..fuzzy import (
     TNorm,
     TypeReducer,
     TypeReduction,
+    WeightedDefuzzifier,
 )
 from ._common import (
     check_writable,
@@ -191,8 +192,7 @@ _FLAG_MEANING = {
     "LockPrevious": "keeping the previous output where no rule fires (state)",
     "LockRange": "clipping the output to its Range",
 }
-_TNORMS = {"prod": TNorm.PRODUCT, "min": TNorm.MINIMUM}
-_SNORMS = {"max": SNorm.MAXIMUM, "probor": SNorm.PROBOR}
+_N = TypeVar("_N", TNorm, SNorm)
 
 
 class _Reader(FisReader):
@@ -206,16 +206,16 @@ class _Reader(FisReader):
         super().__init__(text, path)
         self.type2 = False
         self.defaults: list[float | None] = []
-        self.no_and: int | None = None
-        self.no_or: int | None = None
+        self.missing: dict[str, int] = {}
 
     def header(self, system: Section) -> dict[str, Any]:
         doc = self.doc
         self.type2 = "TypeReductionMethod" in system.entries
-        and_name, self.no_and = self._norm(system, "AndMethod", tuple(_TNORMS),
-                                           "min" if self.mamdani else "prod")
-        or_name, self.no_or = self._norm(system, "OrMethod", tuple(_SNORMS), "max")
-        options: dict[str, Any] = {"tnorm": _TNORMS[and_name], "snorm": _SNORMS[or_name]}
+        options: dict[str, Any] = {
+            "tnorm": self._norm(system, "AndMethod", TNorm,
+                                TNorm.MINIMUM if self.mamdani else TNorm.PRODUCT),
+            "snorm": self._norm(system, "OrMethod", SNorm, SNorm.MAXIMUM),
+        }
         if self.mamdani:
             options.update(self.mamdani_options(system))
             allowed = ("centroid",) if self.type2 else tuple(d.value for d in Defuzzifier)
@@ -226,7 +226,10 @@ class _Reader(FisReader):
             for key in ("ImpMethod", "AggMethod"):  # MATLAB's Sugeno systems ignore them
                 if key in system.entries:
                     doc.string(system.entries[key])
-            doc.method(system, "DefuzzMethod", ("wtaver",), "wtaver")
+            allowed = ("wtaver",) if self.type2 else ("wtaver", "wtsum")
+            defuzz, _ = doc.method(system, "DefuzzMethod", allowed, "wtaver")
+            if defuzz == "wtsum":
+                options["defuzzifier"] = WeightedDefuzzifier.SUM
         if self.type2:
             entry = system.entries["TypeReductionMethod"]
             method = doc.string(entry)
@@ -238,15 +241,14 @@ class _Reader(FisReader):
             options["reducer"] = _READ_REDUCERS[method.strip().lower()]
         return options
 
-    def _norm(self, system: Section, key: str, allowed: tuple[str, ...], default: str
-              ) -> tuple[str, int | None]:
+    def _norm(self, system: Section, key: str, kind: type[_N], default: _N) -> _N:
         """A norm method; fuzzylite writes ``''`` for "none" (one-input systems): the default,
         with the line kept to refuse a rule that needs it."""
         entry = system.entries.get(key)
         if entry is not None and self.doc.string(entry) == "":
-            return default, entry.line
-        value, _ = self.doc.method(system, key, allowed, default)
-        return value, None
+            self.missing[key] = entry.line
+            return default
+        return self.operator(system, key, kind, default)
 
     def input_extras(self, section: Section) -> None:
         self._flags(section)
@@ -293,9 +295,9 @@ class _Reader(FisReader):
     def check_rules(self, rules: Sequence[Rule]) -> None:
         for rule, parsed in zip(rules, self.doc.sections["Rules"].rows, strict=True):
             used = sum(label is not None for label in rule.antecedent)
-            missing = self.no_or if rule.connective is Connective.OR else self.no_and
+            key = "OrMethod" if rule.connective is Connective.OR else "AndMethod"
+            missing = self.missing.get(key)
             if used > 1 and missing is not None:
-                key = "OrMethod" if rule.connective is Connective.OR else "AndMethod"
                 raise self.doc.error(
                     parsed[1], f"this rule joins {used} inputs with "
                     f"{rule.connective.value.upper()}, but {key}='' (line {missing}) names no "
@@ -430,7 +432,8 @@ def dumps(system: AnySystem) -> str:
         defuzz = (system.defuzzifier.value if isinstance(system, T1Mamdani) else "centroid")
         which = mamdani_indices(system)
     else:
-        imp, agg, defuzz = "prod", "sum", "wtaver"
+        imp, agg = "prod", "sum"
+        defuzz = system.defuzzifier.value if isinstance(system, T1Sugeno) else "wtaver"
         tables, which = consequent_tables(system)
         _check_sugeno(tables)
     extra: list[str] = []

@@ -112,6 +112,7 @@ from ..fuzzy import (
     TNorm,
     TypeReducer,
     TypeReduction,
+    WeightedDefuzzifier,
 )
 from ._common import (
     check_writable,
@@ -162,8 +163,6 @@ _SYSTEM_KEYS = frozenset({
     "Name", "Type", "Version", "NumInputs", "NumOutputs", "NumRules", "AndMethod", "OrMethod",
     "ImpMethod", "AggMethod", "DefuzzMethod", "TypeRedMethod", "outputType",
 })
-_TNORMS = {"prod": TNorm.PRODUCT, "min": TNorm.MINIMUM}
-_SNORMS = {"max": SNorm.MAXIMUM, "probor": SNorm.PROBOR}
 _TYPE_REDUCTIONS = {"centroid": TypeReduction.CENTROID, "cos": TypeReduction.CENTRE_OF_SETS}
 
 
@@ -179,15 +178,10 @@ class _Reader(FisReader):
         for key in ("ImpMethod", "AggMethod", "DefuzzMethod", "outputType"):
             if key in system.entries:
                 doc.string(system.entries[key])
-        and_entry = doc.entry(system, "AndMethod")
-        and_method = doc.string(and_entry)
-        if and_method.lower() not in _TNORMS:
-            raise doc.error(
-                and_entry.line, f"AndMethod={and_method!r} is not supported ('prod' or 'min')"
-            )
+        doc.entry(system, "AndMethod")  # required
         options: dict[str, Any] = {
-            "tnorm": _TNORMS[and_method.lower()],
-            "snorm": _SNORMS[doc.method(system, "OrMethod", tuple(_SNORMS), "max")[0]],
+            "tnorm": self.operator(system, "AndMethod", TNorm, TNorm.PRODUCT),
+            "snorm": self.operator(system, "OrMethod", SNorm, SNorm.MAXIMUM),
         }
         if self.mamdani:
             options.update(self.mamdani_options(system))
@@ -333,6 +327,11 @@ def dumps(system: AnySystem) -> str:
         defuzz = ("cos" if isinstance(system, IT2Mamdani)
                   and system.type_reduction is TypeReduction.CENTRE_OF_SETS else "centroid")
     else:
+        if isinstance(system, T1Sugeno) and system.defuzzifier is not WeightedDefuzzifier.AVERAGE:
+            raise UnsupportedFeatureError(
+                f"the .t2fis format cannot carry defuzzifier={system.defuzzifier.value!r} "
+                "(the toolbox averages); save as .fis or .toml"
+            )
         imp, agg, defuzz = "prod", "sum", "wtaver"
     lines = header_lines(system, imp=imp, agg=agg, defuzz=defuzz,
                          extra=[f"TypeRedMethod='{method}'"])

@@ -19,6 +19,7 @@ the one written. Layout (the paper's IT2 controller, abridged)::
     # Mamdani only: implication = "min" | "product", aggregation = "max" | "sum" | "probor",
     # resolution = 101, type_reduction = "centroid" | "centre-of-sets" (it2),
     # defuzzifier = "centroid" | "bisector" | "mom" | "som" | "lom" (t1)
+    # Sugeno t1 only: defuzzifier = "wtaver" (default) | "wtsum"
 
     [[inputs]]
     name = "e"
@@ -74,6 +75,7 @@ from ..fuzzy import (
     TNorm,
     TypeReducer,
     TypeReduction,
+    WeightedDefuzzifier,
 )
 from ..fuzzy import AnySystem as System
 from ._tomlread import Reader
@@ -134,7 +136,8 @@ def loads(text: str, path: str = "<string>") -> System:
     enum_key("implication", Implication.from_name, mamdani)
     enum_key("aggregation", Aggregation.from_name, mamdani)
     enum_key("type_reduction", TypeReduction.from_name, kind == "it2-mamdani")
-    enum_key("defuzzifier", Defuzzifier.from_name, kind == "t1-mamdani")
+    enum_key("defuzzifier", Defuzzifier.from_name if mamdani else WeightedDefuzzifier.from_name,
+             kind in ("t1-mamdani", "t1"))
     if "resolution" in data:
         if not mamdani:
             raise reader.error(("resolution",), f"'resolution' does not apply to kind = {kind!r}")
