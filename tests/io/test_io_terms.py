@@ -62,7 +62,7 @@ def test_fis_carries_matlabs_terms_and_refuses_the_others() -> None:
     assert loads(dumps(fls, "fis"), "fis") == fls
     with pytest.raises(UnsupportedFeatureError, match="Ramp, which has no MATLAB MF"):
         dumps(system_of([fz.Ramp(0.7, -0.3)]), "fis")
-    with pytest.raises(UnsupportedFeatureError, match="height h=0.9"):
+    with pytest.raises(UnsupportedFeatureError, match=r"height h=0\.9"):
         dumps(system_of([fz.Bell(0.2, 0.3, 2.0, 0.9)]), "fis")
 
 
