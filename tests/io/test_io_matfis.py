@@ -109,7 +109,7 @@ def test_shoulder_inside_the_range_is_rejected_on_read_and_widened_on_write() ->
     text = edit(TIPPER, "'trapmf',[0 0 1 3]", "'trapmf',[0.5 0.5 1 3]")
     err = error_of(text)
     assert err.line == line_with(text, "[0.5 0.5 1 3]")
-    assert "left shoulder at x=0.5 inside the Range" in err.message
+    assert "left shoulder at x=0.5 inside the range" in err.message
     err = error_of(edit(TIPPER, "'trapmf',[7 9 10 10]", "'trapmf',[7 9 9.5 9.5]"))
     assert "right shoulder at x=9.5" in err.message
     # ours: shoulders inside the universe are written out to its ends

@@ -7,6 +7,7 @@ suffix      format
 ``.t2fis``  the IT2FLS MATLAB toolbox of Taskin & Kumbasar (:mod:`.t2fis`)
 ``.fis``    MATLAB's Fuzzy Logic Toolbox: Sugeno and Mamdani; type-2 in our layout
             (:mod:`.matfis`)
+``.fll``    fuzzylite's FuzzyLite Language (:mod:`.fll`): type-1 Mamdani and Sugeno
 ``.fcl``    Fuzzy Control Language, IEC 61131-7 (:mod:`.fcl`): type-1, read only
 ==========  ===================================================================================
 
@@ -35,7 +36,7 @@ from pathlib import Path
 from .._files import InputFileError, decode_text, read_bytes, refuse_binary
 from ..atomicfile import atomic_write_text
 from ..fuzzy import AnySystem
-from . import fcl, matfis, t2fis, tomlfmt
+from . import fcl, fll, matfis, t2fis, tomlfmt
 from ._matlab import decode
 from .errors import FisFormatError, FisFormatWarning, UnsupportedFeatureError
 
@@ -61,6 +62,7 @@ FORMATS: dict[str, tuple[str, _Loader, _Dumper]] = {
     "toml": (".toml", tomlfmt.loads, tomlfmt.dumps),
     "t2fis": (".t2fis", t2fis.loads, t2fis.dumps),
     "fis": (".fis", matfis.loads, matfis.dumps),
+    "fll": (".fll", fll.loads, fll.dumps),
 }
 #: format name -> (file suffix, loads): the formats it2track only reads
 READ_ONLY: dict[str, tuple[str, _Loader]] = {

@@ -24,6 +24,7 @@ from ..fuzzy import (
     IT2Sugeno,
     Linear,
     MembershipFunction,
+    PiecewiseLinear,
     Rule,
     T1Mamdani,
     T1Sugeno,
@@ -51,6 +52,7 @@ __all__ = [
     "mf_to_matlab",
     "output_range",
     "set_name",
+    "shoulder_problem",
     "sugeno_span",
     "system_of",
 ]
@@ -138,6 +140,28 @@ def mf_to_matlab(
             f"{what} has height h={h!r}; MATLAB's {kind} has no height parameter (only 1)"
         )
     return kind, values
+
+
+def shoulder_problem(mf: MembershipFunction, universe: tuple[float, float], label: str,
+                     tool: str) -> str | None:
+    """Why a triangle/trapezoid ``mf`` read from a tool cannot be ours, or ``None``.
+
+    MATLAB's, fuzzylite's and jFuzzyLogic's triangles and trapezoids are 0 outside their feet,
+    even next to a shoulder (``a == b``), while ours keep their height beyond the peak side
+    (DESIGN.md sec. 2); they agree on the universe when each shoulder's foot is at or beyond
+    its end. ``label`` names the MF as written, ``tool`` the tool's function.
+    """
+    if not isinstance(mf, PiecewiseLinear):
+        return None
+    a, b, c, d, _ = mf.as_trapezoid()
+    lo, hi = universe
+    for shoulder, foot, inside, side in ((a == b, a, a > lo, "left"), (c == d, d, d < hi, "right")):
+        if shoulder and inside:
+            return (f"{label} has a {side} shoulder at x={foot:g} inside the range "
+                    f"[{lo:g} {hi:g}]: {tool} drops to 0 beyond it, which it2track's shoulders "
+                    "(constant beyond the peak) cannot represent; move the shoulder to the range "
+                    "end")
+    return None
 
 
 def mf_line(key: str, name: str, kind: str, params: Sequence[float], what: str) -> str:

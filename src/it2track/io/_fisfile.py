@@ -132,7 +132,9 @@ class FisReader:
                 continue
             doc.check_keys(section, set(self.sugeno_output_keys), _MF_PATTERN)
             names.append(doc.string(doc.entry(section, "Name")))
-            ranges.append((doc.universe(doc.entry(section, "Range")), section))
+            # a Sugeno output's Range only gives the zero-firing midpoint (MATLAB's juggler.fis
+            # has [0 0])
+            ranges.append((doc.universe(doc.entry(section, "Range"), point_ok=True), section))
             self.output_extras(section)
             count_entry = doc.entry(section, "NumMFs")
             n = doc.integer(count_entry, minimum=1)

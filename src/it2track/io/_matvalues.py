@@ -186,10 +186,10 @@ class ValueParser:
             )
         return values
 
-    def universe(self, entry: Entry) -> tuple[float, float]:
-        """A ``Range=[lo hi]`` with ``lo < hi``."""
+    def universe(self, entry: Entry, *, point_ok: bool = False) -> tuple[float, float]:
+        """A ``Range=[lo hi]`` with ``lo < hi`` (``lo <= hi`` with ``point_ok``)."""
         lo, hi = self.vector(entry, size=2)
-        if not lo < hi:
+        if not (lo < hi or (point_ok and lo == hi)):
             raise self.error(entry.line, f"{entry.key}={entry.value} must satisfy lo < hi")
         return lo, hi
 

@@ -127,7 +127,6 @@ from ..fuzzy import (
     Linear,
     MembershipFunction,
     Output,
-    PiecewiseLinear,
     Rule,
     SNorm,
     T1Mamdani,
@@ -147,6 +146,7 @@ from ._common import (
     mf_from_matlab,
     mf_to_matlab,
     output_range,
+    shoulder_problem,
     sugeno_span,
     system_of,
 )
@@ -258,7 +258,7 @@ class _Reader(FisReader):
         default = section.entries.get("Default")
         value: float | None = None
         if default is None:
-            lo, hi = self.doc.universe(self.doc.entry(section, "Range"))
+            lo, hi = self.doc.universe(self.doc.entry(section, "Range"), point_ok=not self.mamdani)
             value = (lo + hi) / 2
             if not math.isfinite(value):
                 raise self.doc.error(section.entries["Range"].line, "output Range is too wide")
@@ -345,19 +345,10 @@ def loads(text: str, path: str = "<string>") -> AnySystem:
 def _check_shoulders(
     doc: Document, mfv: MFValue, mf: MembershipFunction, universe: tuple[float, float]
 ) -> None:
-    if not isinstance(mf, PiecewiseLinear):
-        return
-    a, b, c, d, _ = mf.as_trapezoid()
-    lo, hi = universe
-    for shoulder, foot, inside, side in ((a == b, a, a > lo, "left"), (c == d, d, d < hi, "right")):
-        if shoulder and inside:
-            raise doc.error(
-                mfv.line,
-                f"{mfv.type} {fmt_vector(mfv.params)} has a {side} shoulder at x={foot:g} inside "
-                f"the Range [{lo:g} {hi:g}]: MATLAB's {mfv.type} drops to 0 beyond it, which "
-                "it2track's shoulders (constant beyond the peak) cannot represent; move the "
-                "shoulder to the range end",
-            )
+    problem = shoulder_problem(mf, universe, f"{mfv.type} {fmt_vector(mfv.params)}",
+                               f"MATLAB's {mfv.type}")
+    if problem:
+        raise doc.error(mfv.line, problem)
 
 
 def _mf_lines(var: Input, *, type2: bool, what_kind: str) -> list[str]:
