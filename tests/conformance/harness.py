@@ -23,10 +23,10 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).parent))
-from catalog import FILES, Example, examples  # noqa: E402
+from catalog import FILES, Example, examples
 
-from it2track.fuzzy import ZeroFiringError  # noqa: E402
-from it2track.io import FisFormatError, load  # noqa: E402
+from it2track.fuzzy import ZeroFiringError
+from it2track.io import FisFormatError, load
 
 #: agreement bound, relative to the output's range
 TOLERANCE = 1e-9
