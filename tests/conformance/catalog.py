@@ -21,8 +21,9 @@ HERE = Path(__file__).parent
 FILES = HERE / "files"
 REFERENCES = HERE / "references"
 SUFFIXES = (".fis", ".fll", ".fcl")
-#: MATLAB's evalfis samples a Mamdani output at 101 points; it2track's .fis and .fcl too
-MATLAB_POINTS = 101
+#: Mamdani output points by format: MATLAB's evalfis 101 for .fis; for .fcl jFuzzyLogic's
+#: 1000 intervals (1001 points); a .fll's own Centroid N gives N + 1 (None)
+POINTS = {".fis": 101, ".fcl": 1001, ".fll": None}
 _TWIN_EXCEPTIONS: dict[str, str | None] = {
     # MATLAB's sltbu.fis writes its ranges as pi/4; fuzzylite's copy sltbu_fl.fis as numbers
     "fuzzylite/examples/original/takagi-sugeno/matlab/sltbu.fis":
@@ -53,14 +54,14 @@ class Example:
         """The reference table under ``references/`` (``None``: no twin, or no table).
 
         A ``.fll`` is evaluated at its own defuzzifier's resolution (``N + 1`` points); a
-        ``.fis`` or ``.fcl`` at MATLAB's 101 (``@101`` in the name), where it matters: a twin
-        without a Mamdani output has one table.
+        ``.fis`` or ``.fcl`` at it2track's for the format (:data:`POINTS`, ``@101`` in the
+        name), where it matters: a twin without a Mamdani output has one table.
         """
         if self.twin is None:
             return None
         stem = self.twin.replace("/", "__")
-        names = [f"{stem}.csv"] if self.suffix == ".fll" else [f"{stem}@{MATLAB_POINTS}.csv",
-                                                               f"{stem}.csv"]
+        points = POINTS[self.suffix]
+        names = [f"{stem}.csv"] if points is None else [f"{stem}@{points}.csv", f"{stem}.csv"]
         return next((REFERENCES / n for n in names if (REFERENCES / n).exists()), None)
 
 
@@ -94,6 +95,5 @@ def twins() -> dict[str, set[int | None]]:
     needed: dict[str, set[int | None]] = {}
     for example in examples():
         if example.twin is not None:
-            needed.setdefault(example.twin, set()).add(
-                None if example.suffix == ".fll" else MATLAB_POINTS)
+            needed.setdefault(example.twin, set()).add(POINTS[example.suffix])
     return needed
