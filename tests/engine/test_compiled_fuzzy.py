@@ -12,17 +12,38 @@ import numpy as np
 import pytest
 
 from it2track.fuzzy import (
+    Arc,
+    Bell,
+    Binary,
+    Concave,
+    Cosine,
+    Discrete,
+    GaussianProduct,
     Input,
     IT2Set,
     IT2Sugeno,
+    LinearSShape,
+    LinearZShape,
+    MFKind,
+    PiShape,
+    Ramp,
+    Rectangle,
     Reducer,
     Rule,
     ScaledLagged,
+    SemiEllipse,
+    Sigmoid,
+    SigmoidDifference,
+    SigmoidProduct,
+    Spike,
+    SShape,
     T1Sugeno,
     TNorm,
     Trapezoid,
     Triangle,
+    WeightedDefuzzifier,
     ZeroFiringError,
+    ZShape,
     kernels,
 )
 from it2track.fuzzy.reducers import ConvergenceError, TypeReducer
@@ -191,8 +212,8 @@ def test_nan_input_raises_as_reference():
 
 def test_unsupported_systems_use_numpy():
     """Anything outside the allow-list is evaluated by numpy, correctly."""
-    lagged = IT2Set(Triangle(-1, 0, 1), ScaledLagged(Triangle(-1, 0, 1), 0.8, 0.1), "Z")
-    other = IT2Sugeno(inputs=[Input("x", (-1, 1), [lagged])], rules=[Rule(["Z"], 1.0)],
+    discrete = IT2Set.type1(Discrete([(-1, 0), (0, 1), (1, 0)]), "Z")
+    other = IT2Sugeno(inputs=[Input("x", (-1, 1), [discrete])], rules=[Rule(["Z"], 1.0)],
                       on_zero_firing=0.0)
     assert "OTHER" in kernels.supported(other)
 
@@ -237,3 +258,84 @@ def test_empty_and_threaded_batches():
     finally:
         numba.set_num_threads(before)
     assert same(got[0], got[1]) and same(got[0], sum(reference(fls, *x)) * 0.5)
+
+
+#: Every term class the kernels compile, with parameters that exercise its branches on [-1, 1]:
+#: integer and fractional bell exponents, both directions of the edge terms, crisp ramps.
+TERMS = [Bell(0.0, 0.5, 2.0), Bell(0.3, 0.4, 1.3), Sigmoid(0.2, 6.0),
+         SigmoidDifference(-0.5, 8.0, 8.0, 0.5), SigmoidProduct(-0.5, 8.0, -8.0, 0.5),
+         SShape(-1.0, 0.2), ZShape(-0.2, 1.0), PiShape(-1.0, -0.3, 0.3, 1.0, h=0.9),
+         GaussianProduct(-0.3, 0.2, 0.3, 0.25), Cosine(0.0, 1.2), Spike(0.1, 2.0),
+         Concave(0.2, 0.8), Concave(-0.2, -0.8), Rectangle(-0.4, 0.4), Binary(0.0, math.inf),
+         Binary(0.1, -math.inf), Arc(-1.0, 0.5), Arc(1.0, -0.5), SemiEllipse(-0.7, 0.7),
+         Ramp(-1.0, 1.0), Ramp(1.0, -1.0), LinearSShape(-0.5, 0.5), LinearZShape(-0.5, 0.5),
+         LinearSShape(0.2, 0.2), LinearZShape(0.2, 0.2)]
+
+
+def two_term_system(k, *, it2, tnorm=TNorm.PRODUCT, reducer=None):
+    a, b = TERMS[k], TERMS[(k + 7) % len(TERMS)]
+    if it2:  # MATLAB's type-2: lower MF scaled and lagged from the upper one
+        sets = [IT2Set.from_scale_lag(a, scale=0.8, lag=0.2, name="A"),
+                IT2Set.from_scale_lag(b, scale=0.9, lag=0.1, name="B")]
+    else:
+        sets = [IT2Set.type1(a, "A"), IT2Set.type1(b, "B")]
+    inputs = [Input("x", (-1, 1), sets), Input("y", (-1, 1), sets)]
+    rules = [Rule(["A", "A"], -1.0), Rule(["A", "B"], 0.5), Rule(["B", "A"], 1.0),
+             Rule(["B", "B"], 2.0), Rule(["A", None], 0.0)]
+    if it2:
+        return IT2Sugeno(inputs=inputs, rules=rules, tnorm=tnorm, on_zero_firing=0.25,
+                         reducer=reducer or Reducer.EXHAUSTIVE.value)
+    return T1Sugeno(inputs=inputs, rules=rules, tnorm=tnorm, on_zero_firing=0.25)
+
+
+def test_every_membership_kind_is_compiled():
+    kinds = set()
+    for k in range(len(TERMS)):
+        for it2 in (False, True):
+            fls = two_term_system(k, it2=it2)
+            kinds |= {MFKind(int(v)) for v in fls.tables.mf_kind}
+    assert kinds == set(MFKind) - {MFKind.OTHER} - {
+        MFKind.GAUSSIAN, MFKind.UM_GAUSSIAN_UPPER, MFKind.UM_GAUSSIAN_LOWER}  # (tested above)
+
+
+@pytest.mark.parametrize("k", range(len(TERMS)), ids=lambda k: repr(TERMS[k]))
+@pytest.mark.parametrize("it2", [False, True], ids=["t1", "it2"])
+def test_new_kinds_equal_reference(k, it2):
+    check(two_term_system(k, it2=it2), points(1500, 20 + k, spread=1.2))
+
+
+@pytest.mark.parametrize("tnorm", list(TNorm), ids=lambda t: t.name)
+def test_every_tnorm_equals_reference(tnorm):
+    """The t-norms without an exact identity fold over the inputs a rule mentions only (the
+    rule on "A" alone), in the kernels as in numpy."""
+    for k in (0, 5, 13):
+        check(two_term_system(k, it2=False, tnorm=tnorm), points(1000, 40 + k, spread=1.2))
+        check(two_term_system(k, it2=True, tnorm=tnorm, reducer=Reducer.KM.value),
+              points(1000, 50 + k, spread=1.2))
+
+
+def test_weighted_sum_equals_reference():
+    fls = dataclasses.replace(two_term_system(3, it2=False),
+                              defuzzifier=WeightedDefuzzifier.SUM)
+    check(fls, points(2000, 60, spread=1.2))
+    strict = dataclasses.replace(fls, on_zero_firing=None,
+                                 rules=(Rule(["A", "A"], 1.0),))  # (Sigmoid A: never 0)
+    check(strict, points(500, 61, spread=1.2))
+    lone = T1Sugeno(inputs=[Input("x", (-1, 1), [("R", Rectangle(-0.4, 0.4))])],
+                    rules=[Rule(["R"], 3.0)], defuzzifier=WeightedDefuzzifier.SUM)
+    assert kernels._entry(lone) is not None
+    assert lone(0.0) == 3.0
+    with pytest.raises(ZeroFiringError, match="no rule"):
+        lone(np.array([0.0, 0.9]))
+
+
+def test_scaled_lagged_of_existing_kinds_is_compiled():
+    from it2track.fuzzy import Gaussian
+
+    sets = [IT2Set(Triangle(-1, 0, 1), ScaledLagged(Triangle(-1, 0, 1), 0.8, 0.1), "Z"),
+            IT2Set.from_scale_lag(Gaussian(0.5, 0.3, h=0.9), scale=0.7, lag=0.25, name="P")]
+    fls = IT2Sugeno(inputs=[Input("x", (-1, 1), sets)], rules=[Rule(["Z"], 1.0),
+                    Rule(["P"], 2.0)], on_zero_firing=0.0)  # fmt: skip
+    assert {MFKind(int(v)) for v in fls.tables.mf_kind} == {
+        MFKind.TRAPEZOID, MFKind.GAUSSIAN, MFKind.SCALED_LAGGED}
+    check(fls, points(2000, 70, n_inputs=1, spread=1.2))

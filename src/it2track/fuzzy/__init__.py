@@ -10,7 +10,8 @@ semi-ellipse), :mod:`.terms` (MATLAB's and fuzzylite's names of them), :mod:`.se
 firing), :mod:`.reducers` (type reduction), :mod:`.sugeno` (Sugeno/TSK
 systems), :mod:`.mamdani` (Mamdani systems, centroid and centre-of-sets type reduction),
 :mod:`.system` (what every system shares: input checks, firing, outputs, zero firing),
-:mod:`.surface` (control surfaces).
+:mod:`.tsukamoto` (Tsukamoto systems), :mod:`.hybrid` (systems side by side),
+:mod:`.defuzz` (output grids and type-1 defuzzification), :mod:`.surface` (control surfaces).
 """
 
 from .curves import (
@@ -33,6 +34,8 @@ from .curves import (
     smf,
     zmf,
 )
+from .defuzz import Sampling, output_grid
+from .hybrid import HybridSystem
 from .kinds import MFKind
 from .mamdani import (
     AnySystem,
@@ -105,6 +108,7 @@ from .terms import (
     to_fuzzylite,
     to_matlab,
 )
+from .tsukamoto import T1Tsukamoto
 
 __all__ = [
     "EIASC",
@@ -131,6 +135,7 @@ __all__ = [
     "FuzzySystem",
     "Gaussian",
     "GaussianProduct",
+    "HybridSystem",
     "IT2Mamdani",
     "IT2Set",
     "IT2Sugeno",
@@ -152,6 +157,7 @@ __all__ = [
     "Rule",
     "SNorm",
     "SShape",
+    "Sampling",
     "ScaledLagged",
     "SemiEllipse",
     "Sigmoid",
@@ -161,6 +167,7 @@ __all__ = [
     "SystemTables",
     "T1Mamdani",
     "T1Sugeno",
+    "T1Tsukamoto",
     "TNorm",
     "Term",
     "Trapezoid",
@@ -183,6 +190,7 @@ __all__ = [
     "gbellmf",
     "linsmf",
     "linzmf",
+    "output_grid",
     "pimf",
     "psigmf",
     "rules_from_table",

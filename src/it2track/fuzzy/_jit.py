@@ -20,7 +20,8 @@ from typing import Any
 import numpy as np
 from numba import njit
 
-from .libm import exp_scalar
+from .curves import MAX_SQUARING
+from .libm import cospi_scalar, exp_scalar, log_scalar
 
 # Header of a packed system (see kernels.pack); offsets point into the same array.
 N_IN, N_ROWS, N_RULES, REDUCER, TNORM, MAX_ITER, HAS_ZERO, ZERO = 0, 1, 2, 3, 4, 5, 6, 7
@@ -29,8 +30,10 @@ O_LO, O_HI, O_KIND, O_PAR, O_INP, O_UR, O_LR, O_YLO, O_YHS, O_OHI = range(12, 22
 O_WM, O_YM, O_YHI = 22, 23, 24
 HEADER = 25
 
-# Reducer codes (REDUCER); T1 is the T1Sugeno weighted average.
-EXHAUSTIVE, KM, EKM, EIASC, NIE_TAN, WU_MENDEL, T1 = 0, 1, 2, 3, 4, 5, 6
+# Reducer codes (REDUCER); T1 / T1_SUM are the T1Sugeno weighted average / weighted sum.
+EXHAUSTIVE, KM, EKM, EIASC, NIE_TAN, WU_MENDEL, T1, T1_SUM = 0, 1, 2, 3, 4, 5, 6, 7
+# t-norm codes (TNORM): product, minimum, then the others of kernels._TNORMS.
+PRODUCT, MINIMUM, BOUNDED_DIFFERENCE, DRASTIC, EINSTEIN, HAMACHER, NILPOTENT = range(7)
 # Status codes: the reference raises where the status is not OK.
 OK, ZERO_FIRING, WM_ZERO_LOWER, NOT_CONVERGED = 0, 1, 2, 3
 
@@ -48,6 +51,8 @@ def _compiled(*, inline: bool = False) -> Any:
 
 
 exp = _compiled()(exp_scalar)
+log = _compiled()(log_scalar)
+cospi = _compiled()(cospi_scalar)
 
 
 @_compiled(inline=True)
@@ -95,21 +100,144 @@ def _memberships(P, X, L, S):
                 v = X[i, j]
                 z = ((v - fmin(fmax(v, a), b)) - 0.0) / c
                 S[k, j] = d * exp((-0.5 * z) * z)
-        else:  # uncertain-mean Gaussian, lower
+        elif kind == 3:  # uncertain-mean Gaussian, lower
             mid = 0.5 * (a + b)
             for j in range(L):
                 v = X[i, j]
                 z = ((v - (b if v <= mid else a)) - 0.0) / c
                 S[k, j] = d * exp((-0.5 * z) * z)
+        else:
+            _curves(kind, a, b, c, d, h, X, i, L, S, k)
     for j in range(L):
         S[n_rows, j] = 1.0
+
+
+@_compiled()
+def _curves(kind, a, b, c, d, h, X, i, L, S, k):
+    """Row ``k`` of the kinds of :mod:`.curves` and :mod:`.shapes` (their numpy ``__call__``
+    operation for operation; parameters as each class's ``kernel_row`` documents)."""
+    if kind == 4:  # bell (center, width, 2 slope, h)
+        if c == int(c) and c <= MAX_SQUARING:
+            n = int(c)
+            for j in range(L):
+                t = abs((X[i, j] - a) / b)
+                r = 1.0
+                base = t
+                m = n
+                while m:
+                    if m & 1:
+                        r = r * base
+                    m >>= 1
+                    if m:
+                        base = base * base
+                S[k, j] = d * (1.0 / (1.0 + r))
+        else:
+            for j in range(L):
+                t = abs((X[i, j] - a) / b)
+                S[k, j] = d * (1.0 / (1.0 + exp(c * log(t))))
+    elif kind == 5:  # sigmoid (inflection, slope, h)
+        for j in range(L):
+            S[k, j] = c * (1.0 / (1.0 + exp(-b * (X[i, j] - a))))
+    elif kind == 6 or kind == 7:  # sigmoid difference / product (left, rising, right, falling, h)
+        for j in range(L):
+            v = X[i, j]
+            s1 = 1.0 / (1.0 + exp(-b * (v - a)))
+            s2 = 1.0 / (1.0 + exp(-d * (v - c)))
+            S[k, j] = h * (abs(s1 - s2) if kind == 6 else s1 * s2)
+    elif kind == 8 or kind == 9:  # S / Z shape (start, end, h)
+        for j in range(L):
+            S[k, j] = c * _spline(X[i, j], a, b, kind == 8)
+    elif kind == 10:  # Pi shape (a, b, c, d, h)
+        for j in range(L):
+            v = X[i, j]
+            S[k, j] = h * (_spline(v, a, b, True) * _spline(v, c, d, False))
+    elif kind == 11:  # Gaussian product (mean_a, sigma_a, mean_b, sigma_b, h)
+        for j in range(L):
+            v = X[i, j]
+            za = fmin(v - a, 0.0) / b
+            zb = fmax(v - c, 0.0) / d
+            S[k, j] = h * (exp(-0.5 * za * za) * exp(-0.5 * zb * zb))
+    elif kind == 12:  # cosine (center, width, h)
+        half = 0.5 * b
+        lo = a - half
+        hi = a + half
+        for j in range(L):
+            v = X[i, j]
+            inside = (v >= lo) & (v <= hi)
+            u = (v - a) / half if inside else 1.0
+            S[k, j] = c * (0.5 * (1.0 + cospi(u)) if inside else 0.0)
+    elif kind == 13:  # spike (center, width, h)
+        q = 10.0 / b
+        for j in range(L):
+            S[k, j] = c * exp(-abs(q * (X[i, j] - a)))
+    elif kind == 14:  # concave (inflection, end, h)
+        for j in range(L):
+            v = X[i, j]
+            if a < b:
+                y = (b - a) / ((2.0 * b - a) - v) if v < b else 1.0
+            else:
+                y = (a - b) / ((a - 2.0 * b) + v) if v > b else 1.0
+            S[k, j] = c * y
+    elif kind == 15:  # rectangle (start, end, h)
+        for j in range(L):
+            v = X[i, j]
+            S[k, j] = c if (v >= a) & (v <= b) else 0.0
+    elif kind == 16:  # step (edge, rising, closed, h)
+        for j in range(L):
+            v = X[i, j]
+            if b != 0.0:
+                on = (v >= a) if c != 0.0 else (v > a)
+            else:
+                on = (v <= a) if c != 0.0 else (v < a)
+            S[k, j] = d if on else 0.0
+    elif kind == 17:  # arc (start, end, h)
+        r = b - a
+        for j in range(L):
+            v = X[i, j]
+            e = v - b
+            arc = math.sqrt(fmax(r * r - e * e, 0.0)) / abs(r)
+            if a < b:
+                y = 1.0 if v > b else (arc if v >= a else 0.0)
+            else:
+                y = 1.0 if v < b else (arc if v <= a else 0.0)
+            S[k, j] = c * y
+    elif kind == 18:  # semi-ellipse (start, end, h)
+        r = (b - a) / 2.0
+        m = a + r
+        for j in range(L):
+            v = X[i, j]
+            e = v - m
+            y = math.sqrt(fmax(r * r - e * e, 0.0)) / r
+            S[k, j] = c * (y if (v >= a) & (v <= b) else 0.0)
+    else:  # scaled and lagged row a (MATLAB's type-2 lower MF): (row, scale peak, lag, peak)
+        up = int(a)
+        for j in range(L):
+            S[k, j] = b * fmin(fmax((S[up, j] / d - c) / (1.0 - c), 0.0), 1.0)
+
+
+@_compiled(inline=True)
+def _spline(v, a, b, rising):
+    """MATLAB's ``smf`` (``rising``) or ``zmf`` on ``[a, b]``, as curves._s_shape/_z_shape."""
+    w = b - a
+    mid = (a + b) / 2.0
+    q1 = (v - a) / w
+    q2 = (v - b) / w
+    if rising:
+        return 0.0 if v <= a else (2.0 * (q1 * q1) if v <= mid else
+                                   (1.0 - 2.0 * (q2 * q2) if v < b else 1.0))
+    return 1.0 if v <= a else (1.0 - 2.0 * (q1 * q1) if v <= mid else
+                               (2.0 * (q2 * q2) if v < b else 0.0))
 
 
 @_compiled()
 def _firing(P, L, S, flb, fub):
     n_in, n_rules = int(P[N_IN]), int(P[N_RULES])
     o_ur, o_lr = int(P[O_UR]), int(P[O_LR])
-    prod = P[TNORM] == 0.0
+    code = int(P[TNORM])
+    if code > MINIMUM:
+        _firing_mentioned(P, L, S, flb, fub, code)
+        return
+    prod = code == PRODUCT
     for r in range(n_rules):
         b = r * n_in
         u = int(P[o_ur + b])
@@ -128,6 +256,47 @@ def _firing(P, L, S, flb, fub):
                 for j in range(L):
                     S[fub + r, j] = fmin(S[fub + r, j], S[u, j])
                     S[flb + r, j] = fmin(S[flb + r, j], S[lw, j])
+
+
+@_compiled(inline=True)
+def _tnorm(code, a, b):
+    """The t-norms of norms.TNorm other than product and minimum, as their numpy forms."""
+    if code == BOUNDED_DIFFERENCE:
+        return fmax(0.0, a + b - 1.0)
+    if code == DRASTIC:
+        return fmin(a, b) if fmax(a, b) == 1.0 else 0.0
+    if code == EINSTEIN:
+        ab = a * b
+        return ab / (2.0 - (a + b - ab))
+    if code == HAMACHER:
+        ab = a * b
+        return ab / (a + b - ab) if a + b != 0.0 else 0.0
+    return fmin(a, b) if a + b > 1.0 else 0.0  # nilpotent minimum
+
+
+@_compiled()
+def _firing_mentioned(P, L, S, flb, fub, code):
+    """AND over the inputs each rule mentions only (tables' fold for t-norms whose identity
+    is not exact): the first one copied, the others folded left to right."""
+    n_in, n_rows, n_rules = int(P[N_IN]), int(P[N_ROWS]), int(P[N_RULES])
+    o_ur, o_lr = int(P[O_UR]), int(P[O_LR])
+    for r in range(n_rules):
+        b = r * n_in
+        first = True
+        for i in range(n_in):
+            u = int(P[o_ur + b + i])
+            lw = int(P[o_lr + b + i])
+            if u == n_rows:
+                continue
+            if first:
+                for j in range(L):
+                    S[fub + r, j] = S[u, j]
+                    S[flb + r, j] = S[lw, j]
+                first = False
+            else:
+                for j in range(L):
+                    S[fub + r, j] = _tnorm(code, S[fub + r, j], S[u, j])
+                    S[flb + r, j] = _tnorm(code, S[flb + r, j], S[lw, j])
 
 
 @_compiled(inline=True)
@@ -418,7 +587,7 @@ def eval_block(P, X, L, S, yl, yr, st):
     for j in range(L):
         st[j] = OK
     ylo, yhs, ohi = int(P[O_YLO]), int(P[O_YHS]), int(P[O_OHI])
-    if red == T1:  # T1Sugeno: weighted average of the (upper = lower) firing
+    if red == T1 or red == T1_SUM:  # T1Sugeno: weighted average / sum of the firing
         num, den = tb, tb + 1
         y = P[ylo]
         for j in range(L):
@@ -429,10 +598,17 @@ def eval_block(P, X, L, S, yl, yr, st):
             for j in range(L):
                 S[num, j] += S[fub + n, j] * y
                 S[den, j] += S[fub + n, j]
-        for j in range(L):
-            u = S[num, j] / S[den, j]
-            yl[j] = u
-            yr[j] = u
+        if red == T1:
+            for j in range(L):
+                u = S[num, j] / S[den, j]
+                yl[j] = u
+                yr[j] = u
+        else:  # as numpy's where(den != 0, num, nan)
+            for j in range(L):
+                nj, dj = S[num, j], S[den, j]
+                u = nj if dj != 0.0 else math.nan
+                yl[j] = u
+                yr[j] = u
     elif red == EXHAUSTIVE:
         _exhaustive(P, L, S, flb, fub, tb, ylo, -1, True, yl)
         _exhaustive(P, L, S, flb, fub, tb, yhs, ohi, False, yr)
@@ -474,7 +650,7 @@ def eval_block(P, X, L, S, yl, yr, st):
     for j in range(L):
         if st[j] != OK or (yl[j] == yl[j] and yr[j] == yr[j]):
             continue
-        if red != T1:
+        if red != T1 and red != T1_SUM:
             for n in range(n_rules):
                 if S[fub + n, j] > 0.0:
                     st[j] = WM_ZERO_LOWER

@@ -9,11 +9,13 @@ would raise (NaN input, zero firing without ``on_zero_firing``, no convergence) 
 hands the call back to it, so errors and messages are the reference's.
 
 What the kernels implement (an allow-list; anything else goes to numpy): exactly the classes
-``IT2Sugeno`` and ``T1Sugeno`` (not subclasses), membership rows of the kinds ``TRAPEZOID``,
-``GAUSSIAN``, ``UM_GAUSSIAN_UPPER``, ``UM_GAUSSIAN_LOWER``, tables with no rule-language
-``features``, both t-norms, the six built-in reducers (matched by their kernels, so a custom
-:class:`~.reducers.TypeReducer` goes to numpy) with their ``max_iter``, and both zero-firing
-policies.
+``IT2Sugeno`` and ``T1Sugeno`` (not subclasses; ``T1Sugeno`` with either weighted
+defuzzifier), membership rows of every :class:`~.kinds.MFKind` but ``OTHER`` (the
+triangles, trapezoids and Gaussians of :mod:`.membership`, every class of :mod:`.curves` and
+:mod:`.shapes` but ``Discrete``, and MATLAB's scaled and lagged lower MFs), tables with no
+rule-language ``features``, every t-norm, the six built-in reducers (matched by their kernels,
+so a custom :class:`~.reducers.TypeReducer` goes to numpy) with their ``max_iter``, and both
+zero-firing policies.
 
 Engine choice: the environment variable ``IT2TRACK_ENGINE`` is ``auto`` (default: compiled
 where supported and numba is importable), ``numpy`` (never compile; numba is not even
@@ -53,8 +55,11 @@ FloatArray = NDArray[np.float64]
 ENGINE_ENV = "IT2TRACK_ENGINE"
 _ENGINES = ("auto", "numpy", "compiled")
 #: Membership kinds the kernels implement (codes in ``_jit._memberships``).
-_KINDS = frozenset({MFKind.TRAPEZOID, MFKind.GAUSSIAN, MFKind.UM_GAUSSIAN_UPPER,
-                    MFKind.UM_GAUSSIAN_LOWER})  # fmt: skip
+_KINDS = frozenset(MFKind) - {MFKind.OTHER}
+#: t-norm codes of the kernels (``_jit.PRODUCT`` ...).
+_TNORMS = {TNorm.PRODUCT: 0, TNorm.MINIMUM: 1, TNorm.BOUNDED_DIFFERENCE: 2,
+           TNorm.DRASTIC_PRODUCT: 3, TNorm.EINSTEIN_PRODUCT: 4, TNorm.HAMACHER_PRODUCT: 5,
+           TNorm.NILPOTENT_MINIMUM: 6}  # fmt: skip
 #: Rule-language features (``SystemTables.features``) the kernels implement.
 _FEATURES: frozenset[str] = frozenset()
 #: Built-in reducers by their kernels -> code in ``_jit``.
@@ -62,7 +67,7 @@ _REDUCERS: dict[Any, int] = {
     _r._exhaustive_left: 0, _r._km_left: 1, _r._ekm_left: 2, _r._eiasc_left: 3,
     _r._nie_tan: 4, _r._wu_mendel: 5,
 }  # fmt: skip
-_T1 = 6
+_T1, _T1_SUM = 6, 7
 _PARALLEL_MIN = 8192  # fewer points than this: the serial kernel (no thread start-up)
 _jit: Any = None
 
@@ -111,10 +116,11 @@ def supported(system: Any) -> str | None:
     kinds = {MFKind(int(k)) for k in t.mf_kind}
     if not kinds <= _KINDS:
         return f"membership kinds {sorted(k.name for k in kinds - _KINDS)} are not compiled"
-    if system.tnorm not in (TNorm.PRODUCT, TNorm.MINIMUM):
+    for k in np.flatnonzero(t.mf_kind == MFKind.SCALED_LAGGED):
+        if not 0 <= t.mf_params[k, 0] < k:  # (the tables put the upper row first)
+            return f"scaled-lagged row {k} reads row {t.mf_params[k, 0]:g}, not an earlier one"
+    if system.tnorm not in _TNORMS:
         return f"t-norm {system.tnorm!r} is not compiled"
-    if type(system) is T1Sugeno and system.defuzzifier is not WeightedDefuzzifier.AVERAGE:
-        return f"defuzzifier {system.defuzzifier!r} is not compiled"
     if type(system) is IT2Sugeno:
         red = system.reducer
         kernel = red._approx if red._approx is not None else red._left
@@ -143,7 +149,8 @@ def pack(system: Any) -> FloatArray:
         code = _REDUCERS[kernel]
         max_iter = red._cap(r)
     else:
-        code, max_iter = _T1, 1
+        code = _T1 if system.defuzzifier is WeightedDefuzzifier.AVERAGE else _T1_SUM
+        max_iter = 1
     eps = np.finfo(np.float64).eps
     tol_l = (8.0 + 2.0 * r) * eps * max(1.0, float(np.abs(y_lo).max()))
     tol_r = (8.0 + 2.0 * r) * eps * max(1.0, float(np.abs(y_hs).max()))
@@ -156,7 +163,7 @@ def pack(system: Any) -> FloatArray:
         0.5 * (y_lo + y_hi), y_hi,
     ]  # fmt: skip
     header = [
-        t.n_inputs, t.n_rows, r, code, 0 if system.tnorm is TNorm.PRODUCT else 1, max_iter,
+        t.n_inputs, t.n_rows, r, code, _TNORMS[system.tnorm], max_iter,
         system.on_zero_firing is not None,
         0.0 if system.on_zero_firing is None else system.on_zero_firing,
         tol_l, tol_r, round(r / 2.4), round(r / 1.7),

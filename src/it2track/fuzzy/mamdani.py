@@ -47,6 +47,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .defuzz import Sampling, defuzzify, output_grid
 from .norms import Aggregation, Defuzzifier, Implication, TNorm
 from .reducers import EXHAUSTIVE, TypeReducer, _exhaustive_left, exhaustive_many_rows
 from .rules import Output, Rule
@@ -59,6 +60,7 @@ __all__ = [
     "IT2Mamdani",
     "MamdaniSystem",
     "MamdaniTables",
+    "Sampling",
     "T1Mamdani",
     "TypeReduction",
     "defuzzify",
@@ -141,7 +143,8 @@ class MamdaniTables:
     features : frozenset of str
         ``antecedents.features | {"mamdani"}``.
     grids : tuple of ndarray, shape (J,)
-        Per output, the ``J = resolution`` grid points ``linspace(lo, hi, J)``.
+        Per output, the ``J = resolution`` grid points (:func:`~.defuzz.output_grid`:
+        ``linspace(lo, hi, J)``, or the midpoints of ``J`` equal cells).
     upper_mf, lower_mf : tuple of ndarray, shape (S, J)
         Per output, its ``S`` sets' upper / lower MFs on the grid.
     rule_set : tuple of ndarray of int, shape (R_k,)
@@ -163,7 +166,7 @@ class MamdaniTables:
         self.aggregation = system.aggregation
         grids, uppers, lowers, centroids = [], [], [], []
         for out in outputs:
-            y = np.linspace(out.universe[0], out.universe[1], system.resolution)
+            y = output_grid(out.universe, system.resolution, system.sampling)
             up = np.array([np.broadcast_to(s.upper(y), y.shape) for s in out.sets], dtype=float)
             lo = np.array([np.broadcast_to(s.lower(y), y.shape) for s in out.sets], dtype=float)
             lo = np.minimum(lo, up)  # rounding of MFs checked lower <= upper to 1e-12
@@ -259,6 +262,7 @@ class _MamdaniBase(_SystemBase):
     implication: Implication = Implication.MINIMUM
     aggregation: Aggregation = Aggregation.MAXIMUM
     resolution: int = RESOLUTION
+    sampling: Sampling = Sampling.ENDPOINTS
     _m: MamdaniTables = field(init=False, repr=False, compare=False)
 
     def _check_outputs(self) -> None:
@@ -274,6 +278,8 @@ class _MamdaniBase(_SystemBase):
             raise ValueError(f"implication={self.implication!r} must be an Implication member")
         if not isinstance(self.aggregation, Aggregation):
             raise ValueError(f"aggregation={self.aggregation!r} must be an Aggregation member")
+        if not isinstance(self.sampling, Sampling):
+            raise ValueError(f"sampling={self.sampling!r} must be a Sampling member")
         if (isinstance(self.resolution, bool) or not isinstance(self.resolution, int)
                 or not 3 <= self.resolution <= 100_000):
             raise ValueError(f"resolution={self.resolution!r} must be an int in [3, 100000]")
@@ -369,6 +375,9 @@ class IT2Mamdani(_MamdaniBase):
         ``CENTROID`` (default) or ``CENTRE_OF_SETS``.
     resolution : int
         Output grid points (default 101).
+    sampling : Sampling
+        ``Sampling.ENDPOINTS`` (default: MATLAB's ``linspace``) or ``MIDPOINTS`` (fuzzylite's
+        midpoint rule); see :func:`~it2track.fuzzy.defuzz.output_grid`.
     on_zero_firing : float, tuple of float or None
         Output where no rule fires; ``None`` (default) raises ``ZeroFiringError``.
     name : str
@@ -462,6 +471,9 @@ class T1Mamdani(_MamdaniBase):
         Default ``Defuzzifier.CENTROID``.
     resolution : int
         Output grid points (default 101).
+    sampling : Sampling
+        ``Sampling.ENDPOINTS`` (default: MATLAB's ``linspace``) or ``MIDPOINTS`` (fuzzylite's
+        midpoint rule); see :func:`~it2track.fuzzy.defuzz.output_grid`.
     on_zero_firing : float, tuple of float or None
         Output where no rule fires; ``None`` (default) raises ``ZeroFiringError``.
     name : str
@@ -503,40 +515,6 @@ class T1Mamdani(_MamdaniBase):
             _, f = c.firing_block(x[:, start:stop], self.tnorm)
             u[start:stop] = defuzzify(self._m.aggregate(k, f, lower=False), y, self.defuzzifier)
         return self._undefined(c, x, k, u, u.copy())
-
-
-def defuzzify(mu: FloatArray, y: FloatArray, method: Defuzzifier) -> FloatArray:
-    """Defuzzify sets sampled on a grid: ``mu`` ``(J, N)``, ``y`` ``(J,)`` -> ``(N,)``.
-
-    NaN where a set is zero everywhere (no output). ``method`` is a :class:`Defuzzifier`.
-
-    Examples
-    --------
-    >>> mu = np.array([[0.0], [1.0], [1.0], [0.5]])
-    >>> y = np.array([0.0, 1.0, 2.0, 3.0])
-    >>> [float(defuzzify(mu, y, d)[0]) for d in Defuzzifier]
-    [1.8, 2.0, 1.5, 1.0, 2.0]
-    """
-    total = mu.sum(axis=0)
-    empty = total <= 0
-    with np.errstate(divide="ignore", invalid="ignore"):
-        if method is Defuzzifier.CENTROID:
-            out = (mu * y[:, None]).sum(axis=0) / total
-        elif method is Defuzzifier.BISECTOR:
-            # The first grid point where the running sum reaches half the total.
-            idx = np.argmax(np.cumsum(mu, axis=0) >= 0.5 * total, axis=0)
-            out = y[idx].astype(np.float64)
-        else:
-            top = mu == mu.max(axis=0)
-            if method is Defuzzifier.MOM:
-                out = (top * y[:, None]).sum(axis=0) / top.sum(axis=0)
-            elif method is Defuzzifier.SOM:
-                out = y[np.argmax(top, axis=0)].astype(np.float64)
-            else:
-                out = y[y.size - 1 - np.argmax(top[::-1], axis=0)].astype(np.float64)
-    out = np.asarray(out, dtype=np.float64)
-    out[empty] = np.nan
-    return out
 
 
 MamdaniSystem = IT2Mamdani | T1Mamdani
