@@ -5,14 +5,16 @@ reading of its twin (``≤ 1e-9`` relative to the output range, Mamdani at match
 loads and differs (``notes.py`` must say which is right and why), loads with no reference, or
 is refused (the :class:`~it2track.io.FisFormatError`, naming the line and the feature).
 
-Where the reference has no output (fuzzylite's ``default: nan`` where no rule fires) it2track
-must have none either -- :class:`~it2track.fuzzy.ZeroFiringError` -- or, for a MATLAB ``.fis``,
-MATLAB's documented fallback (the middle of the output range) at a point where none of its
-rules fires.
+Where the reference has no output (fuzzylite's ``default: nan`` where no rule fires, ``inf``
+where a Tsukamoto set is read beyond its range) it2track must have none either -- a
+:class:`~it2track.fuzzy.ZeroFiringError` or the ``ValueError`` of a set without an inverse --
+or, for a MATLAB ``.fis``, MATLAB's documented fallback (the middle of the output range) at a
+point where none of its rules fires.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 import sys
@@ -25,7 +27,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).parent))
 from catalog import FILES, Example, examples
 
-from it2track.fuzzy import ZeroFiringError
+from it2track.fuzzy import HybridSystem, Rule
 from it2track.io import FisFormatError, load
 
 #: agreement bound, relative to the output's range
@@ -56,19 +58,40 @@ def _reference(path: Path) -> tuple[list[str], list[tuple[float, float]], np.nda
     return names, spans, rows  # type: ignore[return-value]
 
 
+def _single(system, k: int):
+    """The system of output ``k`` alone (its rules, its zero-firing value)."""
+    if isinstance(system, HybridSystem):
+        for part in system.systems:
+            if k < part.n_outputs:
+                return _single(part, k)
+            k -= part.n_outputs
+    if system.n_outputs == 1:
+        return system
+    rules = [Rule(r.antecedent, r.consequents[k], weight=r.weight, connective=r.connective,
+                  negated=r.negated) for r in system.rules if r.consequents[k] is not None]
+    outputs = system.outputs
+    if outputs:
+        outputs = (outputs[k],)
+    return dataclasses.replace(system, rules=tuple(rules), outputs=outputs,
+                               on_zero_firing=system.zero_firing_value(k))
+
+
 def _ours(system, x: np.ndarray) -> np.ndarray:
-    """Outputs ``(N, m)``; NaN where it2track raises ZeroFiringError."""
+    """Outputs ``(N, m)``; NaN where it2track has none: ZeroFiringError (no rule fires), or
+    the ValueError of a Tsukamoto set fired beyond its range (no inverse)."""
     m = system.n_outputs
     try:
         y = np.asarray(system.evaluate(x), dtype=float)
         return y.reshape(len(x), m)
-    except ZeroFiringError:
+    except ValueError:
         out = np.empty((len(x), m))
         for i, row in enumerate(x):
-            try:
-                out[i] = np.asarray(system.evaluate(row), dtype=float).reshape(m)
-            except ZeroFiringError:
-                out[i] = np.nan
+            for k in range(m):
+                part = _single(system, k)
+                try:
+                    out[i, k] = float(np.asarray(part.evaluate(row), dtype=float))
+                except ValueError:
+                    out[i, k] = np.nan
         return out
 
 
@@ -106,7 +129,7 @@ def check(example: Example) -> Result:
         scale = hi - lo if hi > lo else (float(np.ptp(finite)) if finite.size else 0.0) or 1.0
         for i in range(len(x)):
             r, o = ref[i, k], ours[i, k]
-            if math.isnan(r):
+            if not math.isfinite(r):  # fuzzylite: nan (no rule fires), inf (no inverse)
                 if math.isnan(o):
                     fallback += 1
                     continue

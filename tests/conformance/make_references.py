@@ -15,8 +15,9 @@ cells of the output range (``Op.midpoints``); MATLAB (and it2track) sample ``R``
 including both ends (``linspace``). The script replaces ``Op.midpoints`` by ``numpy.linspace``
 so that pyfuzzylite's own ``Centroid``, ``Bisector``, ... evaluate the aggregated set at the
 very points it2track does (a jump of a ``Rectangle`` or ``Binary`` term on a grid point would
-otherwise fall on either side of it by rounding). ``R`` is 101 (MATLAB's) for a ``.fis`` or
-``.fcl`` reader and ``N + 1`` for a ``.fll`` (it2track's reading of ``Centroid N``).
+otherwise fall on either side of it by rounding). ``R`` is 101 (MATLAB's) for a ``.fis`` and
+1001 (jFuzzyLogic's 1000 intervals) for a ``.fcl`` reader; a ``.fll`` is evaluated as fuzzylite does, at its own ``N`` midpoints (it2track
+reads ``Centroid N`` with fuzzylite's sampling).
 
 Statelessness. ``lock-previous`` is turned off (the reference is the engine's first evaluation
 after a restart); everything else is as the file says, including fuzzylite's ``default: nan``
@@ -65,6 +66,11 @@ def grid(ranges: list[tuple[float, float]]) -> np.ndarray:
     return lo + _halton(64, n) * (hi - lo)
 
 
+import fuzzylite  # noqa: E402
+
+_MIDPOINTS = fuzzylite.Op.midpoints
+
+
 def _matlab_points(start: float, end: float, resolution: int) -> np.ndarray:
     """MATLAB's (and it2track's) ``resolution`` points, both ends included."""
     return np.linspace(start, end, resolution)
@@ -76,7 +82,8 @@ def evaluate(path: Path, resolution: int | None
     pyfuzzylite."""
     import fuzzylite as fl
 
-    fl.Op.midpoints = staticmethod(_matlab_points)  # where the defuzzifiers sample
+    # where the defuzzifiers sample: MATLAB's points, or fuzzylite's own midpoints for a .fll
+    fl.Op.midpoints = staticmethod(_matlab_points if resolution is not None else _MIDPOINTS)
     engine = fl.FllImporter().from_file(path)
     ranges = [(iv.minimum, iv.maximum) for iv in engine.input_variables]
     x = grid(ranges)
@@ -84,8 +91,8 @@ def evaluate(path: Path, resolution: int | None
     for ov in engine.output_variables:
         ov.lock_previous = False
         d = ov.defuzzifier
-        if isinstance(d, fl.IntegralDefuzzifier):
-            d.resolution = resolution if resolution is not None else d.resolution + 1
+        if isinstance(d, fl.IntegralDefuzzifier) and resolution is not None:
+            d.resolution = resolution
     engine.restart()
     engine.input_values = x
     engine.process()
@@ -108,7 +115,8 @@ def table(twin: str, resolution: int | None) -> str:
     import fuzzylite as fl
 
     lines = [f"# pyfuzzylite {fl.__version__} (numpy {np.__version__}) evaluating {twin}",
-             "# at resolution " + ("its own N + 1" if resolution is None else str(resolution)),
+             "# at " + ("its own resolution N, at fuzzylite's midpoints" if resolution is None
+                        else f"{resolution} points, both ends included"),
              "# output ranges: " + "; ".join(f"{lo!r} {hi!r}" for lo, hi in spans),
              ",".join(names)]
     lines += [",".join(repr(float(v)) for v in row) for row in rows]

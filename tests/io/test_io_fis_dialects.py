@@ -198,3 +198,22 @@ def test_fuzzylite_term_names_in_fis() -> None:
     assert fls.inputs[1].sets[0].upper == Ramp(3.0, 0.0)
     err = error_of(edit(TIPPER, "'trapmf',[0 0 1 3]", "'function',[x*2]"))
     assert "never evaluates text" in err.message
+
+
+def test_an_input_without_mfs_feeds_linear_consequents_as_in_matlabs_slcp1() -> None:
+    text = edit(TIPPER, "NumInputs=2", "NumInputs=3")
+    text = edit(text, "[Output1]", "[Input3]\nName='z'\nRange=[-1 1]\nNumMFs=0\n\n[Output1]")
+    text = edit(text, "MF1='cheap':'constant',[5]", "MF1='cheap':'linear',[0 0 2 5]")
+    for old, new in [("1 1, 1", "1 1 0, 1"), ("2 0, 2", "2 0 0, 2"), ("3 2, 3", "3 2 0, 3")]:
+        text = edit(text, old, new)
+    fls = load(text)
+    assert fls.inputs[2].sets == ()
+    # at (0, 0, z): rule 1 fires 1 (plane 2 z + 5), rule 2 fires g = exp(-25 / 4.5) (15)
+    g = math.exp(-25 / 4.5)
+    for z in (-1.0, 0.5):
+        assert float(fls(0.0, 0.0, z)) == pytest.approx((2 * z + 5 + 15 * g) / (1 + g), rel=1e-14)
+    again = loads(dumps(fls, "toml"), "toml")
+    assert again == fls and "sets = []" in dumps(fls, "toml")
+    assert load(dumps(fls, "fis")) == fls
+    err = error_of(edit(text, "NumMFs=3\nMF1='cheap'", "NumMFs=0\nMF1='cheap'"))
+    assert "NumMFs=0 must be at least 1" in err.message

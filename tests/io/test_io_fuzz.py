@@ -17,7 +17,7 @@ from io_systems import random_system
 
 from it2track import heading_fls
 from it2track.fuzzy import IT2Mamdani, IT2Sugeno, T1Mamdani, T1Sugeno
-from it2track.io import FORMATS, FisFormatError, FisFormatWarning, dumps, load
+from it2track.io import FORMATS, TYPE2, FisFormatError, FisFormatWarning, dumps, load
 
 DATA = Path(__file__).parent / "data"
 MUTATIONS_PER_FILE = 250
@@ -30,8 +30,9 @@ TOKENS = [b"Inf", b"NaN", b"-", b"1e999", b"1e-999", b"'", b'"', b"[", b"]", b"\
 def valid_files() -> list[tuple[str, bytes]]:
     files = [(p.name, p.read_bytes()) for p in sorted(DATA.glob("*.*"))]
     for fmt, (suffix, _, _) in FORMATS.items():
-        files.append((f"paper{suffix}", dumps(heading_fls(0.2), fmt).encode()))
-        files.append((f"random{suffix}", dumps(random_system(5), fmt).encode()))
+        type1 = fmt not in TYPE2
+        files.append((f"paper{suffix}", dumps(heading_fls(0.0 if type1 else 0.2), fmt).encode()))
+        files.append((f"random{suffix}", dumps(random_system(5, type1=type1, identifiers=type1), fmt).encode()))
     return files
 
 

@@ -43,6 +43,7 @@ from .errors import FisFormatError, FisFormatWarning, UnsupportedFeatureError
 __all__ = [
     "FORMATS",
     "READ_ONLY",
+    "TYPE2",
     "FisFormatError",
     "FisFormatWarning",
     "UnsupportedFeatureError",
@@ -64,6 +65,8 @@ FORMATS: dict[str, tuple[str, _Loader, _Dumper]] = {
     "fis": (".fis", matfis.loads, matfis.dumps),
     "fll": (".fll", fll.loads, fll.dumps),
 }
+#: the formats that carry interval type-2 systems (the others are type-1 only)
+TYPE2 = frozenset({"toml", "t2fis", "fis"})
 #: format name -> (file suffix, loads): the formats it2track only reads
 READ_ONLY: dict[str, tuple[str, _Loader]] = {
     "fcl": (".fcl", fcl.loads),

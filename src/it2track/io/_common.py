@@ -18,6 +18,7 @@ from ..fuzzy import (
     AnySystem,
     Connective,
     Consequent,
+    HybridSystem,
     Input,
     IT2Mamdani,
     IT2Set,
@@ -28,6 +29,9 @@ from ..fuzzy import (
     Rule,
     T1Mamdani,
     T1Sugeno,
+    T1Tsukamoto,
+    Trapezoid,
+    Triangle,
     UncertainMeanGaussianUpper,
 )
 from ..fuzzy.terms import MATLAB_MFS, from_fuzzylite, to_matlab
@@ -55,6 +59,7 @@ __all__ = [
     "shoulder_problem",
     "sugeno_span",
     "system_of",
+    "widened",
 ]
 
 #: fuzzylite's ``.fis`` names of its own terms (parameters in fuzzylite's order)
@@ -162,6 +167,25 @@ def shoulder_problem(mf: MembershipFunction, universe: tuple[float, float], labe
                     "(constant beyond the peak) cannot represent; move the shoulder to the range "
                     "end")
     return None
+
+
+def widened(mf: MembershipFunction, universe: tuple[float, float]) -> MembershipFunction:
+    """``mf`` with a shoulder inside the universe moved out to its end: the same values on the
+    universe, and the same for tools whose triangles and trapezoids are 0 beyond their feet
+    (:func:`shoulder_problem`)."""
+    if type(mf) not in (Triangle, Trapezoid):
+        return mf
+    assert isinstance(mf, PiecewiseLinear)
+    a, b, c, d, h = mf.as_trapezoid()
+    lo, hi = universe
+    left, right = a == b and a > lo, c == d and d < hi
+    if not (left or right):
+        return mf
+    if left:
+        a = b = lo
+    if right:
+        c = d = hi
+    return Trapezoid(a, b, c, d, h)
 
 
 def mf_line(key: str, name: str, kind: str, params: Sequence[float], what: str) -> str:
@@ -388,7 +412,7 @@ def consequent_tables(
     return tables, which
 
 
-def mamdani_indices(system: IT2Mamdani | T1Mamdani) -> list[list[int]]:
+def mamdani_indices(system: IT2Mamdani | T1Mamdani | T1Tsukamoto) -> list[list[int]]:
     """Each rule's 1-based output set index per output (0: not acting on it)."""
     return [
         [0 if c is None else out.set_index(str(c)) + 1
@@ -409,6 +433,9 @@ def fmt_rule(system: AnySystem, rule: Rule, out_indices: Sequence[int]) -> str:
 
 
 def check_writable(system: object, fmt: str) -> None:
+    if isinstance(system, T1Tsukamoto | HybridSystem):
+        raise UnsupportedFeatureError(
+            f"the {fmt} format cannot carry a {type(system).__name__}; save as .fll")
     if not isinstance(system, IT2Sugeno | T1Sugeno | IT2Mamdani | T1Mamdani):
         raise TypeError(f"can only write IT2Sugeno, T1Sugeno, IT2Mamdani or T1Mamdani systems "
                         f"to {fmt}, got {type(system).__name__}")

@@ -299,7 +299,7 @@ class Parser:
             else:
                 raise self.error(key.line, f"unexpected {key.text!r} in {word} {var.name}")
         self.expect(end)
-        if not var.terms:
+        if not var.terms and word == "DEFUZZIFY":  # an input may feed linear FUNCTIONs only
             raise self.error(tok.line, f"{word} {var.name}: no TERM")
 
     def term(self, var: FclVar, word: str) -> None:
@@ -372,6 +372,11 @@ class Parser:
             parens = self.skip("(")
             var = self.ident("an output variable")
             self.expect("IS")
+            if self.at(*_HEDGES, "NOT") and (nxt := self.peek(1)) is not None and (
+                    nxt.kind == "ident"):
+                hedge = self.next("a hedge")
+                raise self.error(hedge.line, f"a hedge or NOT ({hedge.text!r}) on the conclusion "
+                                 f"{var.text!r} is not supported")
             term = self.ident("a term")
             if parens:
                 self.expect(")")

@@ -3,6 +3,8 @@ block, agreeing), rules and defaults (see :mod:`.fcl` for what is read)."""
 
 from __future__ import annotations
 
+import dataclasses
+import itertools
 import math
 from typing import Any
 
@@ -10,6 +12,7 @@ from ..fuzzy import (
     Aggregation,
     AnySystem,
     Consequent,
+    HybridSystem,
     Implication,
     Input,
     Output,
@@ -17,6 +20,7 @@ from ..fuzzy import (
     SNorm,
     T1Mamdani,
     T1Sugeno,
+    T1Tsukamoto,
     TNorm,
 )
 from ._fclbuild import ACCU, AND, MAMDANI, OR, PARTNER_OF_OR, SUGENO, Builder
@@ -82,8 +86,24 @@ def _rule(b: Builder, rule: RuleNode, antecedent: list[str | None], cons: list[C
     return made
 
 
+def _kind(b: Builder, var: FclVar) -> str:
+    """``"mamdani"``, ``"sugeno"`` or ``"tsukamoto"`` (a singleton method on MF terms, as
+    fuzzylite exports its Tsukamoto engines)."""
+    if _method(b, var) in MAMDANI:
+        return "mamdani"
+    mfs = [t.kind in ("points", "shape") and t.shape not in ("Constant", "Linear")
+           for t in var.terms.values()]
+    if all(mfs):
+        return "tsukamoto"
+    if any(mfs):
+        raise b.error(var.block_line, f"the terms of {var.name!r} mix values and membership "
+                      "functions")
+    return "sugeno"
+
+
 def build(parser: Parser, fb: FunctionBlock) -> AnySystem:
-    """The system of one parsed function block."""
+    """The system of one parsed function block: one system, or a
+    :class:`~it2track.fuzzy.HybridSystem` of one per run of outputs of the same kind."""
     b = Builder(parser, fb)
     if not fb.inputs:
         raise b.error(fb.line, "no VAR_INPUT variables")
@@ -94,17 +114,6 @@ def build(parser: Parser, fb: FunctionBlock) -> AnySystem:
         if var.block_line is None:
             kind = "FUZZIFY" if var.name in fb.inputs else "DEFUZZIFY"
             raise b.error(var.line, f"variable {var.name!r} has no {kind} block")
-    methods = {name: _method(b, var) for name, var in fb.outputs.items()}
-    kinds = {m in MAMDANI for m in methods.values()}
-    if len(kinds) > 1:
-        raise b.error(fb.line, f"the outputs mix Mamdani and singleton methods "
-                      f"{sorted(set(methods.values()))} (a hybrid system), which is not supported")
-    mamdani = kinds.pop()
-    defuzz = {MAMDANI.get(m) or SUGENO[m] for m in methods.values()}
-    if len(defuzz) > 1:
-        raise b.error(fb.line, f"the outputs use different METHODs {sorted(set(methods.values()))}"
-                      "; it2track systems have one")
-    in_names = list(fb.inputs)
     inputs = []
     for var in fb.inputs.values():
         universe = b.universe(var)
@@ -113,24 +122,11 @@ def build(parser: Parser, fb: FunctionBlock) -> AnySystem:
                           "lo < hi")
         sets = [(t.name, b.mf(t, universe)) for t in var.terms.values()]
         inputs.append(_variable(b, Input, var, universe, sets))
-    tnorm = _Setting("AND", TNorm.MINIMUM)
-    snorm = _Setting("OR", SNorm.MAXIMUM)
-    act = _Setting("ACT", Implication.MINIMUM)
-    accu = _Setting("ACCU", Aggregation.MAXIMUM)
-    for var in fb.outputs.values():
-        if var.accu is not None:
-            if var.accu.upper not in ACCU:
-                raise b.error(var.accu.line, f"ACCU : {var.accu.text} is not supported "
-                              f"({', '.join(ACCU)})")
-            accu.set(b, ACCU[var.accu.upper], var.accu)
-    rules: list[tuple[RuleNode, str, list]] = []
+    parsed: list[tuple[RuleNode, str, list, Block, TNorm, SNorm]] = []
     for block in fb.blocks:
         and_, or_ = _op(b, block, "AND", AND), _op(b, block, "OR", OR)
         and_ = and_ or PARTNER_OF_OR.get(or_) or TNorm.MINIMUM
         or_ = or_ or DUALS.get(and_) or SNorm.MAXIMUM
-        implication = _op(b, block, "ACT", _ACT)
-        if block.ops.get("ACCU") is not None:
-            accu.set(b, _op(b, block, "ACCU", ACCU), block.ops["ACCU"])
         for rule in block.rules:
             for prop in propositions(rule.condition):
                 if prop.variable not in fb.inputs:
@@ -141,27 +137,66 @@ def build(parser: Parser, fb: FunctionBlock) -> AnySystem:
                 op, props = flatten(rule.condition, tnorm=and_, snorm=or_)
             except ValueError as exc:
                 raise b.error(rule.line, str(exc)) from None
-            if len(props) > 1:
-                setting, value, key = (tnorm, and_, "AND") if op == "and" else (snorm, or_, "OR")
-                setting.set(b, value, block.ops.get(key) or block.ops.get(
-                    "OR" if key == "AND" else "AND"))
-            if mamdani:
-                act.set(b, implication or Implication.MINIMUM, block.ops.get("ACT"))
-            rules.append((rule, op, props))
-    if not rules:
+            parsed.append((rule, op, props, block, and_, or_))
+    if not parsed:
         raise b.error(fb.line, f"FUNCTION_BLOCK {fb.name}: no RULE")
-    return _assemble(b, fb, inputs, in_names, rules, mamdani, defuzz.pop(),
+    kinds = [(name, _kind(b, var)) for name, var in fb.outputs.items()]
+    parts = []
+    for kind, run in itertools.groupby(kinds, key=lambda item: item[1]):
+        names = [name for name, _ in run]
+        mine = [p for p in parsed if any(v in names for v, _ in p[0].conclusions)]
+        if not mine:
+            raise b.error(fb.outputs[names[0]].block_line, f"no rule concludes {names}")
+        parts.append(_part(b, fb, inputs, names, kind, mine))
+    if len(parts) == 1:
+        return parts[0]
+    hybrid: AnySystem = b.guarded(fb.line, lambda: HybridSystem(tuple(parts), name=fb.name))
+    return hybrid
+
+
+def _part(b: Builder, fb: FunctionBlock, inputs: list[Input], names: list[str], kind: str,
+          parsed: list[tuple[RuleNode, str, list, Block, TNorm, SNorm]]) -> AnySystem:
+    """The system of one run of outputs: the operators its rules' blocks agree on."""
+    outputs = {name: fb.outputs[name] for name in names}
+    tnorm = _Setting("AND", TNorm.MINIMUM)
+    snorm = _Setting("OR", SNorm.MAXIMUM)
+    act = _Setting("ACT", Implication.MINIMUM)
+    accu = _Setting("ACCU", Aggregation.MAXIMUM)
+    methods = _Setting("METHOD", None)
+    for var in outputs.values():
+        method = _method(b, var)
+        methods.set(b, MAMDANI.get(method) or SUGENO[method], var.method)
+        if var.accu is not None:
+            if var.accu.upper not in ACCU:
+                raise b.error(var.accu.line, f"ACCU : {var.accu.text} is not supported "
+                              f"({', '.join(ACCU)})")
+            accu.set(b, ACCU[var.accu.upper], var.accu)
+    rules = []
+    for rule, op, props, block, and_, or_ in parsed:
+        if block.ops.get("ACCU") is not None:
+            accu.set(b, _op(b, block, "ACCU", ACCU), block.ops["ACCU"])
+        if len(props) > 1:
+            setting, value, key = (tnorm, and_, "AND") if op == "and" else (snorm, or_, "OR")
+            setting.set(b, value, block.ops.get(key) or block.ops.get(
+                "OR" if key == "AND" else "AND"))
+        if kind == "mamdani":
+            act.set(b, _op(b, block, "ACT", _ACT) or Implication.MINIMUM, block.ops.get("ACT"))
+        conclusions = [c for c in rule.conclusions if c[0] in outputs]
+        rules.append((dataclasses.replace(rule, conclusions=conclusions), op, props))
+    return _assemble(b, fb, outputs, inputs, rules, kind, methods.value,
                      (tnorm.value, snorm.value, act.value, accu))
 
 
-def _assemble(b: Builder, fb: FunctionBlock, inputs: list[Input], in_names: list[str],
-              rules: list[tuple[RuleNode, str, list]], mamdani: bool, defuzzifier: Any,
+def _assemble(b: Builder, fb: FunctionBlock, outputs: dict[str, FclVar], inputs: list[Input],
+              rules: list[tuple[RuleNode, str, list]], kind: str, defuzzifier: Any,
               ops: tuple[TNorm, SNorm, Implication, _Setting]) -> AnySystem:
     tnorm, snorm, implication, accu = ops
-    out_names = list(fb.outputs)
+    in_names = list(fb.inputs)
+    out_names = list(outputs)
+    sugeno = kind == "sugeno"
     values: dict[str, dict[str, Consequent]] = {}
-    if not mamdani:
-        for name, var in fb.outputs.items():
+    if sugeno:
+        for name, var in outputs.items():
             values[name] = {t.name: b.consequent(t, in_names) for t in var.terms.values()}
     built: list[Rule] = []
     users: dict[tuple[str, str], int] = {}
@@ -175,15 +210,15 @@ def _assemble(b: Builder, fb: FunctionBlock, inputs: list[Input], in_names: list
             antecedent[k], negated[k] = prop.term, prop.negated
         cons: list[Consequent] = [None] * len(out_names)
         for vname, term in rule.conclusions:
-            if vname not in fb.outputs:
+            if vname not in outputs:
                 raise b.error(rule.line, f"rule concludes {vname!r}, which is not an output")
-            if term not in fb.outputs[vname].terms:
+            if term not in outputs[vname].terms:
                 raise b.error(rule.line, f"output {vname!r} has no term {term!r}")
             k = out_names.index(vname)
             if cons[k] is not None:
                 raise b.error(rule.line, f"rule concludes {vname!r} twice")
-            cons[k] = term if mamdani else values[vname][term]
-            if not mamdani and accu.value is not Aggregation.SUM and (vname, term) in users:
+            cons[k] = values[vname][term] if sugeno else term
+            if sugeno and accu.value is not Aggregation.SUM and (vname, term) in users:
                 raise b.error(rule.line, f"term {term!r} of {vname!r} is concluded by this rule "
                               f"and the one at line {users[(vname, term)]}: with "
                               f"ACCU : {accu.token.text if accu.token else 'MAX'} that is not a "
@@ -192,10 +227,10 @@ def _assemble(b: Builder, fb: FunctionBlock, inputs: list[Input], in_names: list
         if not 0.0 <= rule.weight <= 1.0:
             raise b.error(rule.line, f"rule weight {rule.weight:g} must be in [0, 1]")
         built.append(_rule(b, rule, antecedent, cons, op, negated))
-    defaults = [var.default for var in fb.outputs.values()]
+    defaults = [var.default for var in outputs.values()]
     numbers = [None if d is None or math.isnan(d[0]) else d[0] for d in defaults]
     if any(v is None for v in numbers) and any(v is not None for v in numbers):
-        var = next(v for v, n in zip(fb.outputs.values(), numbers, strict=True) if n is None)
+        var = next(v for v, n in zip(outputs.values(), numbers, strict=True) if n is None)
         raise b.error(var.block_line, "give DEFAULT for every output or for none")
     options: dict[str, Any] = {
         "inputs": tuple(inputs), "rules": tuple(built), "name": fb.name, "tnorm": tnorm,
@@ -203,20 +238,24 @@ def _assemble(b: Builder, fb: FunctionBlock, inputs: list[Input], in_names: list
         "on_zero_firing": None if numbers[0] is None else (
             numbers[0] if len(numbers) == 1 else tuple(numbers)),
     }
-    if not mamdani:
+    if sugeno:
         if len(out_names) > 1 or out_names != ["output1"]:
             options["outputs"] = tuple(out_names)
-        sugeno: AnySystem = b.guarded(None, lambda: T1Sugeno(**options))
-        return sugeno
-    outputs = []
-    for var in fb.outputs.values():
+        made: AnySystem = b.guarded(None, lambda: T1Sugeno(**options))
+        return made
+    sets_of = []
+    for var in outputs.values():
         universe = b.universe(var)
         if universe[0] == universe[1]:
-            raise b.error(var.range_line, f"RANGE of {var.name!r} is a point; a Mamdani output "
-                          "needs lo < hi")
+            raise b.error(var.range_line, f"RANGE of {var.name!r} is a point; an output with "
+                          "sets needs lo < hi")
         sets = [(t.name, b.mf(t, universe)) for t in var.terms.values()]
-        outputs.append(_variable(b, Output, var, universe, sets))
-    options.update(outputs=tuple(outputs), implication=implication, aggregation=accu.value,
-                   resolution=POINTS)
-    system: AnySystem = b.guarded(None, lambda: T1Mamdani(**options))
-    return system
+        sets_of.append(_variable(b, Output, var, universe, sets))
+    options["outputs"] = tuple(sets_of)
+    if kind == "tsukamoto":  # fuzzylite 8 combines the firing of a set with the ACCU
+        options["aggregation"] = accu.value if accu.token is not None else Aggregation.SUM
+        system: AnySystem = b.guarded(None, lambda: T1Tsukamoto(**options))
+        return system
+    options.update(implication=implication, aggregation=accu.value, resolution=POINTS)
+    mamdani: AnySystem = b.guarded(None, lambda: T1Mamdani(**options))
+    return mamdani

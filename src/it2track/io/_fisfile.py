@@ -24,6 +24,7 @@ from ..fuzzy import (
     IT2Set,
     Output,
     Rule,
+    Sampling,
     SNorm,
     T1Mamdani,
     TNorm,
@@ -100,7 +101,11 @@ class FisReader:
 
     def __init__(self, text: str, path: str) -> None:
         self.doc = Document(text, path, lenient=self.lenient)
-        self.mamdani = False
+        self.type = "sugeno"
+
+    @property
+    def mamdani(self) -> bool:
+        return self.type == "mamdani"
 
     # -- the skeleton --------------------------------------------------------------------------
     def read(self) -> AnySystem:
@@ -108,7 +113,7 @@ class FisReader:
         system = doc.section("System")
         doc.check_keys(system, set(self.system_keys))
         name = doc.string(system.entries["Name"]) if "Name" in system.entries else ""
-        self.mamdani = self.system_type(system) == "mamdani"
+        self.type = self.system_type(system)
         if "Version" in system.entries:
             doc.number(system.entries["Version"])
         options: dict[str, Any] = {"name": name, **self.header(system)}
@@ -117,13 +122,14 @@ class FisReader:
             self.variable(doc.section(f"Input{k}", promised_by=counts.n_in_entry), Input)
             for k in range(1, counts.n_inputs + 1)
         ]
-        outputs: list[Output] = []
-        names: list[str] = []
+        outputs: list[Output | str] = []
+        kinds: list[str] = []
         ranges: list[tuple[tuple[float, float], Section]] = []
         consequents: list[list[Consequent]] = []
         for k in range(1, counts.n_outputs + 1):
             section = doc.section(f"Output{k}", promised_by=counts.n_out_entry)
-            if self.mamdani:
+            kinds.append(self.output_kind(section))
+            if kinds[-1] != "sugeno":  # an output with sets: Mamdani or Tsukamoto
                 out = self.variable(section, Output)
                 assert isinstance(out, Output)
                 outputs.append(out)
@@ -131,7 +137,7 @@ class FisReader:
                 consequents.append([s.name for s in out.sets])
                 continue
             doc.check_keys(section, set(self.sugeno_output_keys), _MF_PATTERN)
-            names.append(doc.string(doc.entry(section, "Name")))
+            outputs.append(doc.string(doc.entry(section, "Name")))
             # a Sugeno output's Range only gives the zero-firing midpoint (MATLAB's juggler.fis
             # has [0 0])
             ranges.append((doc.universe(doc.entry(section, "Range"), point_ok=True), section))
@@ -144,13 +150,18 @@ class FisReader:
             ])
         rules = build_rules(doc, doc.counted_rules(counts), inputs, consequents)
         self.check_rules(rules)
-        return self.finish(options, inputs, outputs, names, ranges, consequents, rules)
+        return self.finish(options, inputs, outputs, kinds, ranges, rules)
+
+    def output_kind(self, section: Section) -> str:
+        """``"mamdani"``, ``"sugeno"`` or ``"tsukamoto"``: how ``[OutputN]`` is read."""
+        return "mamdani" if self.mamdani else "sugeno"
 
     def variable(self, section: Section, cls: type) -> Input:
         """An ``[InputN]`` (or a Mamdani ``[OutputN]``) as an :class:`Input` (or
         :class:`Output`)."""
         doc = self.doc
-        doc.check_keys(section, set(self.variable_keys), self.mf_pattern)
+        keys = self.variable_keys | (self.sugeno_output_keys if cls is Output else frozenset())
+        doc.check_keys(section, set(keys), self.mf_pattern)
         name_entry = doc.entry(section, "Name")
         universe = doc.universe(doc.entry(section, "Range"))
         if cls is Output:
@@ -158,7 +169,8 @@ class FisReader:
         else:
             self.input_extras(section)
         count_entry = doc.entry(section, "NumMFs")
-        n = doc.integer(count_entry, minimum=1)
+        # an input without MFs feeds linear consequents only (MATLAB's slcp1.fis)
+        n = doc.integer(count_entry, minimum=1 if cls is Output else 0)
         sets = self.sets(section, n, count_entry, universe)
         var = build_input(doc, doc.string(name_entry), universe, sets, name_entry.line)
         if cls is Output:
@@ -242,13 +254,13 @@ class FisReader:
         self,
         options: dict[str, Any],
         inputs: list[Input],
-        outputs: list[Output],
-        names: list[str],
+        outputs: list[Output | str],
+        kinds: list[str],
         ranges: list[tuple[tuple[float, float], Section]],
-        consequents: list[list[Consequent]],
         rules: list[Rule],
     ) -> AnySystem:
-        """The system, from everything read."""
+        """The system, from everything read (``outputs``: an :class:`Output` with sets, or a
+        Sugeno output's name, by output)."""
         raise NotImplementedError
 
 
@@ -260,10 +272,11 @@ class FisReader:
 def mamdani_methods(system: IT2Mamdani | T1Mamdani, suffix: str) -> tuple[str, str]:
     """``(ImpMethod, AggMethod)`` of a Mamdani system, refusing a resolution other than
     MATLAB's 101 points."""
-    if system.resolution != RESOLUTION:
+    if system.resolution != RESOLUTION or system.sampling is not Sampling.ENDPOINTS:
         raise UnsupportedFeatureError(
-            f"the {suffix} format cannot carry resolution={system.resolution} (MATLAB "
-            f"evaluates {RESOLUTION} points); save as .toml"
+            f"the {suffix} format cannot carry resolution={system.resolution}, "
+            f"sampling={system.sampling.value!r} (MATLAB evaluates {RESOLUTION} points, both "
+            "ends included); save as .toml"
         )
     return fis_name(system.implication), fis_name(system.aggregation)
 

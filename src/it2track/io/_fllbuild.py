@@ -4,6 +4,7 @@ cannot evaluate as fuzzylite does (the rules are in :mod:`.fll`'s docstring)."""
 
 from __future__ import annotations
 
+import itertools
 import math
 import re
 from collections.abc import Callable
@@ -17,15 +18,17 @@ from ..fuzzy import (
     AnySystem,
     Consequent,
     Defuzzifier,
+    HybridSystem,
     Implication,
     Input,
-    Linear,
     MembershipFunction,
     Output,
     Rule,
+    Sampling,
     SNorm,
     T1Mamdani,
     T1Sugeno,
+    T1Tsukamoto,
     TNorm,
     WeightedDefuzzifier,
 )
@@ -44,9 +47,10 @@ INTEGRAL = {"Centroid": Defuzzifier.CENTROID, "Bisector": Defuzzifier.BISECTOR,
 #: fuzzylite's weighted defuzzifiers (Takagi-Sugeno) -> ours
 WEIGHTED = {"WeightedAverage": WeightedDefuzzifier.AVERAGE, "WeightedSum": WeightedDefuzzifier.SUM}
 _DEFAULT_RESOLUTION = 1000  # fuzzylite 8's IntegralDefuzzifier default
-_MAX_RESOLUTION = 99_999  # our resolution (N + 1) is at most 100 000
+_MAX_RESOLUTION = 100_000
 _HEDGES = ("not", "very", "somewhat", "extremely", "seldom", "any")
 _TOKEN_RE = re.compile(r"\(|\)|[^\s()]+")
+_CONSEQUENTS = ("Constant", "Linear", "Function")
 _E = TypeVar("_E", TNorm, SNorm, Implication, Aggregation)
 
 
@@ -54,7 +58,7 @@ _E = TypeVar("_E", TNorm, SNorm, Implication, Aggregation)
 class _Output:
     section: Section
     universe: tuple[float, float]
-    mamdani: bool
+    kind: str  # "mamdani", "sugeno" or "tsukamoto"
     terms: dict[str, tuple[Any, int]]  # name -> (MF, Consequent), line
     uses: dict[str, int] = field(default_factory=dict)  # term -> rules concluding it
 
@@ -150,8 +154,6 @@ class _Builder:
         self.flag(section, "lock-range", False, "")
         universe = self.universe(section)
         name = self.name(section)
-        if not section.terms:
-            raise self.error(section.line, f"InputVariable {name}: no term")
         sets = [self.mf(item, universe) for item in section.terms]
         return self.guarded(section.line, lambda: Input(name, universe, sets))
 
@@ -168,17 +170,31 @@ class _Builder:
         if kind not in INTEGRAL and kind not in WEIGHTED:
             known = ", ".join([*INTEGRAL, *WEIGHTED])
             raise self.error(item.line, f"defuzzifier {kind!r} is not supported ({known})")
-        mamdani = kind in INTEGRAL
+        params = item.value.split()[1:]
+        if kind in INTEGRAL:
+            out_kind = "mamdani"
+        elif params in (["TakagiSugeno"], ["Tsukamoto"]):
+            out_kind = "sugeno" if params == ["TakagiSugeno"] else "tsukamoto"
+        elif params in ([], ["Automatic"]):  # fuzzylite infers it from the terms
+            kinds = {t.value.split()[1] in _CONSEQUENTS for t in section.terms
+                     if len(t.value.split()) > 1}
+            if len(kinds) > 1:
+                raise self.error(item.line, f"{kind} Automatic: the terms of "
+                                 f"{section.name} mix Takagi-Sugeno and Tsukamoto kinds")
+            out_kind = "sugeno" if kinds != {False} else "tsukamoto"
+        else:
+            raise self.error(item.line, f"defuzzifier: {item.value} is not supported ({kind} "
+                             "[TakagiSugeno|Tsukamoto|Automatic])")
         # a Takagi-Sugeno output's range only bounds lock-range (MATLAB's juggler has [0 0])
-        universe = self.universe(section, point_ok=not mamdani)
+        universe = self.universe(section, point_ok=out_kind == "sugeno")
         terms: dict[str, tuple[Any, int]] = {}
         for t in section.terms:
             value: Any
-            if mamdani:
-                name, value = self.mf(t, universe)
+            if out_kind == "sugeno":
+                name, tkind, values = self.term(t, universe)
+                value = self.consequent(t.line, name, tkind, values, n_inputs)
             else:
-                name, tkind, params = self.term(t, universe)
-                value = self.consequent(t.line, name, tkind, params, n_inputs)
+                name, value = self.mf(t, universe)
             if name in terms:
                 raise self.error(t.line, f"duplicate term {name!r} (first at line "
                                  f"{terms[name][1]}): a rule naming it is ambiguous (fuzzylite "
@@ -186,13 +202,13 @@ class _Builder:
             terms[name] = (value, t.line)
         if not terms:
             raise self.error(section.line, f"OutputVariable {section.name}: no term")
-        if self.flag(section, "lock-range", False, "") and not mamdani:
+        if self.flag(section, "lock-range", False, "") and out_kind != "mamdani":
             for value, line in terms.values():
-                if isinstance(value, Linear) or not universe[0] <= value <= universe[1]:
+                if not isinstance(value, tuple) or not universe[0] <= value[0] <= universe[1]:
                     raise self.error(section.items["lock-range"].line,
                                      "lock-range: true clips this output to its range, which "
                                      f"it2track does not (the term at line {line} can leave it)")
-        return _Output(section, universe, mamdani, terms)
+        return _Output(section, universe, out_kind, terms)
 
     # -- rules ---------------------------------------------------------------------------------
     def rule(self, item: Item) -> tuple[Condition, list[tuple[str, str]], float]:
@@ -289,7 +305,8 @@ def _one(values: dict[Any, int], what: str, builder: _Builder) -> Any:
 
 
 def build(doc: Document) -> AnySystem:
-    """The system of a parsed ``.fll`` document."""
+    """The system of a parsed ``.fll`` document: one system, or a
+    :class:`~it2track.fuzzy.HybridSystem` of one per run of outputs of the same kind."""
     b = _Builder(doc)
     engine = next((s for s in doc.sections if s.kind == "Engine"), None)
     inputs = [b.input(s) for s in doc.sections if s.kind == "InputVariable"]
@@ -304,15 +321,29 @@ def build(doc: Document) -> AnySystem:
             raise b.error(section.line, f"variable {section.name!r} declared twice (first at "
                           f"line {seen[section.name]})")
         seen[section.name] = section.line
-    if len({o.mamdani for o in outputs}) > 1:
-        raise b.error(outputs[0].section.line, "the engine mixes Mamdani and Takagi-Sugeno "
-                      "outputs (a hybrid engine), which is not supported")
-    mamdani = outputs[0].mamdani
-    # Blocks: fuzzylite ignores disabled ones. Each rule's condition is flattened with its
-    # block's operators; the system takes the operators the rules use.
-    tnorms: dict[Any, int] = {}
-    snorms: dict[Any, int] = {}
-    implications: dict[Any, int] = {}
+    rules = _rules(b, doc, inputs, outputs)
+    name = engine.name if engine is not None else ""
+    runs = [list(group) for _, group in itertools.groupby(outputs, key=lambda o: o.kind)]
+    parts = [_part(b, inputs, run, rules, name) for run in runs]
+    if len(parts) == 1:
+        return parts[0]
+    return b.guarded(None, lambda: HybridSystem(tuple(parts), name=name))
+
+
+@dataclass(frozen=True)
+class _ParsedRule:
+    item: Item
+    op: str
+    props: list[Proposition]
+    conclusions: list[tuple[str, str]]
+    weight: float
+    ops: tuple[tuple[Any, int], tuple[Any, int], tuple[Any, int]]  # conj, disj, imp: line
+
+
+def _rules(b: _Builder, doc: Document, inputs: list[Input], outputs: list[_Output]
+           ) -> list[_ParsedRule]:
+    """Every rule of the enabled blocks (fuzzylite ignores disabled ones), its condition
+    flattened with its block's operators."""
     parsed = []
     for block in (s for s in doc.sections if s.kind == "RuleBlock"):
         if not b.flag(block, "enabled", True, ""):
@@ -321,9 +352,9 @@ def build(doc: Document) -> AnySystem:
         if activation is not None and activation.value not in ("", "none", "General"):
             raise b.error(activation.line, f"activation: {activation.value} is not supported "
                           "(General: every rule fires by its degree)")
-        conj, conj_line = b.operator(block, "conjunction", TNorm)
-        disj, disj_line = b.operator(block, "disjunction", SNorm)
-        imp, imp_line = b.operator(block, "implication", Implication)
+        ops = (b.operator(block, "conjunction", TNorm), b.operator(block, "disjunction", SNorm),
+               b.operator(block, "implication", Implication))
+        (conj, conj_line), (disj, disj_line), _ = ops
         for item in block.rules:
             condition, conclusions, weight = b.rule(item)
             _check_names(b, item, condition, inputs, outputs)
@@ -338,28 +369,52 @@ def build(doc: Document) -> AnySystem:
                 if used is None:
                     raise b.error(item.line, f"the rule joins propositions with {op}, but its "
                                   f"block has {key}: none (line {line})")
-                (tnorms if op == "and" else snorms).setdefault(used, line)
-            if mamdani:
-                if imp is None:
-                    raise b.error(item.line, f"a Mamdani rule needs an implication; its block has "
-                                  f"implication: none (line {imp_line})")
-                implications.setdefault(imp, imp_line)
-            parsed.append((item, op, props, conclusions, weight))
+            parsed.append(_ParsedRule(item, op, props, conclusions, weight, ops))
     if not parsed:
         raise b.error(None, "no rule (in an enabled RuleBlock)")
+    return parsed
+
+
+def _part(b: _Builder, inputs: list[Input], outputs: list[_Output], rules: list[_ParsedRule],
+          name: str) -> AnySystem:
+    """The system of a run of outputs of one kind, with the rules concluding them."""
+    names = {o.section.name for o in outputs}
+    mine = [r for r in rules if any(v in names for v, _ in r.conclusions)]
+    if not mine:
+        raise b.error(outputs[0].section.line, f"no rule concludes {sorted(names)}")
+    kind = outputs[0].kind
+    tnorms: dict[Any, int] = {}
+    snorms: dict[Any, int] = {}
+    implications: dict[Any, int] = {}
+    for r in mine:
+        (conj, conj_line), (disj, disj_line), (imp, imp_line) = r.ops
+        if len(r.props) > 1:
+            if r.op == "and":
+                tnorms.setdefault(conj, conj_line)
+            else:
+                snorms.setdefault(disj, disj_line)
+        if kind == "mamdani":
+            if imp is None:
+                raise b.error(r.item.line, f"a Mamdani rule needs an implication; its block has "
+                              f"implication: none (line {imp_line})")
+            implications.setdefault(imp, imp_line)
     options: dict[str, Any] = {
-        "name": engine.name if engine is not None else "",
-        "tnorm": _one(tnorms, "conjunction", b) or (TNorm.MINIMUM if mamdani else TNorm.PRODUCT),
+        "name": name,
+        "tnorm": _one(tnorms, "conjunction", b) or (
+            TNorm.PRODUCT if kind == "sugeno" else TNorm.MINIMUM),
         "snorm": _one(snorms, "disjunction", b) or SNorm.MAXIMUM,
     }
-    rules = [_rule(b, inputs, outputs, *entry) for entry in parsed]
+    built = [_rule(b, inputs, outputs, r.item, r.op, r.props,
+                   [c for c in r.conclusions if c[0] in names], r.weight) for r in mine]
     options.update(_output_options(b, outputs, implications))
-    cls: type = T1Mamdani if mamdani else T1Sugeno
-    if mamdani:
-        options["outputs"] = tuple(_mamdani_output(b, o) for o in outputs)
-    elif len(outputs) > 1 or outputs[0].section.name != "output1":
-        options["outputs"] = tuple(o.section.name for o in outputs)
-    return b.guarded(None, lambda: cls(inputs=tuple(inputs), rules=tuple(rules), **options))
+    if kind == "sugeno":
+        cls: type = T1Sugeno
+        if len(outputs) > 1 or outputs[0].section.name != "output1":
+            options["outputs"] = tuple(o.section.name for o in outputs)
+    else:
+        cls = T1Mamdani if kind == "mamdani" else T1Tsukamoto
+        options["outputs"] = tuple(_mf_output(b, o) for o in outputs)
+    return b.guarded(None, lambda: cls(inputs=tuple(inputs), rules=tuple(built), **options))
 
 
 def _check_names(b: _Builder, item: Item, condition: Condition, inputs: list[Input],
@@ -372,7 +427,7 @@ def _check_names(b: _Builder, item: Item, condition: Condition, inputs: list[Inp
             raise b.error(item.line, f"the rule names {prop.variable!r}, which is not an input")
 
 
-def _mamdani_output(b: _Builder, out: _Output) -> Output:
+def _mf_output(b: _Builder, out: _Output) -> Output:
     sets = [(t, mf) for t, (mf, _) in out.terms.items()]
     made: Output = b.guarded(out.section.line,
                              lambda: Output(out.section.name, out.universe, sets))
@@ -401,7 +456,7 @@ def _rule(b: _Builder, inputs: list[Input], outputs: list[_Output], item: Item, 
             raise b.error(item.line, f"output {variable!r} has no term {term!r}")
         if consequents[k] is not None:
             raise b.error(item.line, f"the rule concludes {variable!r} twice")
-        consequents[k] = term if outputs[k].mamdani else outputs[k].terms[term][0]
+        consequents[k] = outputs[k].terms[term][0] if outputs[k].kind == "sugeno" else term
         outputs[k].uses[term] = outputs[k].uses.get(term, 0) + 1
     return b.guarded(item.line, lambda: Rule(antecedent, consequents=consequents, weight=weight,
                                              connective=op, negated=negated))
@@ -426,35 +481,36 @@ def _output_options(b: _Builder, outputs: list[_Output], implications: dict[Any,
                           "a finite number")
         defaults.append((None if math.isnan(value) else value, section.line))
         agg, agg_line = b.operator(section, "aggregation", Aggregation)
-        if out.mamdani:
+        if out.kind == "mamdani":
             kinds.setdefault(INTEGRAL[kind], item.line)
             if len(params) > 1 or (params and not params[0].isdigit()):
                 raise b.error(item.line, f"defuzzifier: expected {kind} [resolution], got "
                               f"{show(item.value)}")
             n = int(params[0]) if params else _DEFAULT_RESOLUTION
-            if not 2 <= n <= _MAX_RESOLUTION:
-                raise b.error(item.line, f"{kind} resolution {n} must be in [2, {_MAX_RESOLUTION}]")
-            resolutions.setdefault(n + 1, item.line)
+            if not 3 <= n <= _MAX_RESOLUTION:
+                raise b.error(item.line, f"{kind} resolution {n} must be in [3, {_MAX_RESOLUTION}]")
+            resolutions.setdefault(n, item.line)
             if agg is None:
                 raise b.error(agg_line, f"a Mamdani output needs an aggregation; {section.name} "
                               "has none")
             aggregations.setdefault(agg, agg_line)
             continue
         kinds.setdefault(WEIGHTED[kind], item.line)
-        if params and params != ["TakagiSugeno"] and params != ["Automatic"]:
-            raise b.error(item.line, f"defuzzifier: {item.value} is not supported "
-                          f"({kind} [TakagiSugeno|Automatic] with Constant and Linear terms)")
-        if agg is not None and agg is not Aggregation.SUM:
+        if out.kind == "tsukamoto":  # fuzzylite 8 combines a term's activations with it
+            aggregations.setdefault(agg or Aggregation.SUM, agg_line)
+        elif agg is not None and agg is not Aggregation.SUM:
             shared = [t for t, n in out.uses.items() if n > 1]
             if shared:
                 raise b.error(agg_line, f"aggregation: {section.items['aggregation'].value} "
                               f"combines the activations of term {shared[0]!r} (several rules "
                               "conclude it) before the weighted average, as fuzzylite 8 does; "
                               "it2track weighs each rule (use aggregation: none)")
-    if outputs[0].mamdani:
+    if outputs[0].kind == "mamdani":
         options["implication"] = _one(implications, "implication", b)
-        options["aggregation"] = _one(aggregations, "aggregation", b)
         options["resolution"] = _one(resolutions, "resolution", b)
+        options["sampling"] = Sampling.MIDPOINTS
+    if outputs[0].kind != "sugeno":
+        options["aggregation"] = _one(aggregations, "aggregation", b)
     options["defuzzifier"] = _one(kinds, "defuzzifier", b)
     values = [d for d, _ in defaults]
     if any(v is None for v in values) and any(v is not None for v in values):

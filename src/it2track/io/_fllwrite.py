@@ -12,19 +12,22 @@ from ..fuzzy import (
     AnySystem,
     Consequent,
     Defuzzifier,
+    HybridSystem,
     Implication,
     Input,
     IT2Mamdani,
     IT2Sugeno,
     Linear,
+    Sampling,
     SNorm,
     T1Mamdani,
     T1Sugeno,
+    T1Tsukamoto,
     TNorm,
     WeightedDefuzzifier,
 )
 from ..fuzzy.terms import to_fuzzylite
-from ._common import consequent_tables, mamdani_indices, output_range, sugeno_span
+from ._common import consequent_tables, mamdani_indices, output_range, sugeno_span, widened
 from .errors import UnsupportedFeatureError
 
 __all__ = ["dumps", "fuzzylite_name"]
@@ -80,7 +83,7 @@ def _mf_terms(var: Input, kind: str) -> list[str]:
         if not s.is_type1:
             raise UnsupportedFeatureError(f"{what} has a footprint; fuzzylite is type-1 only")
         try:
-            name, params = to_fuzzylite(s.upper)
+            name, params = to_fuzzylite(widened(s.upper, var.universe))
         except ValueError:
             raise UnsupportedFeatureError(
                 f"{what} is a {type(s.upper).__name__}, which fuzzylite has no term for; save "
@@ -96,64 +99,58 @@ def _consequent_term(j: int, cons: Consequent) -> str:
     return f"  term: c{j} Constant {_number(cons[0])}"
 
 
-def _default(system: AnySystem, k: int) -> str:
+def _default(system: Any, k: int) -> str:
     zero = system.zero_firing_value(k)
     return "  default: nan" if zero is None else f"  default: {_number(zero)}"
 
 
-def dumps(system: AnySystem) -> str:
-    """``.fll`` text for a type-1 system.
-
-    Raises
-    ------
-    UnsupportedFeatureError
-        For a type-2 system, interval consequents, MFs without a fuzzylite term and names that
-        are not fuzzylite identifiers.
-    """
-    if isinstance(system, IT2Sugeno | IT2Mamdani):
-        raise UnsupportedFeatureError(
-            "fuzzylite has no type-2 systems; save as .t2fis, .fis or .toml")
-    if not isinstance(system, T1Sugeno | T1Mamdani):
-        raise TypeError(f"can only write T1Sugeno or T1Mamdani systems to .fll, got "
-                        f"{type(system).__name__}")
-    if any(ch in system.name for ch in "#\n\r"):
-        raise UnsupportedFeatureError(f"system name {system.name!r} holds '#' or a line break")
-    lines = [f"Engine: {system.name}".rstrip()]
-    for inp in system.inputs:
-        lines += _variable("InputVariable", inp, ["  lock-range: true"],
-                           _mf_terms(inp, "input"))
-    which: list[list[int]]
-    implication: Any = None
-    if isinstance(system, T1Mamdani):
-        defuzz = f"{_DEFUZZIFIERS[system.defuzzifier]} {system.resolution - 1}"
+def _part(system: Any) -> tuple[list[str], list[list[str]], list[list[int]], str]:
+    """One part's output sections, each output's term names, each rule's term indices and the
+    implication (``none`` unless Mamdani)."""
+    lines: list[str] = []
+    if isinstance(system, T1Mamdani | T1Tsukamoto):
+        if isinstance(system, T1Mamdani):
+            if system.sampling is not Sampling.MIDPOINTS:
+                raise UnsupportedFeatureError(
+                    "fuzzylite samples a Mamdani output at the midpoints of N cells; this "
+                    f"system samples {system.resolution} points including the ends (MATLAB's); "
+                    "use dataclasses.replace(system, sampling=Sampling.MIDPOINTS, "
+                    "resolution=N) or save as .fis or .toml")
+            defuzz = f"{_DEFUZZIFIERS[system.defuzzifier]} {system.resolution}"
+        else:
+            defuzz = f"{_WEIGHTED[system.defuzzifier]} Tsukamoto"
         for k, out in enumerate(system.outputs):
             extra = ["  lock-range: false",
                      f"  aggregation: {fuzzylite_name(system.aggregation)}",
                      f"  defuzzifier: {defuzz}", _default(system, k), "  lock-previous: false"]
             lines += _variable("OutputVariable", out, extra, _mf_terms(out, "output"))
-        which = mamdani_indices(system)
-        implication = fuzzylite_name(system.implication)
-        term_names = [[s.name for s in out.sets] for out in system.outputs]
-    else:
-        tables, which = consequent_tables(system)
-        defuzz = f"{_WEIGHTED[system.defuzzifier]} TakagiSugeno"
-        for k, (name, table) in enumerate(zip(system.output_names, tables, strict=True)):
-            for cons in table:
-                if (isinstance(cons, Linear) and not cons.crisp) or (
-                        isinstance(cons, tuple) and cons[0] != cons[1]):
-                    raise UnsupportedFeatureError(
-                        "fuzzylite's consequents are crisp; this system has intervals")
-            lo, hi = output_range(sugeno_span(table), None)
-            lines += [f"OutputVariable: {_name(name, 'output')}", "  enabled: true",
-                      f"  range: {_number(lo)} {_number(hi)}", "  lock-range: false",
-                      "  aggregation: none", f"  defuzzifier: {defuzz}", _default(system, k),
-                      "  lock-previous: false"]
-            lines += [_consequent_term(j, c) for j, c in enumerate(table, start=1)]
-        term_names = [[f"c{j}" for j in range(1, len(t) + 1)] for t in tables]
-    lines += ["RuleBlock: rules", "  enabled: true",
-              f"  conjunction: {fuzzylite_name(system.tnorm)}",
-              f"  disjunction: {fuzzylite_name(system.snorm)}",
-              f"  implication: {implication or 'none'}", "  activation: General"]
+        implication = (fuzzylite_name(system.implication) if isinstance(system, T1Mamdani)
+                       else "none")
+        return (lines, [[s.name for s in out.sets] for out in system.outputs],
+                mamdani_indices(system), implication)
+    tables, which = consequent_tables(system)
+    defuzz = f"{_WEIGHTED[system.defuzzifier]} TakagiSugeno"
+    for k, (name, table) in enumerate(zip(system.output_names, tables, strict=True)):
+        for cons in table:
+            if (isinstance(cons, Linear) and not cons.crisp) or (
+                    isinstance(cons, tuple) and cons[0] != cons[1]):
+                raise UnsupportedFeatureError(
+                    "fuzzylite's consequents are crisp; this system has intervals")
+        lo, hi = output_range(sugeno_span(table), None)
+        lines += [f"OutputVariable: {_name(name, 'output')}", "  enabled: true",
+                  f"  range: {_number(lo)} {_number(hi)}", "  lock-range: false",
+                  "  aggregation: none", f"  defuzzifier: {defuzz}", _default(system, k),
+                  "  lock-previous: false"]
+        lines += [_consequent_term(j, c) for j, c in enumerate(table, start=1)]
+    return lines, [[f"c{j}" for j in range(1, len(t) + 1)] for t in tables], which, "none"
+
+
+def _rule_block(system: Any, name: str, term_names: list[list[str]], which: list[list[int]],
+                implication: str) -> list[str]:
+    lines = [f"RuleBlock: {name}", "  enabled: true",
+             f"  conjunction: {fuzzylite_name(system.tnorm)}",
+             f"  disjunction: {fuzzylite_name(system.snorm)}",
+             f"  implication: {implication}", "  activation: General"]
     names = system.output_names
     for rule, outs in zip(system.rules, which, strict=True):
         props = [f"{inp.name} is {'not ' if neg else ''}{label}"
@@ -164,4 +161,37 @@ def dumps(system: AnySystem) -> str:
         if rule.weight != 1.0:
             text += f" with {_number(rule.weight)}"
         lines.append(text)
-    return "\n".join(lines) + "\n"
+    return lines
+
+
+def dumps(system: AnySystem) -> str:
+    """``.fll`` text for a type-1 system (a :class:`~it2track.fuzzy.HybridSystem` of them: one
+    rule block per part).
+
+    Raises
+    ------
+    UnsupportedFeatureError
+        For a type-2 system, interval consequents, MFs without a fuzzylite term, Mamdani
+        outputs sampled at MATLAB's points and names that are not fuzzylite identifiers.
+    """
+    parts = system.systems if isinstance(system, HybridSystem) else (system,)
+    for part in parts:
+        if isinstance(part, IT2Sugeno | IT2Mamdani):
+            raise UnsupportedFeatureError(
+                "fuzzylite has no type-2 systems; save as .t2fis, .fis or .toml")
+        if not isinstance(part, T1Sugeno | T1Mamdani | T1Tsukamoto):
+            raise TypeError(f"can only write type-1 systems to .fll, got "
+                            f"{type(part).__name__}")
+    if any(ch in system.name for ch in "#\n\r"):
+        raise UnsupportedFeatureError(f"system name {system.name!r} holds '#' or a line break")
+    lines = [f"Engine: {system.name}".rstrip()]
+    for inp in parts[0].inputs:
+        lines += _variable("InputVariable", inp, ["  lock-range: true"],
+                           _mf_terms(inp, "input"))
+    blocks = []
+    for k, part in enumerate(parts, start=1):
+        out_lines, term_names, which, implication = _part(part)
+        lines += out_lines
+        blocks += _rule_block(part, f"rules{k}" if len(parts) > 1 else "rules", term_names,
+                              which, implication)
+    return "\n".join(lines + blocks) + "\n"

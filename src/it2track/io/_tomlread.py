@@ -231,8 +231,6 @@ class Reader:
         if not universe[0] < universe[1]:
             raise self.error((*where, "universe"), f"{list(universe)} must satisfy lo < hi")
         sets_v = self.array(table["sets"], (*where, "sets"))
-        if not sets_v:
-            raise self.error((*where, "sets"), "an input needs at least one set")
         sets = [self.set(s, (*where, "sets", j)) for j, s in enumerate(sets_v)]
         seen: set[str] = set()
         for j, s in enumerate(sets):

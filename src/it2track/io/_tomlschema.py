@@ -30,6 +30,7 @@ from ..fuzzy import (
     SShape,
     T1Mamdani,
     T1Sugeno,
+    T1Tsukamoto,
     Trapezoid,
     Triangle,
     UncertainMeanGaussianLower,
@@ -37,7 +38,8 @@ from ..fuzzy import (
     ZShape,
 )
 
-__all__ = ["FORMAT", "INFINITE_OK", "KINDS", "MAX_DEPTH", "MF_TYPES", "TOP_KEYS", "VERSION"]
+__all__ = ["FORMAT", "INFINITE_OK", "KINDS", "MAX_DEPTH", "MF_TYPES", "TOP_KEYS", "VERSION",
+           "WITH_SETS"]
 
 FORMAT = "it2track-fuzzy-system"
 VERSION = 1
@@ -65,6 +67,9 @@ MAX_DEPTH = 8
 TOP_KEYS = {
     "format", "version", "kind", "name", "tnorm", "reducer", "reducer_max_iter",
     "on_zero_firing", "inputs", "rules", "snorm", "outputs", "implication", "aggregation",
-    "resolution", "type_reduction", "defuzzifier",
+    "resolution", "type_reduction", "defuzzifier", "sampling",
 }
-KINDS = {"it2": IT2Sugeno, "t1": T1Sugeno, "it2-mamdani": IT2Mamdani, "t1-mamdani": T1Mamdani}
+KINDS = {"it2": IT2Sugeno, "t1": T1Sugeno, "it2-mamdani": IT2Mamdani, "t1-mamdani": T1Mamdani,
+         "t1-tsukamoto": T1Tsukamoto}
+#: the kinds whose outputs have sets (and whose consequents are set labels)
+WITH_SETS = ("it2-mamdani", "t1-mamdani", "t1-tsukamoto")

@@ -18,14 +18,16 @@ from ..fuzzy import (
     Linear,
     MembershipFunction,
     Reducer,
+    Sampling,
     ScaledLagged,
     SNorm,
     T1Mamdani,
     T1Sugeno,
+    T1Tsukamoto,
     TypeReducer,
     WeightedDefuzzifier,
 )
-from ._tomlschema import FORMAT, KINDS, MAX_DEPTH, MF_TYPES, VERSION
+from ._tomlschema import FORMAT, KINDS, MAX_DEPTH, MF_TYPES, VERSION, WITH_SETS
 from .errors import UnsupportedFeatureError
 
 __all__ = ["dumps"]
@@ -124,6 +126,8 @@ def _known_reducer(reducer: TypeReducer) -> TypeReducer:
 
 
 def _sets_lines(var: Input, header: str) -> list[str]:
+    if not var.sets:  # an input feeding linear consequents only
+        return ["sets = []"]
     lines = []
     kind = type(var).__name__.lower()
     for s in var.sets:
@@ -165,9 +169,12 @@ def dumps(system: System) -> str:
     """
     kind = next((k for k, cls in KINDS.items() if type(system) is cls), None)
     if kind is None:
-        raise TypeError(f"can only write IT2Sugeno, T1Sugeno, IT2Mamdani or T1Mamdani systems, "
-                        f"got {type(system)}")
-    mamdani = isinstance(system, IT2Mamdani | T1Mamdani)
+        if type(system).__name__ == "HybridSystem":
+            raise UnsupportedFeatureError("the TOML format does not carry a HybridSystem yet; "
+                                          "save as .fll or save each of its systems")
+        raise TypeError(f"can only write IT2Sugeno, T1Sugeno, IT2Mamdani, T1Mamdani or "
+                        f"T1Tsukamoto systems, got {type(system)}")
+    mamdani = kind in WITH_SETS
     lines = [
         "# it2track fuzzy system; load with it2track.io.load(path)",
         f"format = {_toml_string(FORMAT)}",
@@ -189,10 +196,15 @@ def dumps(system: System) -> str:
             f"aggregation = {_toml_string(system.aggregation.value)}",
             f"resolution = {int(system.resolution)}",
         ]
+        if system.sampling is not Sampling.ENDPOINTS:
+            lines.append(f"sampling = {_toml_string(system.sampling.value)}")
+    if isinstance(system, T1Tsukamoto):
+        lines.append(f"aggregation = {_toml_string(system.aggregation.value)}")
     if isinstance(system, IT2Mamdani):
         lines.append(f"type_reduction = {_toml_string(system.type_reduction.value)}")
     if isinstance(system, T1Mamdani) or (
-            isinstance(system, T1Sugeno) and system.defuzzifier is not WeightedDefuzzifier.AVERAGE):
+            isinstance(system, T1Sugeno | T1Tsukamoto)
+            and system.defuzzifier is not WeightedDefuzzifier.AVERAGE):
         lines.append(f"defuzzifier = {_toml_string(system.defuzzifier.value)}")
     if system.on_zero_firing is not None:
         zero = system.on_zero_firing
@@ -208,7 +220,7 @@ def dumps(system: System) -> str:
             f"universe = {_toml_value([float(v) for v in inp.universe])}",
         ]
         lines += _sets_lines(inp, "inputs")
-    if isinstance(system, IT2Mamdani | T1Mamdani):
+    if mamdani:
         for out in system.outputs:
             lines += [
                 "",

@@ -105,6 +105,7 @@ Mamdani ``resolution`` other than 101, centre-of-sets type reduction, and a Mamd
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Sequence
 from typing import Any, TypeVar
@@ -116,10 +117,12 @@ from ..fuzzy import (
     KM,
     NIE_TAN,
     WU_MENDEL,
+    Aggregation,
     AnySystem,
     Connective,
     Consequent,
     Defuzzifier,
+    HybridSystem,
     Input,
     IT2Mamdani,
     IT2Set,
@@ -131,6 +134,7 @@ from ..fuzzy import (
     SNorm,
     T1Mamdani,
     T1Sugeno,
+    T1Tsukamoto,
     TNorm,
     TypeReducer,
     TypeReduction,
@@ -208,24 +212,46 @@ class _Reader(FisReader):
         self.defaults: list[float | None] = []
         self.missing: dict[str, int] = {}
 
+    def system_type(self, system: Section) -> str:
+        """MATLAB's ``'sugeno'``/``'mamdani'``, and fuzzylite's ``'tsukamoto'``/``'hybrid'``."""
+        entry = self.doc.entry(system, "Type")
+        fis_type = self.doc.string(entry).lower()
+        if fis_type not in ("sugeno", "mamdani", "tsukamoto", "hybrid"):
+            raise self.doc.error(entry.line, f"Type={fis_type!r} is not supported ('sugeno', "
+                                 "'mamdani', and fuzzylite's 'tsukamoto' and 'hybrid')")
+        if fis_type in ("tsukamoto", "hybrid") and "TypeReductionMethod" in system.entries:
+            raise self.doc.error(entry.line, f"a type-2 system of Type={fis_type!r}")
+        return fis_type
+
+    def output_kind(self, section: Section) -> str:
+        if self.type != "hybrid":
+            return self.type
+        # fuzzylite's hybrid: an output of 'constant'/'linear' MFs is Takagi-Sugeno
+        kinds = {self.doc.mf(entry).type in ("constant", "linear") for entry in section.mfs}
+        return "sugeno" if kinds == {True} else "mamdani"
+
     def header(self, system: Section) -> dict[str, Any]:
         doc = self.doc
         self.type2 = "TypeReductionMethod" in system.entries
         options: dict[str, Any] = {
             "tnorm": self._norm(system, "AndMethod", TNorm,
-                                TNorm.MINIMUM if self.mamdani else TNorm.PRODUCT),
+                                TNorm.PRODUCT if self.type == "sugeno" else TNorm.MINIMUM),
             "snorm": self._norm(system, "OrMethod", SNorm, SNorm.MAXIMUM),
         }
-        if self.mamdani:
+        if self.type in ("mamdani", "hybrid"):
             options.update(self.mamdani_options(system))
             allowed = ("centroid",) if self.type2 else tuple(d.value for d in Defuzzifier)
             defuzz, _ = doc.method(system, "DefuzzMethod", allowed, "centroid")
             if not self.type2:
                 options["defuzzifier"] = Defuzzifier.from_name(defuzz)
         else:
-            for key in ("ImpMethod", "AggMethod"):  # MATLAB's Sugeno systems ignore them
-                if key in system.entries:
-                    doc.string(system.entries[key])
+            if self.type == "tsukamoto":  # fuzzylite 8 aggregates the firing of a set with it
+                options["aggregation"] = self.operator(system, "AggMethod", Aggregation,
+                                                       Aggregation.SUM)
+            else:
+                for key in ("ImpMethod", "AggMethod"):  # MATLAB's Sugeno systems ignore them
+                    if key in system.entries:
+                        doc.string(system.entries[key])
             allowed = ("wtaver",) if self.type2 else ("wtaver", "wtsum")
             defuzz, _ = doc.method(system, "DefuzzMethod", allowed, "wtaver")
             if defuzz == "wtsum":
@@ -304,25 +330,49 @@ class _Reader(FisReader):
                     "operator",
                 )
 
-    def finish(self, options: dict[str, Any], inputs: list[Input], outputs: list[Output],
-               names: list[str], ranges: list[tuple[tuple[float, float], Section]],
-               consequents: list[list[Consequent]], rules: list[Rule]) -> AnySystem:
+    def finish(self, options: dict[str, Any], inputs: list[Input], outputs: list[Output | str],
+               kinds: list[str], ranges: list[tuple[tuple[float, float], Section]],
+               rules: list[Rule]) -> AnySystem:
         defaults = self.defaults
         if any(d is None for d in defaults) and any(d is not None for d in defaults):
             section = ranges[[d is None for d in defaults].index(True)][1]
             raise self.doc.error(section.entries["Default"].line,
                                  "Default=nan for some outputs and not others")
-        if defaults[0] is not None:
-            options["on_zero_firing"] = defaults[0] if len(defaults) == 1 else tuple(defaults)
-        if self.mamdani:
-            options["outputs"] = tuple(outputs)
-            cls: type = IT2Mamdani if self.type2 else T1Mamdani
-        else:
-            cls = IT2Sugeno if self.type2 else T1Sugeno
-            if len(names) > 1 or names != ["output1"]:
-                options["outputs"] = tuple(names)
-        return system_of(self.doc, self.doc.sections["System"].line, cls, inputs=tuple(inputs),
-                         rules=tuple(rules), **options)
+        line = self.doc.sections["System"].line
+        parts = []
+        start = 0
+        for kind, run in itertools.groupby(kinds):  # fuzzylite's hybrid: a system per run
+            n = len(list(run))
+            cut = range(start, start + n)
+            mine = [Rule(r.antecedent, consequents=[r.consequents[k] for k in cut],
+                         weight=r.weight, connective=r.connective, negated=r.negated)
+                    for r in rules if any(r.consequents[k] is not None for k in cut)]
+            if not mine:
+                raise self.doc.error(line, f"no rule acts on output {start + 1}")
+            part = dict(options)
+            zero = [defaults[k] for k in cut]
+            if zero[0] is not None:
+                part["on_zero_firing"] = zero[0] if n == 1 else tuple(zero)
+            names = [outputs[k] for k in cut]
+            if kind == "sugeno":
+                cls: type = IT2Sugeno if self.type2 else T1Sugeno
+                for key in ("implication", "aggregation"):
+                    part.pop(key, None)
+                if isinstance(part.get("defuzzifier"), Defuzzifier):
+                    part["defuzzifier"] = WeightedDefuzzifier.AVERAGE
+                if n > 1 or names != ["output1"]:
+                    part["outputs"] = tuple(names)
+            else:
+                cls = T1Tsukamoto if kind == "tsukamoto" else (
+                    IT2Mamdani if self.type2 else T1Mamdani)
+                part["outputs"] = tuple(names)
+            parts.append(system_of(self.doc, line, cls, inputs=tuple(inputs), rules=tuple(mine),
+                                   **part))
+            start += n
+        if len(parts) == 1:
+            return parts[0]
+        return system_of(self.doc, line, HybridSystem, systems=tuple(parts),
+                         name=options["name"])
 
 
 def loads(text: str, path: str = "<string>") -> AnySystem:

@@ -236,12 +236,14 @@ class _Reader(FisReader):
                                  f"consequent [{lo:g} {hi:g}] must satisfy lower <= upper")
         return (lo, hi)
 
-    def finish(self, options: dict[str, Any], inputs: list[Input], outputs: list[Output],
-               names: list[str], ranges: list[tuple[tuple[float, float], Section]],
-               consequents: list[list[Consequent]], rules: list[Rule]) -> AnySystem:
-        all_type1 = all(s.is_type1 for var in (*inputs, *outputs) for s in var.sets)
+    def finish(self, options: dict[str, Any], inputs: list[Input], outputs: list[Output | str],
+               kinds: list[str], ranges: list[tuple[tuple[float, float], Section]],
+               rules: list[Rule]) -> AnySystem:
+        names = [o for o in outputs if isinstance(o, str)]
+        sets_of = [o for o in outputs if isinstance(o, Output)]
+        all_type1 = all(s.is_type1 for var in (*inputs, *sets_of) for s in var.sets)
         if self.mamdani:
-            options["outputs"] = tuple(outputs)
+            options["outputs"] = tuple(sets_of)
             cls: type = T1Mamdani if all_type1 else IT2Mamdani
             if cls is T1Mamdani:
                 del options["type_reduction"]
@@ -250,7 +252,7 @@ class _Reader(FisReader):
         else:
             crisp = all(
                 (c[0] == c[1]) if isinstance(c, tuple) else (not isinstance(c, Linear) or c.crisp)
-                for table in consequents for c in table
+                for rule in rules for c in rule.consequents if c is not None
             )
             cls = T1Sugeno if all_type1 and crisp else IT2Sugeno
             if cls is IT2Sugeno:

@@ -7,7 +7,8 @@ the one written. Layout (the paper's IT2 controller, abridged)::
     format = "it2track-fuzzy-system"
     version = 1
     kind = "it2"                  # "it2" / "t1" (IT2Sugeno / T1Sugeno),
-                                  # "it2-mamdani" / "t1-mamdani" (IT2Mamdani / T1Mamdani)
+                                  # "it2-mamdani" / "t1-mamdani" (IT2Mamdani / T1Mamdani),
+                                  # "t1-tsukamoto" (T1Tsukamoto: aggregation, defuzzifier)
     name = "paper FLC (FoU 0.2)"
     tnorm = "product"             # or "min"
     # snorm = "probor"            # optional, OR rules: "max" (default) or "probor"
@@ -17,7 +18,8 @@ the one written. Layout (the paper's IT2 controller, abridged)::
                                   # one number per output for several outputs
     # outputs = ["u", "v"]        # Sugeno: output names (several outputs)
     # Mamdani only: implication = "min" | "product", aggregation = "max" | "sum" | "probor",
-    # resolution = 101, type_reduction = "centroid" | "centre-of-sets" (it2),
+    # resolution = 101, sampling = "endpoints" (MATLAB's, default) | "midpoints" (fuzzylite's),
+    # type_reduction = "centroid" | "centre-of-sets" (it2),
     # defuzzifier = "centroid" | "bisector" | "mom" | "som" | "lom" (t1)
     # Sugeno t1 only: defuzzifier = "wtaver" (default) | "wtsum"
 
@@ -71,6 +73,7 @@ from ..fuzzy import (
     Defuzzifier,
     Implication,
     Reducer,
+    Sampling,
     SNorm,
     TNorm,
     TypeReducer,
@@ -79,7 +82,7 @@ from ..fuzzy import (
 )
 from ..fuzzy import AnySystem as System
 from ._tomlread import Reader
-from ._tomlschema import FORMAT, KINDS, TOP_KEYS, VERSION
+from ._tomlschema import FORMAT, KINDS, TOP_KEYS, VERSION, WITH_SETS
 from ._tomlwrite import dumps
 from .errors import FisFormatError
 
@@ -117,8 +120,8 @@ def loads(text: str, path: str = "<string>") -> System:
     kind = reader.string(data["kind"], ("kind",))
     if kind not in KINDS:
         raise reader.error(("kind",), f"kind={kind!r} must be 'it2' or 't1' (Sugeno), "
-                           "'it2-mamdani' or 't1-mamdani'")
-    mamdani = kind.endswith("mamdani")
+                           "'it2-mamdani', 't1-mamdani' or 't1-tsukamoto'")
+    mamdani = kind in WITH_SETS
     it2 = kind.startswith("it2")
     name = reader.string(data.get("name", ""), ("name",))
     options: dict[str, Any] = {"name": name}
@@ -133,13 +136,15 @@ def loads(text: str, path: str = "<string>") -> System:
 
     enum_key("tnorm", TNorm.from_name, True)
     enum_key("snorm", SNorm.from_name, True)
-    enum_key("implication", Implication.from_name, mamdani)
+    proper_mamdani = kind.endswith("mamdani")
+    enum_key("implication", Implication.from_name, proper_mamdani)
     enum_key("aggregation", Aggregation.from_name, mamdani)
     enum_key("type_reduction", TypeReduction.from_name, kind == "it2-mamdani")
-    enum_key("defuzzifier", Defuzzifier.from_name if mamdani else WeightedDefuzzifier.from_name,
-             kind in ("t1-mamdani", "t1"))
+    enum_key("defuzzifier", Defuzzifier.from_name if proper_mamdani
+             else WeightedDefuzzifier.from_name, kind in ("t1-mamdani", "t1", "t1-tsukamoto"))
+    enum_key("sampling", Sampling.from_name, proper_mamdani)
     if "resolution" in data:
-        if not mamdani:
+        if not proper_mamdani:
             raise reader.error(("resolution",), f"'resolution' does not apply to kind = {kind!r}")
         resolution = data["resolution"]
         if isinstance(resolution, bool) or not isinstance(resolution, int):
