@@ -16,8 +16,9 @@ including both ends (``linspace``). The script replaces ``Op.midpoints`` by ``nu
 so that pyfuzzylite's own ``Centroid``, ``Bisector``, ... evaluate the aggregated set at the
 very points it2track does (a jump of a ``Rectangle`` or ``Binary`` term on a grid point would
 otherwise fall on either side of it by rounding). ``R`` is 101 (MATLAB's) for a ``.fis`` and
-1001 (jFuzzyLogic's 1000 intervals) for a ``.fcl`` reader; a ``.fll`` is evaluated as fuzzylite does, at its own ``N`` midpoints (it2track
-reads ``Centroid N`` with fuzzylite's sampling).
+1001 (jFuzzyLogic's 1000 intervals) for a ``.fcl`` reader; a ``.fll`` is evaluated as
+fuzzylite does, at its own ``N`` midpoints (it2track reads ``Centroid N`` with fuzzylite's
+sampling).
 
 Statelessness. ``lock-previous`` is turned off (the reference is the engine's first evaluation
 after a restart); everything else is as the file says, including fuzzylite's ``default: nan``

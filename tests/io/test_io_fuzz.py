@@ -32,7 +32,8 @@ def valid_files() -> list[tuple[str, bytes]]:
     for fmt, (suffix, _, _) in FORMATS.items():
         type1 = fmt not in TYPE2
         files.append((f"paper{suffix}", dumps(heading_fls(0.0 if type1 else 0.2), fmt).encode()))
-        files.append((f"random{suffix}", dumps(random_system(5, type1=type1, identifiers=type1), fmt).encode()))
+        system = random_system(5, type1=type1, identifiers=type1)
+        files.append((f"random{suffix}", dumps(system, fmt).encode()))
     return files
 
 
