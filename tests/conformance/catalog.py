@@ -57,6 +57,9 @@ class Example:
         ``.fis`` or ``.fcl`` at it2track's for the format (:data:`POINTS`, ``@101`` in the
         name), where it matters: a twin without a Mamdani output has one table.
         """
+        if self.source == "jfuzzylogic":  # jFuzzyLogic's own outputs
+            table = REFERENCES / (self.path.replace("/", "__") + "@jfl.csv")
+            return table if table.exists() else None
         if self.twin is None:
             return None
         stem = self.twin.replace("/", "__")

@@ -117,6 +117,13 @@ def check(example: Example) -> Result:
     names, spans, rows = _reference(example.reference)
     n_in = len(names) - len(spans)
     x, ref = rows[:, :n_in], rows[:, n_in:]
+    # jFuzzyLogic sorts its variables by name: put them in it2track's order
+    ours_in, outs = [i.name for i in system.inputs], list(system.output_names)
+    if sorted(names[:n_in]) == sorted(ours_in):
+        x = x[:, [names.index(n) for n in ours_in]]
+    if sorted(names[n_in:]) == sorted(outs):
+        columns = [names[n_in:].index(n) for n in outs]
+        ref, spans = ref[:, columns], [spans[c] for c in columns]
     if system.n_inputs != n_in or system.n_outputs != ref.shape[1]:
         return Result(example, "differs", f"{system.n_inputs} inputs and {system.n_outputs} "
                       f"outputs; the reference has {n_in} and {ref.shape[1]}", warnings=noted)

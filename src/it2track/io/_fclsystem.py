@@ -199,7 +199,7 @@ def _assemble(b: Builder, fb: FunctionBlock, outputs: dict[str, FclVar], inputs:
         for name, var in outputs.items():
             values[name] = {t.name: b.consequent(t, in_names) for t in var.terms.values()}
     built: list[Rule] = []
-    users: dict[tuple[str, str], int] = {}
+    users: dict[tuple[str, str], tuple[int, str]] = {}
     for rule, op, props in rules:
         antecedent: list[str | None] = [None] * len(in_names)
         negated = [False] * len(in_names)
@@ -218,12 +218,17 @@ def _assemble(b: Builder, fb: FunctionBlock, outputs: dict[str, FclVar], inputs:
             if cons[k] is not None:
                 raise b.error(rule.line, f"rule concludes {vname!r} twice")
             cons[k] = values[vname][term] if sugeno else term
-            if sugeno and accu.value is not Aggregation.SUM and (vname, term) in users:
-                raise b.error(rule.line, f"term {term!r} of {vname!r} is concluded by this rule "
-                              f"and the one at line {users[(vname, term)]}: with "
-                              f"ACCU : {accu.token.text if accu.token else 'MAX'} that is not a "
-                              "weighted average of rules (use ACCU : NSUM, or one rule per term)")
-            users[(vname, term)] = rule.line
+            # jFuzzyLogic accumulates singletons by their value (x): equal values are one
+            key = (vname, repr(cons[k]))
+            if sugeno and accu.value is not Aggregation.SUM and key in users:
+                first, first_term = users[key]
+                same = f"term {term!r}" if first_term == term else (
+                    f"term {term!r} (the value of {first_term!r})")
+                raise b.error(rule.line, f"{same} of {vname!r} is concluded by this rule and the "
+                              f"one at line {first}: with ACCU : "
+                              f"{accu.token.text if accu.token else 'MAX'} that is not a "
+                              "weighted average of rules (use ACCU : NSUM, or one rule per value)")
+            users.setdefault(key, (rule.line, term))
         if not 0.0 <= rule.weight <= 1.0:
             raise b.error(rule.line, f"rule weight {rule.weight:g} must be in [0, 1]")
         built.append(_rule(b, rule, antecedent, cons, op, negated))
