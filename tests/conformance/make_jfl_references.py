@@ -25,8 +25,8 @@ import tempfile
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).parent))
-from catalog import FILES, POINTS, REFERENCES, examples  # noqa: E402
-from grids import grid  # noqa: E402
+from catalog import FILES, POINTS, REFERENCES, examples
+from grids import grid
 
 HERE = Path(__file__).parent
 

@@ -35,10 +35,9 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).parent))
 from catalog import FILES, REFERENCES, twins
+from grids import grid
 
-import fuzzylite  # noqa: E402
-
-_MIDPOINTS = fuzzylite.Op.midpoints
+_MIDPOINTS = []  # fuzzylite's own Op.midpoints, kept at the first evaluation
 
 
 def _matlab_points(start: float, end: float, resolution: int) -> np.ndarray:
@@ -53,7 +52,9 @@ def evaluate(path: Path, resolution: int | None
     import fuzzylite as fl
 
     # where the defuzzifiers sample: MATLAB's points, or fuzzylite's own midpoints for a .fll
-    fl.Op.midpoints = staticmethod(_matlab_points if resolution is not None else _MIDPOINTS)
+    if not _MIDPOINTS:
+        _MIDPOINTS.append(fl.Op.midpoints)
+    fl.Op.midpoints = staticmethod(_matlab_points if resolution is not None else _MIDPOINTS[0])
     engine = fl.FllImporter().from_file(path)
     ranges = [(iv.minimum, iv.maximum) for iv in engine.input_variables]
     x = grid(ranges)
@@ -109,7 +110,8 @@ def main(argv: list[str]) -> int:
                 wanted[name] = table(twin, resolution)
             except Exception as exc:
                 print(f"{twin}: pyfuzzylite fails: {type(exc).__name__}: {exc}")
-    stale = sorted(p.name for p in REFERENCES.glob("*.csv") if p.name not in wanted)
+    stale = sorted(p.name for p in REFERENCES.glob("*.csv")
+                   if p.name not in wanted and not p.name.endswith("@jfl.csv"))
     changed = [n for n, text in wanted.items()
                if not (REFERENCES / n).exists() or (REFERENCES / n).read_text() != text]
     if args.check:

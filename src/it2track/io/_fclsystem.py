@@ -161,7 +161,7 @@ def _part(b: Builder, fb: FunctionBlock, inputs: list[Input], names: list[str], 
     tnorm = _Setting("AND", TNorm.MINIMUM)
     snorm = _Setting("OR", SNorm.MAXIMUM)
     act = _Setting("ACT", Implication.MINIMUM)
-    accu = _Setting("ACCU", Aggregation.MAXIMUM)
+    accu = _Setting("ACCU", Aggregation.SUM)  # jFuzzyLogic's default; fuzzylite's none
     methods = _Setting("METHOD", None)
     for var in outputs.values():
         method = _method(b, var)

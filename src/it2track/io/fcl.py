@@ -30,8 +30,9 @@ read (type-1 systems)::
 What is read
 ------------
 - Comments ``(* ... *)``, ``/* ... */`` (both may span lines) and ``// ...``; keywords in
-  any case. Several ``FUNCTION_BLOCK``\\ s: ``block=`` names one; without it the first is read,
-  as jFuzzyLogic does, with a :class:`~it2track.io.FisFormatWarning` naming the others.
+  any case. Several ``FUNCTION_BLOCK``\\ s: ``block=`` names one; without it the first is read
+  with a :class:`~it2track.io.FisFormatWarning` naming the others (jFuzzyLogic asks for a
+  name).
 - Terms: point lists ``(x, mu) ...`` (the standard: linear between the points, the first and
   last degree beyond them -- triangles, trapezoids and shoulders become
   :class:`~it2track.fuzzy.Triangle`/:class:`~it2track.fuzzy.Trapezoid`, other polylines a
@@ -59,8 +60,12 @@ What is read
   ``NMAX``/``NIPMAX``, ``SUM``; an ``AND`` alone implies its De Morgan partner and the other
   way round, as the standard pairs them; ``ACT`` any t-norm; ``ACCU`` (in the RULEBLOCK or,
   as jFuzzyLogic and fuzzylite write it, the DEFUZZIFY block) any s-norm, and ``NSUM``
-  (normalised sum: the centroid, bisector and maxima of the plain sum). Several rule blocks
-  are merged when their operators agree.
+  (the standard's normalised sum: the centroid, bisector and maxima of the plain sum;
+  jFuzzyLogic and fuzzylite fold it pairwise, ``(a + b) / max(1, a + b)``, which differs once
+  the sum passes 1). Without ``ACCU`` the sum, jFuzzyLogic's default (fuzzylite's "none").
+  Several rule blocks are merged when their operators agree; outputs of different kinds
+  (Mamdani, singletons, Tsukamoto's monotonic terms) make a
+  :class:`~it2track.fuzzy.HybridSystem`.
 - Rules ``RULE n : IF cond THEN y IS t [, z IS u] [WITH w] [;]`` (fuzzylite ends them at the
   line, in lower case) with ``AND``, ``OR``, ``NOT``, ``IS NOT`` and parentheses, reduced as
   :mod:`._ruletree` explains. With ``COGS`` and ``ACCU : MAX`` the standard takes, for each
