@@ -34,6 +34,7 @@ from ..fuzzy import (
     T1Sugeno,
     TNorm,
     TypeReducer,
+    WeightedDefuzzifier,
 )
 from ..io.errors import UnsupportedFeatureError
 
@@ -188,6 +189,9 @@ def check_supported(system: object) -> None:
             )
     if system.tnorm not in (TNorm.PRODUCT, TNorm.MINIMUM):
         raise UnsupportedFeatureError(f"t-norm {system.tnorm!r} has no C implementation")
+    if isinstance(system, T1Sugeno) and system.defuzzifier is not WeightedDefuzzifier.AVERAGE:
+        raise UnsupportedFeatureError(
+            f"defuzzifier {system.defuzzifier!r} has no C implementation (weighted average only)")
     _reducer_of(system)
 
 

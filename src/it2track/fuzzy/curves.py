@@ -8,8 +8,8 @@ Each shape is a pure function in MATLAB's parameter order (``gbellmf(x, a, b, c)
 frozen class in fuzzylite's (``Bell(center, width, slope, h)``); both compute the same bits.
 The formulas are the documented ones (MATLAB's Fuzzy Logic Toolbox reference pages, fuzzylite's
 term documentation), quoted in each docstring; ``exp``, ``log`` and ``cos`` come from
-:mod:`.libm`, so that the compiled kernels give the same bits. The classes add a height
-``h`` in ``(0, 1]`` (fuzzylite's ``height``; MATLAB's functions have none: ``h = 1``).
+:mod:`it2track.fuzzy.libm`, so that the compiled kernels give the same bits. The classes add a
+height ``h`` in ``(0, 1]`` (fuzzylite's ``height``; MATLAB's functions have none: ``h = 1``).
 """
 
 from __future__ import annotations
@@ -120,7 +120,7 @@ def gbellmf(x: ArrayLike, a: float, b: float, c: float) -> FloatArray:
     MATLAB documents ``f(x; a, b, c) = 1 / (1 + |(x - c) / a|^(2b))``: ``a`` the half width
     (``f(c +- a) = 1/2``), ``b`` the slope, ``c`` the centre. Here ``a != 0`` and ``b > 0``
     (see :class:`Bell`); the power is by squaring when ``2 b`` is a whole number (up to
-    :data:`MAX_SQUARING`), else ``exp(2 b log|t|)`` (:mod:`.libm`).
+    :data:`MAX_SQUARING`), else ``exp(2 b log|t|)`` (:mod:`it2track.fuzzy.libm`).
 
     Parameters
     ----------

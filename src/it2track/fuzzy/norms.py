@@ -5,37 +5,32 @@ Each member is a strategy with a documented formula; command lines and files nam
 member's value or name, case and ``_``/``-`` insensitive (``TNorm.from_name("prod")``,
 ``SNorm.from_name("EinsteinSum")``). Their numpy forms (:meth:`TNorm.pair` and friends) are
 the reference semantics the fuzzy systems use. The t-norms and s-norms are fuzzylite's (its
-documentation defines each; MATLAB has ``min``/``prod`` and ``max``/``probor``):
+documentation defines each; MATLAB has ``min``/``prod`` and ``max``/``probor``).
 
-========================  ============================================  ==============
-t-norm ``T(a, b)``        formula                                       value
-========================  ============================================  ==============
-``MINIMUM``               ``min(a, b)``                                 ``min``
-``PRODUCT``               ``a b``                                       ``product``
-``BOUNDED_DIFFERENCE``    ``max(0, a + b - 1)``                         (its name)
-``DRASTIC_PRODUCT``       ``min(a, b)`` if ``max(a, b) = 1``, else 0
-``EINSTEIN_PRODUCT``      ``a b / (2 - (a + b - a b))``
-``HAMACHER_PRODUCT``      ``a b / (a + b - a b)``, 0 if ``a + b = 0``
-``NILPOTENT_MINIMUM``     ``min(a, b)`` if ``a + b > 1``, else 0
-========================  ============================================  ==============
+t-norms ``T(a, b)`` (member: formula):
 
-========================  ============================================  ==============
-s-norm ``S(a, b)``        formula                                       value
-========================  ============================================  ==============
-``MAXIMUM``               ``max(a, b)``                                 ``max``
-``PROBOR``                ``a + b - a b`` (algebraic sum)               ``probor``
-``BOUNDED_SUM``           ``min(1, a + b)``                             (its name)
-``DRASTIC_SUM``           ``max(a, b)`` if ``min(a, b) = 0``, else 1
-``EINSTEIN_SUM``          ``(a + b) / (1 + a b)``
-``HAMACHER_SUM``          ``(a + b - 2 a b) / (1 - a b)``, 1 if ``a b = 1``
-``NILPOTENT_MAXIMUM``     ``max(a, b)`` if ``a + b < 1``, else 1
-``NORMALIZED_SUM``        ``(a + b) / max(1, a + b)``
-``UNBOUNDED_SUM``         ``a + b``                                     ``sum``
-========================  ============================================  ==============
+- ``MINIMUM`` (``"min"``): ``min(a, b)``; ``PRODUCT`` (``"product"``): ``a b``;
+- ``BOUNDED_DIFFERENCE``: ``max(0, a + b - 1)``;
+- ``DRASTIC_PRODUCT``: ``min(a, b)`` if ``max(a, b) = 1``, else 0;
+- ``EINSTEIN_PRODUCT``: ``a b / (2 - (a + b - a b))``;
+- ``HAMACHER_PRODUCT``: ``a b / (a + b - a b)``, 0 if ``a + b = 0``;
+- ``NILPOTENT_MINIMUM``: ``min(a, b)`` if ``a + b > 1``, else 0.
+
+s-norms ``S(a, b)``:
+
+- ``MAXIMUM`` (``"max"``): ``max(a, b)``; ``PROBOR`` (``"probor"``, algebraic sum):
+  ``a + b - a b``;
+- ``BOUNDED_SUM``: ``min(1, a + b)``;
+- ``DRASTIC_SUM``: ``max(a, b)`` if ``min(a, b) = 0``, else 1;
+- ``EINSTEIN_SUM``: ``(a + b) / (1 + a b)``;
+- ``HAMACHER_SUM``: ``(a + b - 2 a b) / (1 - a b)``, 1 if ``a b = 1``;
+- ``NILPOTENT_MAXIMUM``: ``max(a, b)`` if ``a + b < 1``, else 1;
+- ``NORMALIZED_SUM``: ``(a + b) / max(1, a + b)``;
+- ``UNBOUNDED_SUM`` (``"sum"``): ``a + b``.
 
 - A rule's AND folds the t-norm over the antecedents it mentions, left to right in input
-  order; its OR folds the s-norm (both are each other's identity-free fold: an input the
-  rule does not mention takes no part, so ``T(a, 1)`` is never computed).
+  order (an input it does not mention takes no part: ``T(a, 1)`` may differ from ``a`` in
+  floating point); its OR folds the s-norm likewise.
 - ``Implication``: Mamdani implication, any t-norm (``min`` clips, ``product`` scales);
 - ``Aggregation``: combines the implied output sets, any s-norm (``sum`` is MATLAB's
   unbounded sum);

@@ -405,8 +405,8 @@ class SemiEllipse(Term):
 
 @dataclass(frozen=True, init=False)
 class Discrete(Term):
-    """fuzzylite's ``Discrete x1 y1 ... xn yn [height]``: linear interpolation of the points,
-    their first / last ``y`` outside them, times ``h``.
+    """fuzzylite's ``Discrete`` term (its pairs ``x_k y_k`` and an optional height): linear
+    interpolation of the points, their first / last ``y`` outside them, times ``h``.
 
     Parameters
     ----------

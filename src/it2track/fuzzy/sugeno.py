@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -79,6 +80,8 @@ class IT2Sugeno(_SystemBase):
     """
 
     reducer: TypeReducer = EXHAUSTIVE
+    #: How :mod:`.kernels` compiles this class (this class only: not inherited, see there).
+    _compiled_as: ClassVar[str] = "it2"
 
     def __post_init__(self) -> None:
         super().__post_init__()
@@ -192,6 +195,8 @@ class T1Sugeno(_SystemBase):
     """
 
     defuzzifier: WeightedDefuzzifier = WeightedDefuzzifier.AVERAGE
+    #: How :mod:`.kernels` compiles this class (this class only: not inherited, see there).
+    _compiled_as: ClassVar[str] = "t1"
 
     def __post_init__(self) -> None:
         if not isinstance(self.defuzzifier, WeightedDefuzzifier):

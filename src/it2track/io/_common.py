@@ -15,10 +15,13 @@ from collections.abc import Iterator, Sequence
 import numpy as np
 
 from ..fuzzy import (
+    Aggregation,
     AnySystem,
     Connective,
     Consequent,
+    Defuzzifier,
     HybridSystem,
+    Implication,
     Input,
     IT2Mamdani,
     IT2Set,
@@ -27,12 +30,16 @@ from ..fuzzy import (
     MembershipFunction,
     PiecewiseLinear,
     Rule,
+    Sampling,
+    SNorm,
     T1Mamdani,
     T1Sugeno,
     T1Tsukamoto,
+    TNorm,
     Trapezoid,
     Triangle,
     UncertainMeanGaussianUpper,
+    WeightedDefuzzifier,
 )
 from ..fuzzy.terms import MATLAB_MFS, from_fuzzylite, to_matlab
 from ._matlab import Document, MFValue, ParsedRule
@@ -439,6 +446,28 @@ def check_writable(system: object, fmt: str) -> None:
     if not isinstance(system, IT2Sugeno | T1Sugeno | IT2Mamdani | T1Mamdani):
         raise TypeError(f"can only write IT2Sugeno, T1Sugeno, IT2Mamdani or T1Mamdani systems "
                         f"to {fmt}, got {type(system).__name__}")
+    if fmt == ".t2fis":  # .fis names every norm as Octave and fuzzylite write them
+        check_matlab_operators(system, fmt)
+
+
+def check_matlab_operators(system: object, fmt: str) -> None:
+    """Refuse operators the IT2FLS toolbox's files cannot name (fuzzylite's other norms,
+    ``wtsum``, fuzzylite's midpoint sampling) rather than write another one in their place."""
+    for what, value, allowed in (
+        ("t-norm", getattr(system, "tnorm", None), (TNorm.PRODUCT, TNorm.MINIMUM)),
+        ("s-norm", getattr(system, "snorm", None), (SNorm.MAXIMUM, SNorm.PROBOR)),
+        ("implication", getattr(system, "implication", Implication.MINIMUM),
+         (Implication.MINIMUM, Implication.PRODUCT)),
+        ("aggregation", getattr(system, "aggregation", Aggregation.MAXIMUM),
+         (Aggregation.MAXIMUM, Aggregation.SUM, Aggregation.PROBOR)),
+        ("defuzzifier", getattr(system, "defuzzifier", None),
+         (None, WeightedDefuzzifier.AVERAGE, *Defuzzifier)),
+        ("sampling", getattr(system, "sampling", Sampling.ENDPOINTS), (Sampling.ENDPOINTS,)),
+    ):
+        if value not in allowed:
+            raise UnsupportedFeatureError(
+                f"{fmt} cannot carry the {what} {value!r} (only "
+                f"{', '.join(repr(a) for a in allowed if a is not None)}); save as .toml")
 
 
 def sugeno_span(table: Sequence[Consequent]) -> list[tuple[float, float]]:
