@@ -41,14 +41,19 @@ def test_show_and_eval_the_rule_language_file() -> None:
     assert result.output.splitlines() == ["u = 1.428571429", "v = 5.2"]
 
 
-def test_convert_fcl_to_fis_keeps_the_values(tmp_path: Path) -> None:
-    target = tmp_path / "valve.fis"
+def test_convert_fcl_to_toml_keeps_the_values(tmp_path: Path) -> None:
+    target = tmp_path / "valve.toml"
     result = CliRunner().invoke(fis, ["convert", str(DATA / "valve.fcl"), str(target)])
     assert result.exit_code == 0, result.output
     assert float(load(target)(2.0, 6.0)) == float(load(DATA / "valve.fcl")(2.0, 6.0))
     back = CliRunner().invoke(fis, ["convert", str(target), str(tmp_path / "x.fcl")])
     assert back.exit_code != 0 and "does not write" in back.output
     assert not (tmp_path / "x.fcl").exists()
+    # an FCL Mamdani output is sampled at 1001 points, which MATLAB's .fis cannot say
+    refused = CliRunner().invoke(fis, ["convert", str(DATA / "valve.fcl"),
+                                       str(tmp_path / "v.fis")])
+    assert refused.exit_code != 0 and "resolution=1001" in refused.output
+    assert not (tmp_path / "v.fis").exists()
 
 
 def test_surface_of_a_system_with_two_outputs_needs_output(tmp_path: Path) -> None:
