@@ -8,6 +8,7 @@ suffix      format
 ``.fis``    MATLAB's Fuzzy Logic Toolbox: Sugeno and Mamdani; type-2 in our layout
             (:mod:`.matfis`)
 ``.fll``    fuzzylite's FuzzyLite Language (:mod:`.fll`): type-1 Mamdani and Sugeno
+``.fml``    IEEE 1855 Fuzzy Markup Language (:mod:`.fml`): type-1 Mamdani and Sugeno
 ``.fcl``    Fuzzy Control Language, IEC 61131-7 (:mod:`.fcl`): type-1, read only
 ==========  ===================================================================================
 
@@ -36,7 +37,7 @@ from pathlib import Path
 from .._files import InputFileError, decode_text, read_bytes, refuse_binary
 from ..atomicfile import atomic_write_text
 from ..fuzzy import AnySystem
-from . import fcl, fll, matfis, t2fis, tomlfmt
+from . import fcl, fll, fml, matfis, t2fis, tomlfmt
 from ._matlab import decode
 from .errors import FisFormatError, FisFormatWarning, UnsupportedFeatureError
 
@@ -64,6 +65,7 @@ FORMATS: dict[str, tuple[str, _Loader, _Dumper]] = {
     "t2fis": (".t2fis", t2fis.loads, t2fis.dumps),
     "fis": (".fis", matfis.loads, matfis.dumps),
     "fll": (".fll", fll.loads, fll.dumps),
+    "fml": (".fml", fml.loads, fml.dumps),
 }
 #: the formats that carry interval type-2 systems (the others are type-1 only)
 TYPE2 = frozenset({"toml", "t2fis", "fis"})
