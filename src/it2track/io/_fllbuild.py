@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import itertools
 import math
-import re
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any, TypeVar
@@ -35,7 +34,7 @@ from ..fuzzy import (
 from ..fuzzy.terms import from_fuzzylite, fuzzylite_consequent
 from ._common import shoulder_problem
 from ._flldoc import Document, Item, Section, show
-from ._ruletree import Compound, Condition, Proposition, flatten, propositions
+from ._ruletree import Condition, Proposition, flatten, propositions
 from .errors import FisFormatError
 
 __all__ = ["INTEGRAL", "WEIGHTED", "build"]
@@ -48,8 +47,6 @@ INTEGRAL = {"Centroid": Defuzzifier.CENTROID, "Bisector": Defuzzifier.BISECTOR,
 WEIGHTED = {"WeightedAverage": WeightedDefuzzifier.AVERAGE, "WeightedSum": WeightedDefuzzifier.SUM}
 _DEFAULT_RESOLUTION = 1000  # fuzzylite 8's IntegralDefuzzifier default
 _MAX_RESOLUTION = 100_000
-_HEDGES = ("not", "very", "somewhat", "extremely", "seldom", "any")
-_TOKEN_RE = re.compile(r"\(|\)|[^\s()]+")
 _CONSEQUENTS = ("Constant", "Linear", "Function")
 _E = TypeVar("_E", TNorm, SNorm, Implication, Aggregation)
 
@@ -210,84 +207,6 @@ class _Builder:
                                      f"it2track does not (the term at line {line} can leave it)")
         return _Output(section, universe, out_kind, terms)
 
-    # -- rules ---------------------------------------------------------------------------------
-    def rule(self, item: Item) -> tuple[Condition, list[tuple[str, str]], float]:
-        tokens = _TOKEN_RE.findall(item.value)
-        pos = 0
-
-        def peek() -> str | None:
-            return tokens[pos] if pos < len(tokens) else None
-
-        def take(what: str) -> str:
-            nonlocal pos
-            if pos >= len(tokens):
-                raise self.error(item.line, f"rule ends where {what} was expected")
-            pos += 1
-            return tokens[pos - 1]
-
-        def expect(word: str) -> None:
-            got = take(repr(word))
-            if got != word:
-                raise self.error(item.line, f"expected {word!r} in the rule, got {got!r}")
-
-        def proposition() -> Proposition:
-            variable = take("a variable")
-            expect("is")
-            hedges = []
-            while peek() in _HEDGES:
-                hedges.append(take("a hedge"))
-            term = take("a term")
-            if term in _HEDGES or term in ("and", "or", "then", "with", "(", ")"):
-                raise self.error(item.line, f"expected a term after {variable!r} is, got "
-                                 f"{term!r}")
-            negated = hedges.count("not") % 2 == 1
-            return Proposition(variable, term, negated, tuple(h for h in hedges if h != "not"))
-
-        def operand() -> Condition:
-            if peek() == "(":
-                take("(")
-                inner = disjunction()
-                expect(")")
-                return inner
-            return proposition()
-
-        def conjunction() -> Condition:
-            parts = [operand()]
-            while peek() == "and":
-                take("and")
-                parts.append(operand())
-            return parts[0] if len(parts) == 1 else Compound("and", tuple(parts))
-
-        def disjunction() -> Condition:
-            parts = [conjunction()]
-            while peek() == "or":
-                take("or")
-                parts.append(conjunction())
-            return parts[0] if len(parts) == 1 else Compound("or", tuple(parts))
-
-        expect("if")
-        condition = disjunction()
-        expect("then")
-        conclusions = []
-        while True:
-            prop = proposition()
-            if prop.negated or prop.hedges:
-                raise self.error(item.line, f"a hedge or 'not' on the conclusion {prop.variable} "
-                                 "is not supported")
-            conclusions.append((prop.variable, prop.term))
-            if peek() != "and":
-                break
-            take("and")
-        weight = 1.0
-        if peek() == "with":
-            take("with")
-            weight = self.doc.number(take("a weight"), item.line, "the rule weight")
-        if peek() is not None:
-            raise self.error(item.line, f"unexpected {peek()!r} at the end of the rule")
-        if not 0.0 <= weight <= 1.0:
-            raise self.error(item.line, f"rule weight {weight:g} must be in [0, 1]")
-        return condition, conclusions, weight
-
 
 def _fuzzylite_name(member: Any) -> str:
     if not hasattr(member, "name"):
@@ -356,7 +275,7 @@ def _rules(b: _Builder, doc: Document, inputs: list[Input], outputs: list[_Outpu
                b.operator(block, "implication", Implication))
         (conj, conj_line), (disj, disj_line), _ = ops
         for item in block.rules:
-            condition, conclusions, weight = b.rule(item)
+            condition, conclusions, weight = b.doc.rule(item)
             _check_names(b, item, condition, inputs, outputs)
             try:
                 op, props = flatten(condition, tnorm=conj or TNorm.MINIMUM,
@@ -398,11 +317,16 @@ def _part(b: _Builder, inputs: list[Input], outputs: list[_Output], rules: list[
                 raise b.error(r.item.line, f"a Mamdani rule needs an implication; its block has "
                               f"implication: none (line {imp_line})")
             implications.setdefault(imp, imp_line)
+    # a norm no rule uses is still the block's: keep it when the blocks agree (round trips)
+    declared_t = {r.ops[0][0] for r in mine} - {None}
+    declared_s = {r.ops[1][0] for r in mine} - {None}
     options: dict[str, Any] = {
         "name": name,
         "tnorm": _one(tnorms, "conjunction", b) or (
+            declared_t.pop() if len(declared_t) == 1 else
             TNorm.PRODUCT if kind == "sugeno" else TNorm.MINIMUM),
-        "snorm": _one(snorms, "disjunction", b) or SNorm.MAXIMUM,
+        "snorm": _one(snorms, "disjunction", b) or (
+            declared_s.pop() if len(declared_s) == 1 else SNorm.MAXIMUM),
     }
     built = [_rule(b, inputs, outputs, r.item, r.op, r.props,
                    [c for c in r.conclusions if c[0] in names], r.weight) for r in mine]

@@ -1,5 +1,5 @@
 """The syntax of fuzzylite's FuzzyLite Language: sections (``Engine:``, ``InputVariable:``,
-``OutputVariable:``, ``RuleBlock:``) of ``key: value`` lines with ``#`` comments, numbers as
+``OutputVariable:``, ``RuleBlock:``) of ``key: value`` lines with ``#`` comments, rules, numbers as
 fuzzylite writes them (``nan``, ``inf``), kept with their line numbers. The meaning is
 :mod:`._fllbuild`'s."""
 
@@ -10,6 +10,7 @@ import re
 import warnings
 from dataclasses import dataclass, field
 
+from ._ruletree import Compound, Condition, Proposition
 from .errors import FisFormatError, FisFormatWarning
 
 __all__ = ["SECTIONS", "Document", "Item", "Section", "show"]
@@ -26,6 +27,8 @@ SECTIONS = {
                   "activation", "rule"},
 }
 _REPEATABLE = {"term", "rule"}
+_HEDGES = ("not", "very", "somewhat", "extremely", "seldom", "any")
+_TOKEN_RE = re.compile(r"\(|\)|[^\s()]+")
 
 
 @dataclass(frozen=True)
@@ -101,6 +104,84 @@ class Document:
         if finite and not math.isfinite(value):
             raise self.error(line, f"{what}: {text} must be a finite number")
         return value
+
+    def rule(self, item: Item) -> tuple[Condition, list[tuple[str, str]], float]:
+        """A ``rule:`` line: its condition, its conclusions (variable, term), its weight."""
+        tokens = _TOKEN_RE.findall(item.value)
+        pos = 0
+
+        def peek() -> str | None:
+            return tokens[pos] if pos < len(tokens) else None
+
+        def take(what: str) -> str:
+            nonlocal pos
+            if pos >= len(tokens):
+                raise self.error(item.line, f"rule ends where {what} was expected")
+            pos += 1
+            return tokens[pos - 1]
+
+        def expect(word: str) -> None:
+            got = take(repr(word))
+            if got != word:
+                raise self.error(item.line, f"expected {word!r} in the rule, got {got!r}")
+
+        def proposition() -> Proposition:
+            variable = take("a variable")
+            expect("is")
+            hedges = []
+            while peek() in _HEDGES:
+                hedges.append(take("a hedge"))
+            term = take("a term")
+            if term in _HEDGES or term in ("and", "or", "then", "with", "(", ")"):
+                raise self.error(item.line, f"expected a term after {variable!r} is, got "
+                                 f"{term!r}")
+            negated = hedges.count("not") % 2 == 1
+            return Proposition(variable, term, negated, tuple(h for h in hedges if h != "not"))
+
+        def operand() -> Condition:
+            if peek() == "(":
+                take("(")
+                inner = disjunction()
+                expect(")")
+                return inner
+            return proposition()
+
+        def conjunction() -> Condition:
+            parts = [operand()]
+            while peek() == "and":
+                take("and")
+                parts.append(operand())
+            return parts[0] if len(parts) == 1 else Compound("and", tuple(parts))
+
+        def disjunction() -> Condition:
+            parts = [conjunction()]
+            while peek() == "or":
+                take("or")
+                parts.append(conjunction())
+            return parts[0] if len(parts) == 1 else Compound("or", tuple(parts))
+
+        expect("if")
+        condition = disjunction()
+        expect("then")
+        conclusions = []
+        while True:
+            prop = proposition()
+            if prop.negated or prop.hedges:
+                raise self.error(item.line, f"a hedge or 'not' on the conclusion {prop.variable} "
+                                 "is not supported")
+            conclusions.append((prop.variable, prop.term))
+            if peek() != "and":
+                break
+            take("and")
+        weight = 1.0
+        if peek() == "with":
+            take("with")
+            weight = self.number(take("a weight"), item.line, "the rule weight")
+        if peek() is not None:
+            raise self.error(item.line, f"unexpected {peek()!r} at the end of the rule")
+        if not 0.0 <= weight <= 1.0:
+            raise self.error(item.line, f"rule weight {weight:g} must be in [0, 1]")
+        return condition, conclusions, weight
 
     def boolean(self, item: Item) -> bool:
         if item.value not in ("true", "false"):

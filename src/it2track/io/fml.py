@@ -50,10 +50,10 @@ What is read
 What is written
 ---------------
 The same, every number with ``repr`` precision: a file read back evaluates bit for bit like the
-system written. Type-1 Mamdani and Sugeno systems (and hybrids of them); names must be XML names;
-``on_zero_firing=None`` is written ``defaultValue="NaN"``. Refused: type-2 and Tsukamoto systems, NOT in a rule (IEEE 1855 complements terms,
-not propositions), heights, MFs without an IEEE 1855 shape, a Mamdani sampling other than 101
-points with both ends.
+system written. Type-1 Mamdani and Sugeno systems (and hybrids of them); names must be XML
+names; ``on_zero_firing=None`` is written ``defaultValue="NaN"``. Refused: type-2 and Tsukamoto
+systems, NOT in a rule (IEEE 1855 complements terms, not propositions), heights, MFs without an
+IEEE 1855 shape, a Mamdani sampling other than 101 points with both ends.
 """
 
 from __future__ import annotations
