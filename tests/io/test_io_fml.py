@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -30,58 +31,8 @@ from it2track.fuzzy import (
 )
 from it2track.io import FisFormatError, UnsupportedFeatureError, dumps, loads
 
-TIPPER = """<?xml version="1.0" encoding="UTF-8"?>
-<fuzzySystem xmlns="http://www.ieee1855.org" name="tipper">
-  <knowledgeBase>
-    <fuzzyVariable name="food" domainleft="0.0" domainright="10.0" type="input">
-      <fuzzyTerm name="rancid" complement="false">
-        <leftLinearShape param1="0.0" param2="5.0"/>
-      </fuzzyTerm>
-      <fuzzyTerm name="delicious" complement="false">
-        <rightLinearShape param1="5.0" param2="10.0"/>
-      </fuzzyTerm>
-    </fuzzyVariable>
-    <fuzzyVariable name="service" domainleft="0.0" domainright="10.0" type="input">
-      <fuzzyTerm name="poor" complement="true">
-        <rightLinearShape param1="0.0" param2="10.0"/>
-      </fuzzyTerm>
-      <fuzzyTerm name="good" complement="false">
-        <triangularShape param1="0.0" param2="5.0" param3="10.0"/>
-      </fuzzyTerm>
-    </fuzzyVariable>
-    <tskVariable name="tip" type="output" combination="WA" defaultValue="15.0">
-      <tskTerm name="cheap" order="0">
-        <tskValue>5.0</tskValue>
-      </tskTerm>
-      <tskTerm name="rising" order="1">
-        <tskValue>10.0</tskValue>
-        <tskValue>1.0</tskValue>
-        <tskValue>0.5</tskValue>
-      </tskTerm>
-    </tskVariable>
-  </knowledgeBase>
-  <tskRuleBase name="rb" activationMethod="PROD" andMethod="PROD" orMethod="MAX">
-    <tskRule name="r1" connector="or" weight="0.5">
-      <antecedent>
-        <clause><variable>food</variable><term>rancid</term></clause>
-        <clause><variable>service</variable><term>poor</term></clause>
-      </antecedent>
-      <tskConsequent><tskThen>
-        <tskClause><variable>tip</variable><term>cheap</term></tskClause>
-      </tskThen></tskConsequent>
-    </tskRule>
-    <tskRule name="r2" connector="AND">
-      <antecedent>
-        <clause><variable>food</variable><term>delicious</term></clause>
-        <clause><variable>service</variable><term>good</term></clause>
-      </antecedent>
-      <tskConsequent><tskThen>
-        <tskClause><variable>tip</variable><term>rising</term></tskClause>
-      </tskThen></tskConsequent>
-    </tskRule>
-  </tskRuleBase>
-</fuzzySystem>
-"""
+DATA = Path(__file__).parent / "data"
+TIPPER = (DATA / "tipper.fml").read_text()
 
 
 def error_of(text: str) -> FisFormatError:
@@ -189,6 +140,8 @@ MALFORMED = [
      'name="rancid"', "needs one shape"),
     ('<leftLinearShape param1="0.0" param2="5.0"/>', '<leftLinearShape param1="0.0"/>',
      "<leftLinearShape", "needs the attribute 'param2'"),
+    ('<tskVariable name="tip"', '<tskVariable nYme="tip"', "<tskVariable",
+     "needs the attribute 'name'"),  # found by the fuzzer
     ('<triangularShape param1="0.0"', '<triangularShape param1="9.0"', "<triangularShape",
      "a <= b <= c"),
     ('<triangularShape param1="0.0" param2="5.0" param3="10.0"/>',

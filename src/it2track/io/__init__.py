@@ -91,7 +91,8 @@ def _dumper(name: str) -> _Dumper:
 
 
 def format_of(path: str | os.PathLike[str]) -> str:
-    """The format name (``"toml"``, ``"t2fis"``, ``"fis"``, ``"fcl"``) for a path's suffix.
+    """The format name (``"toml"``, ``"t2fis"``, ``"fis"``, ``"fll"``, ``"fml"``, ``"fcl"``)
+    for a path's suffix.
 
     Raises
     ------
@@ -117,16 +118,25 @@ def _format(fmt: str) -> tuple[str, _Loader, _Dumper]:
         raise ValueError(f"unknown format {fmt!r}; choose one of {known}") from None
 
 
-def loads(text: str, fmt: str, *, path: str = "<string>") -> AnySystem:
-    """Parse ``text`` in format ``fmt`` (``"toml"``, ``"t2fis"``, ``"fis"`` or ``"fcl"``).
+def loads(text: str, fmt: str, *, path: str = "<string>", block: str | None = None
+          ) -> AnySystem:
+    """Parse ``text`` in format ``fmt`` (``"toml"``, ``"t2fis"``, ``"fis"``, ``"fll"``,
+    ``"fml"`` or ``"fcl"``).
 
-    ``path`` only labels error messages.
+    ``path`` only labels error messages; ``block`` names the FCL ``FUNCTION_BLOCK`` to read
+    (``None``: the first; other formats take no ``block``).
     """
-    return _format(fmt)[1](text, path)
+    _, loader, _ = _format(fmt)
+    if block is None:
+        return loader(text, path)
+    if loader is not fcl.loads:
+        raise ValueError(f"block= names an FCL FUNCTION_BLOCK; format {fmt!r} has none")
+    return fcl.loads(text, path, block=block)
 
 
 def dumps(system: AnySystem, fmt: str) -> str:
-    """Text of ``system`` in format ``fmt`` (``"toml"``, ``"t2fis"`` or ``"fis"``).
+    """Text of ``system`` in format ``fmt`` (``"toml"``, ``"t2fis"``, ``"fis"``, ``"fll"`` or
+    ``"fml"``).
 
     Raises
     ------
@@ -136,12 +146,13 @@ def dumps(system: AnySystem, fmt: str) -> str:
     return _format(fmt)[2](system)
 
 
-def load(path: str | os.PathLike[str]) -> AnySystem:
-    """Read a fuzzy system from ``path``; the format follows the suffix.
+def load(path: str | os.PathLike[str], *, block: str | None = None) -> AnySystem:
+    """Read a fuzzy system from ``path``; the format follows the suffix (``block``: the FCL
+    ``FUNCTION_BLOCK`` to read, as :func:`loads`).
 
     Returns
     -------
-    IT2Sugeno, T1Sugeno, IT2Mamdani or T1Mamdani
+    IT2Sugeno, T1Sugeno, IT2Mamdani, T1Mamdani, T1Tsukamoto or HybridSystem
         Evaluate as ``system(x1, x2, ...)``.
 
     Raises
@@ -152,7 +163,7 @@ def load(path: str | os.PathLike[str]) -> AnySystem:
         ``.toml``) is not UTF-8; ``str(err)`` is ``"path:line: problem"`` (or ``"path:
         problem"``).
     ValueError
-        For an unknown suffix.
+        For an unknown suffix, or ``block`` with a format other than FCL.
     OSError
         If the file does not exist or cannot be read.
     """
@@ -167,7 +178,7 @@ def load(path: str | os.PathLike[str]) -> AnySystem:
             text = decode(data)  # UTF-8, else Latin-1 (MATLAB files)
     except InputFileError as exc:
         raise FisFormatError(label, exc.line, exc.problem) from None
-    return _loader(name)(text, label)
+    return loads(text, name, path=label, block=block)
 
 
 def save(system: AnySystem, path: str | os.PathLike[str]) -> None:

@@ -178,6 +178,7 @@ class _Reader:
 
     def tsk_terms(self, node: Node, n_inputs: int) -> dict[str, Consequent]:
         terms: dict[str, Consequent] = {}
+        self.attr(node, "name")
         for term in node.all("tskTerm"):
             label = self.attr(term, "name")
             values = [self.number(v, v.text, "tskValue") for v in term.all("tskValue")]
