@@ -24,7 +24,7 @@ CONFORMANCE = Path(__file__).parents[1] / "conformance" / "files"
 #: files as the tools write them (tests/conformance/files/SOURCES.md): MATLAB's duplicated key
 #: and comments, Octave's, fuzzylite's exports of a hybrid engine, jFuzzyLogic's FCL
 REAL_FILES = ["fuzzylite/examples/original/takagi-sugeno/matlab/slcp1.fis",
-              "octave/inst/investment_portfolio.fis",
+              "octave/inst/heart_disease_risk.fis",
               "fuzzylite/examples/hybrid/tipper.fll", "fuzzylite/examples/hybrid/tipper.fis",
               "fuzzylite/examples/hybrid/tipper.fcl", "jfuzzylogic/tests/junit_tipper.fcl"]
 MUTATIONS_PER_FILE = 250
