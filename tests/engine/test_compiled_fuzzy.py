@@ -339,3 +339,15 @@ def test_scaled_lagged_of_existing_kinds_is_compiled():
     assert {MFKind(int(v)) for v in fls.tables.mf_kind} == {
         MFKind.TRAPEZOID, MFKind.GAUSSIAN, MFKind.SCALED_LAGGED}
     check(fls, points(2000, 70, n_inputs=1, spread=1.2))
+
+
+def test_uncertain_parameter_sets_of_new_terms_are_compiled():
+    """IT2 sets whose bounds are two terms of one family (uncertain width, inflection)."""
+    sets = [IT2Set(Bell(0.0, 0.6, 2.0), Bell(0.0, 0.4, 2.0), "Z"),
+            IT2Set(Sigmoid(0.3, 7.0), Sigmoid(0.5, 7.0), "P"),
+            IT2Set(ZShape(-0.8, -0.1), ZShape(-0.9, -0.3, h=0.8), "N")]
+    rules = [Rule([p, q], float(i - j)) for i, p in enumerate("NZP") for j, q in enumerate("NZP")]
+    for reducer in REDUCERS:
+        fls = IT2Sugeno(inputs=[Input("a", (-1, 1), sets), Input("b", (-1, 1), sets)],
+                        rules=rules, reducer=reducer, on_zero_firing=0.0)
+        check(fls, points(1500, 80, spread=1.2))

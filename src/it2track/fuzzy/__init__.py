@@ -1,10 +1,11 @@
-"""General interval type-2 and type-1 fuzzy logic: Sugeno, TSK and Mamdani (knows nothing
-about robots).
+"""General interval type-2 and type-1 fuzzy logic: Sugeno, TSK, Mamdani and Tsukamoto (knows
+nothing about robots).
 
 Imports numpy only. One concept per module: :mod:`.membership` (type-1 MFs: triangles,
-trapezoids, Gaussians), :mod:`.curves` (bell, sigmoids, S/Z/Pi splines, two-sided Gaussian,
-cosine, spike), :mod:`.shapes` (ramps, rectangle, binary, discrete, concave, arc,
-semi-ellipse), :mod:`.terms` (MATLAB's and fuzzylite's names of them), :mod:`.sets`
+trapezoids, Gaussians), :mod:`.curves` (bell, two-sided Gaussian, cosine, spike),
+:mod:`.sigmoids`, :mod:`.splines` (S/Z/Pi shapes), :mod:`.shapes` (ramps, rectangle,
+binary, discrete, concave, arc, semi-ellipse), :mod:`.terms` (MATLAB's and fuzzylite's
+names of them), :mod:`.kinds` (their compiled rows), :mod:`.sets`
 (IT2 sets), :mod:`.norms` (t-norms, s-norms, implication, aggregation, defuzzifiers),
 :mod:`.rules` (variables and rules), :mod:`.tables` (the lowering to arrays and the rule
 firing), :mod:`.reducers` (type reduction), :mod:`.sugeno` (Sugeno/TSK
@@ -14,26 +15,7 @@ systems), :mod:`.mamdani` (Mamdani systems, centroid and centre-of-sets type red
 :mod:`.defuzz` (output grids and type-1 defuzzification), :mod:`.surface` (control surfaces).
 """
 
-from .curves import (
-    Bell,
-    Cosine,
-    GaussianProduct,
-    PiShape,
-    Sigmoid,
-    SigmoidDifference,
-    SigmoidProduct,
-    Spike,
-    SShape,
-    ZShape,
-    dsigmf,
-    gauss2mf,
-    gbellmf,
-    pimf,
-    psigmf,
-    sigmf,
-    smf,
-    zmf,
-)
+from .curves import Bell, Cosine, GaussianProduct, Spike, gauss2mf, gbellmf
 from .defuzz import Sampling, output_grid
 from .hybrid import HybridSystem
 from .kinds import MFKind
@@ -96,6 +78,8 @@ from .shapes import (
     linsmf,
     linzmf,
 )
+from .sigmoids import Sigmoid, SigmoidDifference, SigmoidProduct, dsigmf, psigmf, sigmf
+from .splines import PiShape, SShape, ZShape, pimf, smf, zmf
 from .sugeno import FuzzySystem, IT2Sugeno, T1Sugeno
 from .surface import control_surface
 from .tables import FEATURES, SystemTables

@@ -6,22 +6,23 @@ operations in the same order, sums over rules in rule order, no fast-math, no co
 multiply-adds. A system is one flat float64 array ``P`` (layout in :mod:`.kernels`), so one
 compilation serves every system and a call passes a single array.
 
+The scalar building blocks (numba options, min/max selects, ``exp``/``log``/``cos``, the
+membership curves and t-norms) are in :mod:`._jit_lib`; this module holds the block kernels.
+
 Compiled functions are cached on disk (``cache=True``): the first call of a process loads them
 (tens of ms) instead of compiling them (seconds). numba checks a cached function against its
-own source file only; :mod:`it2track.tracking._jit` calls :func:`sample` from here, so after
-editing this file in a development checkout touch that one too (or clear ``__pycache__``).
+own source file only; :mod:`it2track.tracking._jit` calls :func:`eval_block` from here, so
+after editing this file or ``_jit_lib.py`` in a development checkout touch this one and that
+one too (or clear ``__pycache__``).
 """
 
 from __future__ import annotations
 
 import math
-from typing import Any
 
 import numpy as np
-from numba import njit
 
-from .curves import MAX_SQUARING
-from .libm import cospi_scalar, exp_scalar, log_scalar
+from ._jit_lib import MINIMUM, PRODUCT, _compiled, _curve, _tnorm, exp, fmax, fmin
 
 # Header of a packed system (see kernels.pack); offsets point into the same array.
 N_IN, N_ROWS, N_RULES, REDUCER, TNORM, MAX_ITER, HAS_ZERO, ZERO = 0, 1, 2, 3, 4, 5, 6, 7
@@ -32,41 +33,8 @@ HEADER = 25
 
 # Reducer codes (REDUCER); T1 / T1_SUM are the T1Sugeno weighted average / weighted sum.
 EXHAUSTIVE, KM, EKM, EIASC, NIE_TAN, WU_MENDEL, T1, T1_SUM = 0, 1, 2, 3, 4, 5, 6, 7
-# t-norm codes (TNORM): product, minimum, then the others of kernels._TNORMS.
-PRODUCT, MINIMUM, BOUNDED_DIFFERENCE, DRASTIC, EINSTEIN, HAMACHER, NILPOTENT = range(7)
 # Status codes: the reference raises where the status is not OK.
 OK, ZERO_FIRING, WM_ZERO_LOWER, NOT_CONVERGED = 0, 1, 2, 3
-
-def _compiled(*, inline: bool = False) -> Any:
-    """numba's ``njit`` with this package's options: cached on disk, IEEE division semantics
-    (``error_model="numpy"``: x / 0 is inf or NaN, as in numpy), no fast-math, GIL released.
-
-    ``inline``: inline in numba IR. Small helpers called in per-lane loops are inlined: a call
-    of a compiled function with array arguments costs reference-count updates (atomic) that
-    LLVM cannot remove. Larger functions are called once per block: inlining them would
-    multiply the compile time.
-    """
-    return njit(cache=True, error_model="numpy", nogil=True,
-                inline="always" if inline else "never")
-
-
-exp = _compiled()(exp_scalar)
-log = _compiled()(log_scalar)
-cospi = _compiled()(cospi_scalar)
-
-
-@_compiled(inline=True)
-def fmax(a, b):
-    """Python's (and numba's) ``max(a, b)`` for floats, ``b if b > a else a``, as a plain
-    select: numba's builtin calls a comparison the loop vectoriser does not see through."""
-    return b if b > a else a
-
-
-@_compiled(inline=True)
-def fmin(a, b):
-    """Python's ``min(a, b)`` for floats, ``b if b < a else a`` (see :func:`fmax`)."""
-    return b if b < a else a  # scalar arguments: a call costs no reference counting
-
 
 WORK_ROWS = 13  # work rows of the reducers in a block's scratch
 
@@ -106,140 +74,44 @@ def _memberships(P, X, L, S):
                 v = X[i, j]
                 z = ((v - (b if v <= mid else a)) - 0.0) / c
                 S[k, j] = d * exp((-0.5 * z) * z)
-        else:
-            _curves(kind, a, b, c, d, h, X, i, L, S, k)
+        elif kind == 19:  # scaled and lagged row a (MATLAB's type-2 lower MF)
+            up = int(a)  # (row, scale peak, lag, peak)
+            for j in range(L):
+                S[k, j] = b * fmin(fmax((S[up, j] / d - c) / (1.0 - c), 0.0), 1.0)
+        else:  # one scalar function for the other shapes: compiled once, small
+            for j in range(L):
+                S[k, j] = _curve(kind, a, b, c, d, h, X[i, j])
     for j in range(L):
         S[n_rows, j] = 1.0
 
 
 @_compiled()
-def _curves(kind, a, b, c, d, h, X, i, L, S, k):
-    """Row ``k`` of the kinds of :mod:`.curves` and :mod:`.shapes` (their numpy ``__call__``
-    operation for operation; parameters as each class's ``kernel_row`` documents)."""
-    if kind == 4:  # bell (center, width, 2 slope, h)
-        if c == int(c) and c <= MAX_SQUARING:
-            n = int(c)
-            for j in range(L):
-                t = abs((X[i, j] - a) / b)
-                r = 1.0
-                base = t
-                m = n
-                while m:
-                    if m & 1:
-                        r = r * base
-                    m >>= 1
-                    if m:
-                        base = base * base
-                S[k, j] = d * (1.0 / (1.0 + r))
-        else:
-            for j in range(L):
-                t = abs((X[i, j] - a) / b)
-                S[k, j] = d * (1.0 / (1.0 + exp(c * log(t))))
-    elif kind == 5:  # sigmoid (inflection, slope, h)
-        for j in range(L):
-            S[k, j] = c * (1.0 / (1.0 + exp(-b * (X[i, j] - a))))
-    elif kind == 6 or kind == 7:  # sigmoid difference / product (left, rising, right, falling, h)
-        for j in range(L):
-            v = X[i, j]
-            s1 = 1.0 / (1.0 + exp(-b * (v - a)))
-            s2 = 1.0 / (1.0 + exp(-d * (v - c)))
-            S[k, j] = h * (abs(s1 - s2) if kind == 6 else s1 * s2)
-    elif kind == 8 or kind == 9:  # S / Z shape (start, end, h)
-        for j in range(L):
-            S[k, j] = c * _spline(X[i, j], a, b, kind == 8)
-    elif kind == 10:  # Pi shape (a, b, c, d, h)
-        for j in range(L):
-            v = X[i, j]
-            S[k, j] = h * (_spline(v, a, b, True) * _spline(v, c, d, False))
-    elif kind == 11:  # Gaussian product (mean_a, sigma_a, mean_b, sigma_b, h)
-        for j in range(L):
-            v = X[i, j]
-            za = fmin(v - a, 0.0) / b
-            zb = fmax(v - c, 0.0) / d
-            S[k, j] = h * (exp(-0.5 * za * za) * exp(-0.5 * zb * zb))
-    elif kind == 12:  # cosine (center, width, h)
-        half = 0.5 * b
-        lo = a - half
-        hi = a + half
-        for j in range(L):
-            v = X[i, j]
-            inside = (v >= lo) & (v <= hi)
-            u = (v - a) / half if inside else 1.0
-            S[k, j] = c * (0.5 * (1.0 + cospi(u)) if inside else 0.0)
-    elif kind == 13:  # spike (center, width, h)
-        q = 10.0 / b
-        for j in range(L):
-            S[k, j] = c * exp(-abs(q * (X[i, j] - a)))
-    elif kind == 14:  # concave (inflection, end, h)
-        for j in range(L):
-            v = X[i, j]
-            if a < b:
-                y = (b - a) / ((2.0 * b - a) - v) if v < b else 1.0
-            else:
-                y = (a - b) / ((a - 2.0 * b) + v) if v > b else 1.0
-            S[k, j] = c * y
-    elif kind == 15:  # rectangle (start, end, h)
-        for j in range(L):
-            v = X[i, j]
-            S[k, j] = c if (v >= a) & (v <= b) else 0.0
-    elif kind == 16:  # step (edge, rising, closed, h)
-        for j in range(L):
-            v = X[i, j]
-            if b != 0.0:
-                on = (v >= a) if c != 0.0 else (v > a)
-            else:
-                on = (v <= a) if c != 0.0 else (v < a)
-            S[k, j] = d if on else 0.0
-    elif kind == 17:  # arc (start, end, h)
-        r = b - a
-        for j in range(L):
-            v = X[i, j]
-            e = v - b
-            arc = math.sqrt(fmax(r * r - e * e, 0.0)) / abs(r)
-            if a < b:
-                y = 1.0 if v > b else (arc if v >= a else 0.0)
-            else:
-                y = 1.0 if v < b else (arc if v <= a else 0.0)
-            S[k, j] = c * y
-    elif kind == 18:  # semi-ellipse (start, end, h)
-        r = (b - a) / 2.0
-        m = a + r
-        for j in range(L):
-            v = X[i, j]
-            e = v - m
-            y = math.sqrt(fmax(r * r - e * e, 0.0)) / r
-            S[k, j] = c * (y if (v >= a) & (v <= b) else 0.0)
-    else:  # scaled and lagged row a (MATLAB's type-2 lower MF): (row, scale peak, lag, peak)
-        up = int(a)
-        for j in range(L):
-            S[k, j] = b * fmin(fmax((S[up, j] / d - c) / (1.0 - c), 0.0), 1.0)
-
-
-@_compiled(inline=True)
-def _spline(v, a, b, rising):
-    """MATLAB's ``smf`` (``rising``) or ``zmf`` on ``[a, b]``, as curves._s_shape/_z_shape."""
-    w = b - a
-    mid = (a + b) / 2.0
-    q1 = (v - a) / w
-    q2 = (v - b) / w
-    if rising:
-        return 0.0 if v <= a else (2.0 * (q1 * q1) if v <= mid else
-                                   (1.0 - 2.0 * (q2 * q2) if v < b else 1.0))
-    return 1.0 if v <= a else (1.0 - 2.0 * (q1 * q1) if v <= mid else
-                               (2.0 * (q2 * q2) if v < b else 0.0))
-
-
-@_compiled()
 def _firing(P, L, S, flb, fub):
-    n_in, n_rules = int(P[N_IN]), int(P[N_RULES])
+    n_in, n_rows, n_rules = int(P[N_IN]), int(P[N_ROWS]), int(P[N_RULES])
     o_ur, o_lr = int(P[O_UR]), int(P[O_LR])
     code = int(P[TNORM])
-    if code > MINIMUM:
-        _firing_mentioned(P, L, S, flb, fub, code)
-        return
     prod = code == PRODUCT
     for r in range(n_rules):
         b = r * n_in
+        if code > MINIMUM:
+            # AND over the inputs the rule mentions only (tables' fold for the t-norms whose
+            # identity is not exact): the first one copied, the others folded left to right.
+            first = True
+            for i in range(n_in):
+                u = int(P[o_ur + b + i])
+                lw = int(P[o_lr + b + i])
+                if u == n_rows:
+                    continue
+                if first:
+                    for j in range(L):
+                        S[fub + r, j] = S[u, j]
+                        S[flb + r, j] = S[lw, j]
+                    first = False
+                else:
+                    for j in range(L):
+                        S[fub + r, j] = _tnorm(code, S[fub + r, j], S[u, j])
+                        S[flb + r, j] = _tnorm(code, S[flb + r, j], S[lw, j])
+            continue
         u = int(P[o_ur + b])
         lw = int(P[o_lr + b])
         for j in range(L):
@@ -256,47 +128,6 @@ def _firing(P, L, S, flb, fub):
                 for j in range(L):
                     S[fub + r, j] = fmin(S[fub + r, j], S[u, j])
                     S[flb + r, j] = fmin(S[flb + r, j], S[lw, j])
-
-
-@_compiled(inline=True)
-def _tnorm(code, a, b):
-    """The t-norms of norms.TNorm other than product and minimum, as their numpy forms."""
-    if code == BOUNDED_DIFFERENCE:
-        return fmax(0.0, a + b - 1.0)
-    if code == DRASTIC:
-        return fmin(a, b) if fmax(a, b) == 1.0 else 0.0
-    if code == EINSTEIN:
-        ab = a * b
-        return ab / (2.0 - (a + b - ab))
-    if code == HAMACHER:
-        ab = a * b
-        return ab / (a + b - ab) if a + b != 0.0 else 0.0
-    return fmin(a, b) if a + b > 1.0 else 0.0  # nilpotent minimum
-
-
-@_compiled()
-def _firing_mentioned(P, L, S, flb, fub, code):
-    """AND over the inputs each rule mentions only (tables' fold for t-norms whose identity
-    is not exact): the first one copied, the others folded left to right."""
-    n_in, n_rows, n_rules = int(P[N_IN]), int(P[N_ROWS]), int(P[N_RULES])
-    o_ur, o_lr = int(P[O_UR]), int(P[O_LR])
-    for r in range(n_rules):
-        b = r * n_in
-        first = True
-        for i in range(n_in):
-            u = int(P[o_ur + b + i])
-            lw = int(P[o_lr + b + i])
-            if u == n_rows:
-                continue
-            if first:
-                for j in range(L):
-                    S[fub + r, j] = S[u, j]
-                    S[flb + r, j] = S[lw, j]
-                first = False
-            else:
-                for j in range(L):
-                    S[fub + r, j] = _tnorm(code, S[fub + r, j], S[u, j])
-                    S[flb + r, j] = _tnorm(code, S[flb + r, j], S[lw, j])
 
 
 @_compiled(inline=True)

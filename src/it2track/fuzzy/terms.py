@@ -22,18 +22,7 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from types import MappingProxyType
 
-from .curves import (
-    Bell,
-    Cosine,
-    GaussianProduct,
-    PiShape,
-    Sigmoid,
-    SigmoidDifference,
-    SigmoidProduct,
-    Spike,
-    SShape,
-    ZShape,
-)
+from .curves import Bell, Cosine, GaussianProduct, Spike
 from .membership import (
     Gaussian,
     MembershipFunction,
@@ -54,6 +43,8 @@ from .shapes import (
     Rectangle,
     SemiEllipse,
 )
+from .sigmoids import Sigmoid, SigmoidDifference, SigmoidProduct
+from .splines import PiShape, SShape, ZShape
 
 __all__ = [
     "FUZZYLITE_TERMS",

@@ -33,7 +33,7 @@ Noise: drawing a seed's row (numpy PCG64, ~17 ns per sample) is done once per di
 call, and not at all for sigma = 0.
 
 numba checks a cached function against its own source file only: after editing
-``fuzzy/_jit.py``, ``fuzzy/libm.py``, ``fuzzy/curves.py``'s ``MAX_SQUARING``,
+``fuzzy/_jit.py``, ``fuzzy/_jit_lib.py``, ``fuzzy/libm.py``, ``fuzzy/curves.py``'s ``MAX_SQUARING``,
 ``tracking/libm.py`` or ``plant/drive.py``'s sine/cosine constants in a development checkout,
 touch this file too (or clear ``__pycache__``).
 """
