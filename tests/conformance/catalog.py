@@ -32,6 +32,13 @@ _TWIN_EXCEPTIONS: dict[str, str | None] = {
     # now has 'min' and 'max': not the same system
     "octave/inst/mamdani_tip_calculator.fis": None,
 }
+#: outputs named apart from the twin's (it2track's name -> the twin's), compared by name
+OUTPUT_NAMES: dict[str, dict[str, str]] = {
+    # fuzzylite's .fll of its 2012 Tsukamoto example renamed the outputs and added Concaves;
+    # Ramps, Sigmoids and ZSShapes have the .fis's terms and rules (outputs are independent)
+    "fuzzylite/examples/original/tsukamoto/tsukamoto.fis":
+        {"A": "Ramps", "B": "Sigmoids", "C": "ZSShapes"},
+}
 
 
 @dataclass(frozen=True)

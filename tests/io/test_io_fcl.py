@@ -74,7 +74,7 @@ MALFORMED = [
     ("TERM lo := (0, 1) (1, 0);", "TERM lo := TRIAN 0 1;", "TERM lo", "TRIAN needs 3"),
     ("TERM lo := (0, 1) (1, 0);", "TERM lo := GAUSS m 1;", "TERM lo", "is a variable"),
     ("TERM lo := (0, 1) (1, 0);", "TERM lo := BLOB 1 2;", "TERM lo", "unknown shape 'BLOB'"),
-    ("TERM lo := (0, 1) (1, 0);", "TERM lo := 3;", "TERM lo", "singleton input term"),
+    ("TERM lo := (0, 1) (1, 0);", "TERM lo := 3;", "TERM lo", "not a membership function"),
     ("METHOD : COG;", "METHOD : MEAN;", "METHOD", "METHOD MEAN is not supported"),
     ("METHOD : COG;", "METHOD : COG;\n    DEFAULT := NC;", "DEFAULT", "needs state"),
     ("AND : MIN;", "AND : LUKA;", "AND :", "AND : LUKA is not supported"),

@@ -18,6 +18,7 @@ from it2track.fuzzy import (
     SNorm,
     T1Mamdani,
     T1Sugeno,
+    T1Tsukamoto,
     TNorm,
     WeightedDefuzzifier,
 )
@@ -116,10 +117,40 @@ def test_a_repeated_mf_key_is_the_next_mf_as_in_matlabs_slcp1() -> None:
     assert "read as MF3" in warning.message
     assert [s.name for s in fls.inputs[0].sets] == ["poor", "good", "excellent"]
     assert fls == BASE
-    err = error_of(edit(TIPPER, "NumMFs=3\nMF1='poor'", "NumMFs=2\nMF1='poor'"))
-    assert err.line == line_with(TIPPER, "MF3='excellent'") and "MF line 3" in err.message
     err = error_of(edit(TIPPER, "NumMFs=3\nMF1='poor'", "NumMFs=4\nMF1='poor'"))
     assert "has 3 MF lines but NumMFs=4" in err.message
+
+
+def test_more_mf_lines_and_rules_than_counted_are_read_as_fuzzylite_does() -> None:
+    # fuzzylite's export of its AllTerms example says NumMFs=16 and NumRules=16 over 20 of each
+    text = edit(TIPPER, "NumMFs=3\nMF1='poor'", "NumMFs=2\nMF1='poor'")
+    fls, warning = warning_of(text)
+    assert warning.line == line_with(text, "MF3='excellent'")
+    assert "all 3 MF lines read, as fuzzylite reads them" in warning.message
+    assert fls == BASE
+    text = edit(TIPPER, "NumRules=3", "NumRules=2")
+    fls, warning = warning_of(text)
+    assert warning.line == line_with(text, "NumRules=2")
+    assert "[Rules] has 3 rules: all read" in warning.message
+    assert fls == BASE
+    err = error_of(edit(TIPPER, "NumRules=3", "NumRules=4"))
+    assert "NumRules=4 but [Rules] has 3 rules" in err.message
+
+
+def test_a_sugeno_file_with_monotonic_output_mfs_is_tsukamoto_as_fuzzylite_reads_it() -> None:
+    # fuzzylite's examples/original/tsukamoto/tsukamoto.fis: Type='sugeno', 'rampmf' outputs
+    text = edit(TIPPER, """MF1='cheap':'constant',[5]
+MF2='average':'constant',[15]
+MF3='generous':'constant',[25]""", """MF1='cheap':'rampmf',[10 0]
+MF2='average':'rampmf',[0 30]
+MF3='generous':'rampmf',[20 30]""")
+    fls, warning = warning_of(text)
+    assert isinstance(fls, T1Tsukamoto)
+    assert warning.line == line_with(text, "[Output1]") and "a Tsukamoto output" in warning.message
+    # at (5, 8) (see the fixture): r2 = 1 puts 'average' at 30, r3 'generous' at 20 + 10 r3
+    r3 = math.exp(-50 / 9) * 0.5
+    assert float(fls(5.0, 8.0)) == pytest.approx((30.0 + r3 * (20 + 10 * r3)) / (1 + r3),
+                                                 abs=1e-12)
 
 
 def test_matlab_pi_expressions_in_a_range() -> None:

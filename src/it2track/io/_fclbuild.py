@@ -181,8 +181,9 @@ class Builder:
         if term.kind == "shape":
             return self.shape(term, universe)
         if term.kind == "singleton":
-            raise self.error(term.line, f"term {term.name!r}: a singleton input term is not "
-                             "supported (singletons are COGS output values)")
+            raise self.error(term.line, f"term {term.name!r}: a singleton is the value of a "
+                             "COGS output, not a membership function (of an input, or of an "
+                             "output without METHOD : COGS) as here")
         raise self.error(term.line, f"term {term.name!r}: FUNCTION is a COGF output term")
 
     def consequent(self, term: FclTerm, inputs: list[str]) -> Consequent:

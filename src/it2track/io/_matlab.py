@@ -218,13 +218,15 @@ class Document(ValueParser):
         """The ``n`` MF lines of a lenient section, in file order (MATLAB's reading).
 
         A key whose number is not its position (a repeated ``MF2``) is read by position, with a
-        warning; fewer or more lines than ``NumMFs`` is an error.
+        warning; more lines than ``NumMFs`` are all read, with a warning, as fuzzylite's
+        importer reads them (fuzzylite's exports can undercount); fewer is an error.
         """
         found = section.mfs
         if len(found) > n:
             extra = found[n]
-            raise self.error(extra.line, f"{extra.key} is MF line {n + 1} but "
-                             f"{count_entry.key}={count_entry.value}")
+            self.warn(extra.line, f"{extra.key} is MF line {n + 1} but {count_entry.key}="
+                      f"{count_entry.value}: all {len(found)} MF lines read, as fuzzylite "
+                      "reads them")
         if len(found) < n:
             raise self.error(
                 count_entry.line,
@@ -254,10 +256,14 @@ class Document(ValueParser):
                     )
 
     def counted_rules(self, counts: Counts) -> list[ParsedRule]:
-        """The ``[Rules]``, as many as ``NumRules`` promised."""
+        """The ``[Rules]``, as many as ``NumRules`` promised (a lenient document: at least as
+        many; the others are read too, with a warning, as fuzzylite reads them)."""
         section = self.section("Rules", promised_by=counts.n_rules_entry)
         parsed = self.rules(section, counts.n_inputs, counts.n_outputs)
-        if len(parsed) != counts.n_rules:
+        if self.lenient and len(parsed) > counts.n_rules:
+            self.warn(counts.n_rules_entry.line, f"NumRules={counts.n_rules} but [Rules] has "
+                      f"{len(parsed)} rules: all read, as fuzzylite reads them")
+        elif len(parsed) != counts.n_rules:
             raise self.error(
                 counts.n_rules_entry.line,
                 f"NumRules={counts.n_rules} but [Rules] has {len(parsed)} rules",

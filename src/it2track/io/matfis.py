@@ -33,20 +33,26 @@ Type-1 (``sugfis``), as written by MATLAB's ``writeFIS``::
     [Rules]
     1 1, 1 (1) : 1
 
-Read: ``trimf [a b c]``, ``trapmf [a b c d]``, ``gaussmf [sigma c]``, ``gauss2mf [sigma c1 sigma
-c2]`` (equal sigmas, ``c1 <= c2`` only); ``AndMethod`` ``'prod'`` or ``'min'``, ``OrMethod``
-``'max'`` or ``'probor'``; several outputs; rules ``a1 ... an, c1 ... cm (w) : k`` with NOT
-(``-j``), weights in ``[0, 1]``, AND (``k = 1``) and OR (``k = 2``), output index 0 for an
-output a rule leaves out.
+Read as MATLAB, Octave and fuzzylite write it: every MATLAB membership function
+(:data:`~it2track.fuzzy.terms.MATLAB_MFS`) and fuzzylite's names; ``AndMethod``/``OrMethod``
+by MATLAB's, Octave's or fuzzylite's norm names (``''``: none, refused where a rule needs
+one); several outputs; rules ``a1 ... an, c1 ... cm (w) : k`` with NOT (``-j``), weights in
+``[0, 1]``, AND (``k = 1``) and OR (``k = 2``), index 0 for a variable a rule leaves out,
+indices written ``1.000``. ``%``/``#`` comment lines, ``pi`` expressions, fuzzylite's
+``Enabled``/``LockRange``/``LockPrevious``/``Default`` at harmless values; an unknown key, extra
+MF parameters, a repeated ``MF`` key and undercounted ``NumMFs``/``NumRules`` are read as
+MATLAB or fuzzylite reads them, with a :class:`~it2track.io.FisFormatWarning`.
 
-- ``Type='sugeno'``: ``'constant',[c]`` and ``'linear',[c1 ... cn c0]`` outputs;
-  ``DefuzzMethod='wtaver'`` (``'wtsum'`` is rejected); missing ``AndMethod``/``DefuzzMethod``
-  mean MATLAB's Sugeno defaults ``'prod'``/``'wtaver'``.
+- ``Type='sugeno'``: ``'constant',[c]`` and ``'linear',[c1 ... cn c0]`` outputs (an output of
+  monotonic MFs: fuzzylite's Tsukamoto); ``DefuzzMethod`` ``'wtaver'`` or ``'wtsum'``; missing
+  ``AndMethod``/``DefuzzMethod`` mean MATLAB's Sugeno defaults ``'prod'``/``'wtaver'``.
 - ``Type='mamdani'``: output sets like the input sets (evaluated on MATLAB's 101 points);
-  ``ImpMethod`` ``'min'``/``'prod'``, ``AggMethod`` ``'max'``/``'sum'``/``'probor'``,
+  ``ImpMethod`` and ``AggMethod`` (``'max'``/``'sum'``/``'probor'``, any norm by name),
   ``DefuzzMethod`` ``'centroid'``, ``'bisector'``, ``'mom'``, ``'som'``, ``'lom'`` (type-2:
   ``'centroid'``, reduced by ``TypeReductionMethod``); defaults are ``mamfis``'s (min, max,
   min, max, centroid).
+- fuzzylite's ``Type='tsukamoto'`` and ``'hybrid'`` (a :class:`~it2track.fuzzy.HybridSystem`
+  of the runs of Mamdani and Takagi-Sugeno outputs).
 
 Where no rule fires MATLAB returns the middle of the output ``Range``: the loaded system's
 ``on_zero_firing`` is that midpoint (one per output), and for Sugeno systems the writer chooses
@@ -111,12 +117,6 @@ from collections.abc import Sequence
 from typing import Any, TypeVar
 
 from ..fuzzy import (
-    EIASC,
-    EKM,
-    EXHAUSTIVE,
-    KM,
-    NIE_TAN,
-    WU_MENDEL,
     Aggregation,
     AnySystem,
     Connective,
@@ -127,7 +127,6 @@ from ..fuzzy import (
     IT2Mamdani,
     IT2Set,
     IT2Sugeno,
-    Linear,
     MembershipFunction,
     Output,
     Rule,
@@ -136,55 +135,23 @@ from ..fuzzy import (
     T1Sugeno,
     T1Tsukamoto,
     TNorm,
-    TypeReducer,
-    TypeReduction,
     WeightedDefuzzifier,
 )
 from ._common import (
-    check_writable,
-    consequent_tables,
-    fmt_number,
-    fmt_string,
     fmt_vector,
-    mamdani_indices,
     mf_from_matlab,
-    mf_to_matlab,
-    output_range,
     shoulder_problem,
-    sugeno_span,
     system_of,
 )
 from ._fisfile import (
     FisReader,
-    header_lines,
-    mamdani_methods,
-    reducer_name,
-    rules_lines,
-    variable_lines,
 )
-from ._lowerlag import LOWER_KEYS, lag_foot, lower_from, scale_lag
+from ._fiswrite import READ_REDUCERS, dumps
+from ._lowerlag import LOWER_KEYS, lag_foot, lower_from
 from ._matlab import Document, Entry, MFValue, Section
-from .errors import UnsupportedFeatureError
 
 __all__ = ["dumps", "lag_foot", "loads"]
 
-_READ_REDUCERS: dict[str, TypeReducer] = {
-    "karnikmendel": KM,
-    "ekm": EKM,
-    "iasc": EIASC,
-    "eiasc": EIASC,
-    "exhaustive": EXHAUSTIVE,
-    "nietan": NIE_TAN,
-    "wumendel": WU_MENDEL,
-}
-_WRITE_REDUCERS = {
-    "km": "karnikmendel",
-    "ekm": "ekm",
-    "eiasc": "eiasc",
-    "exhaustive": "exhaustive",
-    "nie-tan": "nietan",
-    "wu-mendel": "wumendel",
-}
 _SYSTEM_KEYS = frozenset({
     "Name", "Type", "Version", "NumInputs", "NumOutputs", "NumRules", "AndMethod", "OrMethod",
     "ImpMethod", "AggMethod", "DefuzzMethod", "TypeReductionMethod",
@@ -224,11 +191,19 @@ class _Reader(FisReader):
         return fis_type
 
     def output_kind(self, section: Section) -> str:
-        if self.type != "hybrid":
+        if self.type not in ("hybrid", "sugeno") or self.type2:
             return self.type
-        # fuzzylite's hybrid: an output of 'constant'/'linear' MFs is Takagi-Sugeno
-        kinds = {self.doc.mf(entry).type in ("constant", "linear") for entry in section.mfs}
-        return "sugeno" if kinds == {True} else "mamdani"
+        constant = {self.doc.mf(entry).type in ("constant", "linear") for entry in section.mfs}
+        if self.type == "hybrid":  # fuzzylite's: an output of 'constant'/'linear' MFs is TSK
+            return "sugeno" if constant == {True} else "mamdani"
+        if constant == {False}:
+            # fuzzylite's importer takes any term; its weighted average of monotonic terms is
+            # Tsukamoto's (MATLAB refuses such a file)
+            self.doc.warn(section.line, f"[{section.title}] of a Type='sugeno' system has "
+                          "membership functions, not 'constant'/'linear' ones: read as "
+                          "fuzzylite reads it, a Tsukamoto output")
+            return "tsukamoto"
+        return "sugeno"
 
     def header(self, system: Section) -> dict[str, Any]:
         doc = self.doc
@@ -259,12 +234,12 @@ class _Reader(FisReader):
         if self.type2:
             entry = system.entries["TypeReductionMethod"]
             method = doc.string(entry)
-            if method.strip().lower() not in _READ_REDUCERS:
-                known = ", ".join(_READ_REDUCERS)
+            if method.strip().lower() not in READ_REDUCERS:
+                known = ", ".join(READ_REDUCERS)
                 raise doc.error(
                     entry.line, f"unknown TypeReductionMethod {method!r} (known: {known})"
                 )
-            options["reducer"] = _READ_REDUCERS[method.strip().lower()]
+            options["reducer"] = READ_REDUCERS[method.strip().lower()]
         return options
 
     def _norm(self, system: Section, key: str, kind: type[_N], default: _N) -> _N:
@@ -386,8 +361,10 @@ def loads(text: str, path: str = "<string>") -> AnySystem:
     Warns
     -----
     FisFormatWarning
-        For what is read as MATLAB's ``readfis`` reads it but may not be what was meant
-        (an unknown key, extra MF parameters, a misnumbered ``MF`` line).
+        For what is read as MATLAB's ``readfis`` or fuzzylite reads it but may not be what
+        was meant (an unknown key, extra MF parameters, a misnumbered ``MF`` line, more MF
+        lines or rules than ``NumMFs``/``NumRules`` say, a ``Type='sugeno'`` output of
+        monotonic membership functions, read as Tsukamoto's).
     """
     return _Reader(text, path).read()
 
@@ -399,120 +376,3 @@ def _check_shoulders(
                                f"MATLAB's {mfv.type}")
     if problem:
         raise doc.error(mfv.line, problem)
-
-
-def _mf_lines(var: Input, *, type2: bool, what_kind: str) -> list[str]:
-    lines = []
-    for j, s in enumerate(var.sets, start=1):
-        what = f"{what_kind} {var.name!r} set {s.name!r}"
-        kind, params = mf_to_matlab(s.upper, with_height=False, what=f"{what} upper MF")
-        kind, params = _widen_shoulders(kind, params, var.universe)
-        line = f"MF{j}={fmt_string(s.name, 'set name')}:'{kind}',{fmt_vector(params)}"
-        if type2:
-            scale, lags = scale_lag(s, what)
-            lag_text = f"[{lags[0]} {lags[1]}]" if len(lags) == 2 else lags[0]
-            line += f",'LowerScale',{fmt_number(scale)},'LowerLag',{lag_text}"
-        elif not s.is_type1:
-            raise UnsupportedFeatureError(f"{what} has a footprint in a type-1 system")
-        lines.append(line)
-    return lines
-
-
-def _check_sugeno(tables: list[list[Consequent]]) -> None:
-    for table in tables:
-        for cons in table:
-            if isinstance(cons, Linear):
-                if not cons.crisp:
-                    raise UnsupportedFeatureError(
-                        "MATLAB's linear Sugeno outputs have crisp coefficients; this system "
-                        "has interval coefficients (save as .t2fis or .toml)"
-                    )
-            elif isinstance(cons, tuple) and cons[0] != cons[1]:
-                raise UnsupportedFeatureError(
-                    "MATLAB's Sugeno systems have crisp consequents; this system has "
-                    "interval consequents (save as .t2fis or .toml)"
-                )
-
-
-def _consequent_mf(j: int, cons: Consequent) -> str:
-    if isinstance(cons, Linear):
-        return f"MF{j}='mf{j}':'linear',{fmt_vector([*cons.lo, cons.constant_lo])}"
-    assert isinstance(cons, tuple)
-    return f"MF{j}='mf{j}':'constant',[{fmt_number(cons[0])}]"
-
-
-def dumps(system: AnySystem) -> str:
-    """``.fis`` text for ``system`` (type-1 for :class:`T1Sugeno`/:class:`T1Mamdani`, type-2
-    for :class:`IT2Sugeno`/:class:`IT2Mamdani`).
-
-    Raises
-    ------
-    UnsupportedFeatureError
-        If the system uses something the format cannot carry (see the module docstring).
-    """
-    check_writable(system, ".fis")
-    type2 = isinstance(system, IT2Sugeno | IT2Mamdani)
-    if isinstance(system, IT2Mamdani | T1Mamdani):
-        imp, agg = mamdani_methods(system, ".fis")
-        if isinstance(system, IT2Mamdani) and (
-            system.type_reduction is not TypeReduction.CENTROID
-        ):
-            raise UnsupportedFeatureError(
-                "MATLAB's type-2 Mamdani systems use centroid type reduction; this system uses "
-                "centre-of-sets (save as .t2fis or .toml)"
-            )
-        for k, out in enumerate(system.outputs):
-            zero = system.zero_firing_value(k)
-            middle = (out.universe[0] + out.universe[1]) / 2
-            if zero is not None and zero != middle:
-                raise UnsupportedFeatureError(
-                    f"in a .fis Mamdani system the output where no rule fires is the middle of "
-                    f"the output range ({middle!r} for {out.name!r}), not on_zero_firing="
-                    f"{zero!r}; save as .toml"
-                )
-        defuzz = (system.defuzzifier.value if isinstance(system, T1Mamdani) else "centroid")
-        which = mamdani_indices(system)
-    else:
-        imp, agg = "prod", "sum"
-        defuzz = system.defuzzifier.value if isinstance(system, T1Sugeno) else "wtaver"
-        tables, which = consequent_tables(system)
-        _check_sugeno(tables)
-    extra: list[str] = []
-    if isinstance(system, IT2Sugeno | IT2Mamdani):
-        method = reducer_name(system.reducer, _WRITE_REDUCERS, _READ_REDUCERS, ".fis")
-        extra.append(f"TypeReductionMethod='{method}'")
-    lines = header_lines(system, imp=imp, agg=agg, defuzz=defuzz, extra=extra)
-    for k, inp in enumerate(system.inputs, start=1):
-        lines += variable_lines(f"Input{k}", inp.name, inp.universe, len(inp.sets),
-                                _mf_lines(inp, type2=type2, what_kind="input"))
-    if isinstance(system, IT2Mamdani | T1Mamdani):
-        for k, out in enumerate(system.outputs, start=1):
-            lines += variable_lines(f"Output{k}", out.name, out.universe, len(out.sets),
-                                    _mf_lines(out, type2=type2, what_kind="output"))
-    else:
-        for k, (out_name, table) in enumerate(zip(system.output_names, tables, strict=True)):
-            mfs = [_consequent_mf(j, cons) for j, cons in enumerate(table, start=1)]
-            universe = output_range(sugeno_span(table), system.zero_firing_value(k))
-            lines += variable_lines(f"Output{k + 1}", out_name, universe, len(table), mfs)
-    return "\n".join(lines + rules_lines(system, which)) + "\n"
-
-
-def _widen_shoulders(
-    kind: str, params: tuple[float, ...], universe: tuple[float, float]
-) -> tuple[str, tuple[float, ...]]:
-    """Move a shoulder inside the universe out to its end (same values on the universe)."""
-    if kind not in ("trimf", "trapmf"):
-        return kind, params
-    a, b, c, d = (params[0], params[1], params[1], params[2]) if kind == "trimf" else params
-    lo, hi = universe
-    left = a == b and a > lo
-    right = c == d and d < hi
-    if not (left or right):
-        return kind, params
-    if left:
-        a = b = lo
-    if right:
-        c = d = hi
-    return "trapmf", (a, b, c, d)
-
-
