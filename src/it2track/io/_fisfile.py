@@ -31,17 +31,9 @@ from ..fuzzy import (
     TypeReducer,
 )
 from ..fuzzy.mamdani import RESOLUTION
-from ._common import (
-    build_input,
-    build_rules,
-    fmt_number,
-    fmt_rule,
-    fmt_string,
-    fmt_vector,
-    guard,
-    linear_from,
-)
+from ._common import build_input, build_rules, guard, linear_from
 from ._matlab import Document, Entry, MFValue, Section
+from ._writing import fmt_number, fmt_rule, fmt_string, fmt_vector
 from .errors import UnsupportedFeatureError
 
 __all__ = [

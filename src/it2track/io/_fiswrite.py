@@ -20,19 +20,19 @@ from ..fuzzy import (
     TypeReducer,
     TypeReduction,
 )
-from ._common import (
+from ._common import mf_to_matlab
+from ._fisfile import header_lines, mamdani_methods, reducer_name, rules_lines, variable_lines
+from ._lowerlag import scale_lag
+from ._writing import (
     check_writable,
     consequent_tables,
     fmt_number,
     fmt_string,
     fmt_vector,
     mamdani_indices,
-    mf_to_matlab,
     output_range,
     sugeno_span,
 )
-from ._fisfile import header_lines, mamdani_methods, reducer_name, rules_lines, variable_lines
-from ._lowerlag import scale_lag
 from .errors import UnsupportedFeatureError
 
 __all__ = ["READ_REDUCERS", "WRITE_REDUCERS", "dumps"]

@@ -27,7 +27,8 @@ from ..fuzzy import (
     WeightedDefuzzifier,
 )
 from ..fuzzy.terms import to_fuzzylite
-from ._common import consequent_tables, mamdani_indices, output_range, sugeno_span, widened
+from ._common import widened
+from ._writing import consequent_tables, mamdani_indices, output_range, sugeno_span
 from .errors import UnsupportedFeatureError
 
 __all__ = ["dumps", "fuzzylite_name"]

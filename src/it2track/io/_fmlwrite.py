@@ -30,8 +30,9 @@ from ..fuzzy import (
     ZShape,
 )
 from ..fuzzy.mamdani import RESOLUTION
-from ._common import consequent_tables, mamdani_indices, widened
+from ._common import widened
 from ._fmlread import ACCUMULATIONS, AND, DEFUZZIFIERS, NAMESPACE, OR
+from ._writing import consequent_tables, mamdani_indices
 from .errors import UnsupportedFeatureError
 
 __all__ = ["dumps"]

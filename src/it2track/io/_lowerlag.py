@@ -24,8 +24,9 @@ from ..fuzzy import (
     Trapezoid,
     Triangle,
 )
-from ._common import fmt_number, guard
+from ._common import guard
 from ._matlab import Document, MFValue
+from ._writing import fmt_number
 from .errors import UnsupportedFeatureError
 
 __all__ = ["LOWER_KEYS", "lag_foot", "lower_from", "scale_lag"]

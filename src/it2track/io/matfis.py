@@ -137,18 +137,14 @@ from ..fuzzy import (
     TNorm,
     WeightedDefuzzifier,
 )
-from ._common import (
-    fmt_vector,
-    mf_from_matlab,
-    shoulder_problem,
-    system_of,
-)
+from ._common import mf_from_matlab, shoulder_problem, system_of
 from ._fisfile import (
     FisReader,
 )
 from ._fiswrite import READ_REDUCERS, dumps
 from ._lowerlag import LOWER_KEYS, lag_foot, lower_from
 from ._matlab import Document, Entry, MFValue, Section
+from ._writing import fmt_vector
 
 __all__ = ["dumps", "lag_foot", "loads"]
 

@@ -114,20 +114,7 @@ from ..fuzzy import (
     TypeReduction,
     WeightedDefuzzifier,
 )
-from ._common import (
-    check_writable,
-    consequent_tables,
-    fmt_number,
-    fmt_vector,
-    mamdani_indices,
-    mf_from_matlab,
-    mf_line,
-    mf_to_matlab,
-    output_range,
-    set_name,
-    sugeno_span,
-    system_of,
-)
+from ._common import mf_from_matlab, mf_line, mf_to_matlab, set_name, system_of
 from ._fisfile import (
     FisReader,
     header_lines,
@@ -137,6 +124,15 @@ from ._fisfile import (
     variable_lines,
 )
 from ._matlab import Entry, MFValue, Section
+from ._writing import (
+    check_writable,
+    consequent_tables,
+    fmt_number,
+    fmt_vector,
+    mamdani_indices,
+    output_range,
+    sugeno_span,
+)
 from .errors import UnsupportedFeatureError
 
 __all__ = ["dumps", "loads"]
