@@ -71,6 +71,7 @@ def test_octave_layout_comments_and_spaced_keys_read_as_the_plain_file() -> None
         for line in TIPPER.split("\n")
     )
     octave = edit(octave, "[Input2]", "% MATLAB comment\n\n[Input2]")
+    octave = edit(octave, "[Output1]", "[Output1]\n#Range=[0 99]")  # a commented-out key
     fls = load(octave)
     assert fls == BASE
 
