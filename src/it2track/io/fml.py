@@ -1,4 +1,5 @@
-"""IEEE 1855-2016 Fuzzy Markup Language (FML, ``.fml``/``.xml``), read and written::
+"""IEEE 1855-2016 Fuzzy Markup Language (``.fml``; JFML names its files ``.xml``, read those
+with ``loads(text, "fml")``), read and written::
 
     <fuzzySystem xmlns="http://www.ieee1855.org" name="tipper">
       <knowledgeBase>
