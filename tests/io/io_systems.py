@@ -65,11 +65,12 @@ def _gaussian_set(rng: np.random.Generator, lo: float, hi: float, name: str) -> 
 
 
 def random_system(seed: int, *, interval: bool = False, rich: bool = False,
-                  type1: bool = False) -> IT2Sugeno | T1Sugeno:
+                  type1: bool = False, identifiers: bool = False) -> IT2Sugeno | T1Sugeno:
     """A random three-input system (27 rules, full grid) with no zero-firing point.
 
     ``interval``: interval consequents; ``rich``: MFs only TOML can carry (uncertain-mean
-    Gaussians, uncertain std, ScaledLagged with lag); ``type1``: a T1Sugeno.
+    Gaussians, uncertain std, ScaledLagged with lag); ``type1``: a T1Sugeno; ``identifiers``:
+    names without spaces or quotes (fuzzylite's, FML's).
     """
     rng = np.random.default_rng(seed)
     inputs = []
@@ -77,7 +78,7 @@ def random_system(seed: int, *, interval: bool = False, rich: bool = False,
         lo = float(rng.uniform(-3.0, 1.0))
         hi = lo + float(rng.uniform(0.5, 5.0))
         sets = [_gaussian_set(rng, lo, hi, "G"), _piecewise_set(rng, lo, hi, "P1"),
-                _piecewise_set(rng, lo, hi, "P2 'quoted'")]
+                _piecewise_set(rng, lo, hi, "P2" if identifiers else "P2 'quoted'")]
         if rich:
             m1 = float(rng.uniform(lo, hi))
             m2 = m1 + float(rng.uniform(0.0, 0.3)) * (hi - lo)
@@ -100,7 +101,7 @@ def random_system(seed: int, *, interval: bool = False, rich: bool = False,
                 rules.append(Rule((a, b, c), consequent))
     rules.append(Rule((None, names[1][0], None), float(rng.normal())))  # a partial rule
     tnorm = TNorm.PRODUCT if rng.random() < 0.5 else TNorm.MINIMUM
-    name = f"random system {seed}"
+    name = f"random_system_{seed}" if identifiers else f"random system {seed}"
     if type1:
         return T1Sugeno(inputs=inputs, rules=rules, tnorm=tnorm, name=name)
     reducer = REDUCERS[int(rng.integers(len(REDUCERS)))]

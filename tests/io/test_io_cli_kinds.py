@@ -41,14 +41,19 @@ def test_show_and_eval_the_rule_language_file() -> None:
     assert result.output.splitlines() == ["u = 1.428571429", "v = 5.2"]
 
 
-def test_convert_fcl_to_fis_keeps_the_values(tmp_path: Path) -> None:
-    target = tmp_path / "valve.fis"
+def test_convert_fcl_to_toml_keeps_the_values(tmp_path: Path) -> None:
+    target = tmp_path / "valve.toml"
     result = CliRunner().invoke(fis, ["convert", str(DATA / "valve.fcl"), str(target)])
     assert result.exit_code == 0, result.output
     assert float(load(target)(2.0, 6.0)) == float(load(DATA / "valve.fcl")(2.0, 6.0))
     back = CliRunner().invoke(fis, ["convert", str(target), str(tmp_path / "x.fcl")])
     assert back.exit_code != 0 and "does not write" in back.output
     assert not (tmp_path / "x.fcl").exists()
+    # an FCL Mamdani output is sampled at 1001 points, which MATLAB's .fis cannot say
+    refused = CliRunner().invoke(fis, ["convert", str(DATA / "valve.fcl"),
+                                       str(tmp_path / "v.fis")])
+    assert refused.exit_code != 0 and "resolution=1001" in refused.output
+    assert not (tmp_path / "v.fis").exists()
 
 
 def test_surface_of_a_system_with_two_outputs_needs_output(tmp_path: Path) -> None:
@@ -91,3 +96,23 @@ def test_surface_survives_spurious_blas_flags_in_3d_drawing(
                                           "--output", "v"])
     assert result.exit_code == 0, result.output
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_convert_through_fll_and_fml_and_show_them(tmp_path: Path) -> None:
+    # the Sugeno tipper goes through every format; a Mamdani one sampled at MATLAB's 101 points
+    # goes to .fml (101 points too) but not to .fll (fuzzylite samples cell midpoints)
+    source = str(DATA / "tipper.fis")
+    fml, fll, back = tmp_path / "t.fml", tmp_path / "t.fll", tmp_path / "t.toml"
+    for src, dst in [(source, fml), (str(fml), fll), (str(fll), back)]:
+        result = CliRunner().invoke(fis, ["convert", src, str(dst)])
+        assert result.exit_code == 0, result.output
+    assert load(back) == load(source)
+    assert "type-1 zero-order Sugeno" in CliRunner().invoke(fis, ["show", str(fll)]).output
+    result = CliRunner().invoke(fis, ["eval", str(fml), "5", "8"])
+    assert result.exit_code == 0, result.output
+    mamdani = CliRunner().invoke(fis, ["convert", str(DATA / "tipper_mamdani.fis"),
+                                       str(tmp_path / "m.fml")])
+    assert mamdani.exit_code == 0, mamdani.output
+    refused = CliRunner().invoke(fis, ["convert", str(tmp_path / "m.fml"),
+                                       str(tmp_path / "m.fll")])
+    assert refused.exit_code != 0 and "sampling" in refused.output

@@ -30,11 +30,13 @@ def test_mamdani_fixture_by_hand() -> None:
     assert (fls.tnorm, fls.snorm, fls.implication, fls.aggregation, fls.defuzzifier) == (
         TNorm.PRODUCT, SNorm.PROBOR, Implication.MINIMUM, Aggregation.MAXIMUM,
         Defuzzifier.CENTROID)
-    # firing at (2, 6), see the fixture: 0.88 (low), 0.12 and 0.3 (high); grid y = k / 10
+    # firing at (2, 6), see the fixture: 0.88 (low), 0.12 and 0.3 (high); grid y = k / 100
+    # (jFuzzyLogic's 1000 intervals of the RANGE)
+    assert fls.resolution == 1001
     f_low, f_high = Fraction(88, 100), max(Fraction(12, 100), Fraction(3, 10))
     num = den = Fraction(0)
-    for k in range(101):
-        y = Fraction(k, 10)
+    for k in range(1001):
+        y = Fraction(k, 100)
         mu = max(min(f_low, 1 - y / 10), min(f_high, y / 10))
         num += mu * y
         den += mu
@@ -65,27 +67,30 @@ END_FUNCTION_BLOCK
 
 MALFORMED = [
     # (old, new, needle for the line, message fragment)
-    ("TERM lo := (0, 1) (1, 0);", "TERM lo := (0, 1) (1, 0.5) (2, 0);", "TERM lo",
-     "term shape"),
+    ("TERM lo := (0, 1) (1, 0);", "TERM lo := (0, 1) (1, 1.5) (2, 0);", "TERM lo",
+     "memberships must lie in [0, 1]"),
     ("TERM lo := (0, 1) (1, 0);", "TERM lo := (1, 1) (0, 0);", "TERM lo", "increasing x"),
-    ("TERM lo := (0, 1) (1, 0);", "TERM lo := (0, 1);", "TERM lo", "at least two points"),
-    ("TERM lo := (0, 1) (1, 0);", "TERM lo := 3;", "TERM lo", "singleton input term"),
+    ("TERM lo := (0, 1) (1, 0);", "TERM lo := ;", "TERM lo", "expected points"),
+    ("TERM lo := (0, 1) (1, 0);", "TERM lo := TRIAN 0 1;", "TERM lo", "TRIAN needs 3"),
+    ("TERM lo := (0, 1) (1, 0);", "TERM lo := GAUSS m 1;", "TERM lo", "is a variable"),
+    ("TERM lo := (0, 1) (1, 0);", "TERM lo := BLOB 1 2;", "TERM lo", "unknown shape 'BLOB'"),
+    ("TERM lo := (0, 1) (1, 0);", "TERM lo := 3;", "TERM lo", "not a membership function"),
     ("METHOD : COG;", "METHOD : MEAN;", "METHOD", "METHOD MEAN is not supported"),
     ("METHOD : COG;", "METHOD : COG;\n    DEFAULT := NC;", "DEFAULT", "needs state"),
-    ("AND : MIN;", "AND : BDIF;", "AND :", "AND : BDIF is not supported"),
-    ("AND : MIN;", "AND : MIN;\n    ACCU : BSUM;", "ACCU", "ACCU : BSUM is not supported"),
+    ("AND : MIN;", "AND : LUKA;", "AND :", "AND : LUKA is not supported"),
+    ("AND : MIN;", "AND : MIN;\n    ACCU : FOO;", "ACCU", "ACCU : FOO is not supported"),
     ("RULE 1 : IF x IS lo THEN y IS a;", "RULE 1 : IF x IS mid THEN y IS a;", "RULE 1",
      "no term 'mid'"),
     ("RULE 1 : IF x IS lo THEN y IS a;", "RULE 1 : IF z IS lo THEN y IS a;", "RULE 1",
      "not an input"),
     ("RULE 1 : IF x IS lo THEN y IS a;", "RULE 1 : IF x IS lo THEN y IS a WITH 2;", "RULE 1",
      "weight 2 must be in [0, 1]"),
-    ("RULE 1 : IF x IS lo THEN y IS a;", "RULE 1 : IF (x IS lo) THEN y IS a;", "RULE 1",
-     "parentheses"),
+    ("RULE 1 : IF x IS lo THEN y IS a;", "RULE 1 : IF (x IS lo) AND x IS hi THEN y IS a;",
+     "RULE 1", "input 'x' appears twice"),
     ("RULE 1 : IF x IS lo THEN y IS a;",
-     "RULE 1 : IF x IS lo AND x IS hi OR x IS lo THEN y IS a;", "RULE 1", "mixing AND and OR"),
-    ("RULE 1 : IF x IS lo THEN y IS a;", "RULE 1 : IF x IS lo THEN y IS a", "END_RULEBLOCK",
-     "expected ';'"),
+     "RULE 1 : IF x IS lo AND x IS hi OR x IS lo THEN y IS a;", "RULE 1", "mixes AND and OR"),
+    ("RULE 1 : IF x IS lo THEN y IS a;", "RULE 1 : IF x IS lo THEN y IS a WITH 0.5 x;",
+     "RULE 1", "expected ';' after the rule"),
     ("    x : REAL;", "    x : INT;", "x : INT", "only REAL"),
     ("FUZZIFY x", "FUZZIFY w", "FUZZIFY w", "not declared in VAR_INPUT"),
     ("END_FUZZIFY", "RANGE := (1 .. 0);\nEND_FUZZIFY", "RANGE", "lo < hi"),
@@ -108,10 +113,7 @@ def test_malformed_fcl_gives_file_and_line(old: str, new: str, needle: str, prob
     err = info.value
     assert problem in err.message, err
     expected = next(i for i, line in enumerate(text.split("\n"), 1) if needle in line)
-    if needle == "END_RULEBLOCK":  # the missing ';' is noticed at the next token
-        assert err.line == expected
-    else:
-        assert err.line == expected, f"{err} (expected line {expected})"
+    assert err.line == expected, f"{err} (expected line {expected})"
     assert str(err).startswith(f"{path}:{expected}: ")
 
 

@@ -1,4 +1,5 @@
-"""Fuzzing: random byte mutations of valid files raise nothing but FisFormatError.
+"""Fuzzing: random byte mutations of valid files raise nothing but FisFormatError (and warn
+nothing but FisFormatWarning).
 
 A seeded loop (reproducible; a failure message carries the seed and the mutated bytes). Loaded
 systems must also evaluate, where the only allowed error is ValueError (e.g. ZeroFiringError
@@ -7,6 +8,7 @@ where a mutated rule base leaves a hole).
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -14,10 +16,17 @@ import pytest
 from io_systems import random_system
 
 from it2track import heading_fls
-from it2track.fuzzy import IT2Mamdani, IT2Sugeno, T1Mamdani, T1Sugeno
-from it2track.io import FORMATS, FisFormatError, dumps, load
+from it2track.fuzzy import HybridSystem, IT2Mamdani, IT2Sugeno, T1Mamdani, T1Sugeno, T1Tsukamoto
+from it2track.io import FORMATS, TYPE2, FisFormatError, FisFormatWarning, dumps, load
 
 DATA = Path(__file__).parent / "data"
+CONFORMANCE = Path(__file__).parents[1] / "conformance" / "files"
+#: files as the tools write them (tests/conformance/files/SOURCES.md): MATLAB's duplicated key
+#: and comments, Octave's, fuzzylite's exports of a hybrid engine, jFuzzyLogic's FCL
+REAL_FILES = ["fuzzylite/examples/original/takagi-sugeno/matlab/slcp1.fis",
+              "octave/inst/heart_disease_risk.fis",
+              "fuzzylite/examples/hybrid/tipper.fll", "fuzzylite/examples/hybrid/tipper.fis",
+              "fuzzylite/examples/hybrid/tipper.fcl", "jfuzzylogic/tests/junit_tipper.fcl"]
 MUTATIONS_PER_FILE = 250
 TOKENS = [b"Inf", b"NaN", b"-", b"1e999", b"1e-999", b"'", b'"', b"[", b"]", b"\n", b"=",
           b",", b":", b"0", b"-1", b"9" * 12, b"%", b"[Rules]", b"[Input9]", b"\x00", b"\xff",
@@ -27,9 +36,12 @@ TOKENS = [b"Inf", b"NaN", b"-", b"1e999", b"1e-999", b"'", b'"', b"[", b"]", b"\
 
 def valid_files() -> list[tuple[str, bytes]]:
     files = [(p.name, p.read_bytes()) for p in sorted(DATA.glob("*.*"))]
+    files += [(path.replace("/", "."), (CONFORMANCE / path).read_bytes()) for path in REAL_FILES]
     for fmt, (suffix, _, _) in FORMATS.items():
-        files.append((f"paper{suffix}", dumps(heading_fls(0.2), fmt).encode()))
-        files.append((f"random{suffix}", dumps(random_system(5), fmt).encode()))
+        type1 = fmt not in TYPE2
+        files.append((f"paper{suffix}", dumps(heading_fls(0.0 if type1 else 0.2), fmt).encode()))
+        system = random_system(5, type1=type1, identifiers=type1)
+        files.append((f"random{suffix}", dumps(system, fmt).encode()))
     return files
 
 
@@ -71,6 +83,14 @@ def mutate(data: bytes, rng: np.random.Generator) -> bytes:
     return bytes(out)
 
 
+def lines(data: bytes, suffix: str) -> int:
+    """The file's line count as its reader numbers lines (XML also breaks lines at a lone CR)."""
+    breaks = data.count(b"\n")
+    if suffix == ".fml":
+        breaks += data.count(b"\r") - data.count(b"\r\n")
+    return breaks + 1
+
+
 @pytest.mark.parametrize(("name", "data"), valid_files(), ids=[n for n, _ in valid_files()])
 def test_mutations_raise_only_fis_format_error(name: str, data: bytes, tmp_path) -> None:
     rng = np.random.default_rng(sum(data) + len(name))
@@ -81,15 +101,23 @@ def test_mutations_raise_only_fis_format_error(name: str, data: bytes, tmp_path)
         mutant = mutate(data, rng)
         target.write_bytes(mutant)
         try:
-            system = load(target)
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                system = load(target)
+            for warning in caught:  # only the documented warning, naming this file
+                assert isinstance(warning.message, FisFormatWarning), warning
+                assert warning.message.path == str(target)
+                line = warning.message.line
+                assert line is None or 1 <= line <= lines(mutant, suffix), warning
         except FisFormatError as err:
             assert err.path == str(target)
-            assert err.line is None or 1 <= err.line <= mutant.count(b"\n") + 1, err
+            assert err.line is None or 1 <= err.line <= lines(mutant, suffix), err
             continue
         except Exception as exc:  # pragma: no cover - the failure we look for
             pytest.fail(f"{name} mutation {k}: {type(exc).__name__}: {exc}\n{mutant!r}")
         loaded += 1
-        assert isinstance(system, IT2Sugeno | T1Sugeno | IT2Mamdani | T1Mamdani)
+        assert isinstance(system, IT2Sugeno | T1Sugeno | IT2Mamdani | T1Mamdani | T1Tsukamoto
+                          | HybridSystem)
         points = [np.linspace(*inp.universe, 7) for inp in system.inputs]
         try:
             system(*points)

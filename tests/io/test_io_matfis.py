@@ -109,7 +109,7 @@ def test_shoulder_inside_the_range_is_rejected_on_read_and_widened_on_write() ->
     text = edit(TIPPER, "'trapmf',[0 0 1 3]", "'trapmf',[0.5 0.5 1 3]")
     err = error_of(text)
     assert err.line == line_with(text, "[0.5 0.5 1 3]")
-    assert "left shoulder at x=0.5 inside the Range" in err.message
+    assert "left shoulder at x=0.5 inside the range" in err.message
     err = error_of(edit(TIPPER, "'trapmf',[7 9 10 10]", "'trapmf',[7 9 9.5 9.5]"))
     assert "right shoulder at x=9.5" in err.message
     # ours: shoulders inside the universe are written out to its ends
@@ -160,10 +160,12 @@ def test_writer_rejects(system, match: str) -> None:
 
 
 MALFORMED = [
-    (TIPPER, "DefuzzMethod='wtaver'", "DefuzzMethod='wtsum'", "DefuzzMethod",
+    (TIPPER, "DefuzzMethod='wtaver'", "DefuzzMethod='wtmean'", "DefuzzMethod",
+     "'wtmean' is not supported"),
+    (T2, "DefuzzMethod='wtaver'", "DefuzzMethod='wtsum'", "DefuzzMethod",
      "'wtsum' is not supported"),
     (TIPPER, "'constant',[5]", "'constant',[5 6]", "'constant',[5 6]", "needs one number"),
-    (TIPPER, "'gaussmf',[1.5 0]", "'gaussmf',[1.5 0 1]", "[1.5 0 1]", "gaussmf needs 2"),
+    (TIPPER, "'gaussmf',[1.5 0]", "'gaussmf',[1.5]", "[1.5]", "gaussmf needs 2"),
     (TIPPER, "'gaussmf',[1.5 0]", "'gaussmf',[0 0]", "[0 0]", "sigma"),
     (TIPPER, "'gaussmf',[1.5 0]", "'gaussmf',[1.5 0],'LowerScale',1", "LowerScale",
      "unknown MF property 'LowerScale'"),

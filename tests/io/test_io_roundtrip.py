@@ -10,7 +10,7 @@ from io_systems import REDUCERS, random_points, random_system
 
 from it2track import heading_fls
 from it2track.fuzzy import IT2Sugeno, T1Sugeno, TNorm
-from it2track.io import FORMATS, dumps, load, loads, save
+from it2track.io import FORMATS, TYPE2, dumps, load, loads, save
 
 PAPER_FOUS = (0.0, 0.1, 0.2, 0.3)
 
@@ -35,6 +35,8 @@ def assert_same_outputs(a: IT2Sugeno | T1Sugeno, b: IT2Sugeno | T1Sugeno, label:
 @pytest.mark.parametrize("fou", PAPER_FOUS)
 def test_paper_controller_round_trip(fmt: str, fou: float, tmp_path) -> None:
     fls = heading_fls(fou)
+    if fmt not in TYPE2 and not isinstance(fls, T1Sugeno):
+        pytest.skip(f"{fmt} is type-1 only")
     path = tmp_path / f"paper{FORMATS[fmt][0]}"
     save(fls, path)
     again = load(path)
@@ -47,7 +49,7 @@ def test_paper_controller_round_trip(fmt: str, fou: float, tmp_path) -> None:
     assert_same_outputs(fls, again, f"{fmt}, FoU {fou}")
 
 
-@pytest.mark.parametrize("fmt", sorted(FORMATS))
+@pytest.mark.parametrize("fmt", sorted(TYPE2))
 @pytest.mark.parametrize("reducer", REDUCERS, ids=lambda r: r.name)
 def test_paper_controller_every_reducer_and_min_tnorm(fmt: str, reducer) -> None:
     fls = heading_fls(0.2, reducer=reducer, tnorm=TNorm.MINIMUM)
@@ -58,7 +60,7 @@ def test_paper_controller_every_reducer_and_min_tnorm(fmt: str, reducer) -> None
 
 
 @pytest.mark.parametrize("seed", range(4))
-@pytest.mark.parametrize("fmt", sorted(FORMATS))
+@pytest.mark.parametrize("fmt", sorted(TYPE2))
 def test_random_three_input_system(fmt: str, seed: int) -> None:
     system = random_system(seed)
     again = loads(dumps(system, fmt), fmt)
@@ -72,7 +74,7 @@ def test_random_three_input_system(fmt: str, seed: int) -> None:
 @pytest.mark.parametrize("seed", range(3))
 @pytest.mark.parametrize("fmt", sorted(FORMATS))
 def test_random_type1_system(fmt: str, seed: int) -> None:
-    system = random_system(seed, type1=True)
+    system = random_system(seed, type1=True, identifiers=fmt not in TYPE2)
     again = loads(dumps(system, fmt), fmt)
     assert isinstance(again, T1Sugeno)
     assert_same_outputs(system, again, f"{fmt}, type-1 seed {seed}")
@@ -109,5 +111,5 @@ def test_toml_text_is_a_fixed_point() -> None:
 
 @pytest.mark.parametrize("fmt", sorted(FORMATS))
 def test_text_is_a_fixed_point_for_the_paper_controller(fmt: str) -> None:
-    text = dumps(heading_fls(0.3), fmt)
+    text = dumps(heading_fls(0.3 if fmt in TYPE2 else 0.0), fmt)
     assert dumps(loads(text, fmt), fmt) == text

@@ -148,7 +148,8 @@ MALFORMED = [
     ("NumRules=2", "NumRules=two", "NumRules", "must be an integer"),
     ("NumInputs=1", "NumInputs=0", "NumInputs", "must be at least 1"),
     ("NumMFs=2\n", "NumMFs=3\n", "NumMFs=3", "missing MF3U"),
-    ("'trimf',[-1 0 1 1]", "'gbellmf',[1 2 0 1]", "gbellmf", "unsupported MF type 'gbellmf'"),
+    ("'trimf',[-1 0 1 1]", "'bellmf',[1 2 0 1]", "bellmf", "unknown MF type 'bellmf'"),
+    ("'trimf',[-1 0 1 1]", "'rampmf',[0 1 1]", "rampmf", "unknown MF type 'rampmf'"),
     ("'trimf',[-1 0 1 1]", "'trimf',[-1 0 1]", "MF1U=", "trimf needs 4 parameters"),
     ("'trimf',[-1 0 1 1]", "'trimf',[1 0 -1 1]", "MF1U=", "a <= b <= c"),
     ("'trimf',[-1 0 1 1]", "'trimf',[-1 0 1 Inf]", "MF1U=", "bad number 'Inf'"),
@@ -219,8 +220,14 @@ def test_gauss2mf_reads_as_uncertain_mean_gaussian() -> None:
     upper = fls.inputs[1].sets[0].upper
     assert float(upper(0.05)) == 1.0
     assert float(upper(0.6)) == pytest.approx(np.exp(-0.5 * (0.5 / 0.5) ** 2))
-    err = error_of(edit(TWO, "'gaussmf',[0.5 0 1]", "'gauss2mf',[0.5 0 0.4 0.1 1]"))
-    assert err.message.startswith("gauss2mf is supported only"), err  # not wrapped twice
+    # other sigmas: MATLAB's two-sided Gaussian (fuzzylite's GaussianProduct), checked as usual
+    text = edit(TWO, "'gaussmf',[0.5 0 1]", "'gauss2mf',[0.5 0 0.4 0.1 1]")
+    err = error_of(text)
+    assert "exceeds upper MF GaussianProduct" in err.message, err
+    fls = loads(edit(text, "'gaussmf',[0.5 0 0.6]", "'gaussmf',[0.3 0 0.6]"), "t2fis")
+    upper = fls.inputs[1].sets[0].upper
+    assert float(upper(0.05)) == 1.0
+    assert float(upper(0.5)) == np.exp(-0.5 * ((0.5 - 0.1) / 0.4) ** 2)
 
 
 def test_writer_rejects_what_the_format_cannot_carry() -> None:

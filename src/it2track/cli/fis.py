@@ -1,6 +1,7 @@
 """``it2track fis show | convert | eval`` and ``it2track surface``: fuzzy-system files.
 
-The files are ``.toml`` (ours), ``.t2fis`` (IT2FLS toolbox) and ``.fis`` (MATLAB); see
+The files are ``.toml`` (ours), ``.t2fis`` (IT2FLS toolbox), ``.fis`` (MATLAB), ``.fll``
+(fuzzylite), ``.fml`` (IEEE 1855) and ``.fcl`` (IEC 61131-7, read only); see
 :mod:`it2track.io`. :func:`describe` is the text summary ``fis show`` prints.
 """
 
@@ -168,11 +169,11 @@ def rule_text(system: Any, rule: Rule) -> str:
     return f"if {joiner.join(terms)} then {then}{weight}"
 
 
-def _load(path: str) -> AnySystem:
+def _load(path: str, block: str | None = None) -> AnySystem:
     from ..io import load
 
     try:
-        return load(path)
+        return load(path, block=block)
     except (ValueError, OSError) as exc:
         raise click.ClickException(str(exc)) from None
 
@@ -182,8 +183,8 @@ _FILE = click.Path(exists=True, dir_okay=False, path_type=str)
 
 @click.group()
 def fis() -> None:
-    """Fuzzy-system files: .toml (it2track), .t2fis (IT2FLS toolbox), .fis (MATLAB), .fcl
-(IEC 61131-7, read only)."""
+    """Fuzzy-system files: .toml (it2track), .t2fis (IT2FLS toolbox), .fis (MATLAB), .fll
+(fuzzylite), .fml (IEEE 1855), .fcl (IEC 61131-7, read only)."""
 
 
 @fis.command()
@@ -196,11 +197,14 @@ def show(file: str) -> None:
 @fis.command()
 @click.argument("source", type=_FILE)
 @click.argument("target", type=click.Path(dir_okay=False, path_type=str))
-def convert(source: str, target: str) -> None:
-    """Convert SOURCE to TARGET; the formats follow the suffixes (.toml, .t2fis, .fis)."""
+@click.option("--block", metavar="NAME", default=None,
+              help="The FUNCTION_BLOCK of an FCL SOURCE to read (default: the first).")
+def convert(source: str, target: str, block: str | None) -> None:
+    """Convert SOURCE to TARGET; the formats follow the suffixes (.toml, .t2fis, .fis, .fll,
+    .fml; .fcl is read only)."""
     from ..io import save
 
-    system = _load(source)
+    system = _load(source, block)
     try:
         save(system, target)
     except (ValueError, OSError) as exc:

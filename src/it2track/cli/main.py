@@ -51,7 +51,8 @@ def _fail(message: str) -> NoReturn:
               type=click.Choice(["flc", "it2", "t1-matched", "pd"]),
               help="Heading controller (t1-matched: type-1 FLC with the IT2FLC's dead zone).")
 @click.option("--controller-file", type=click.Path(exists=True, dir_okay=False),
-              help="Fuzzy controller file (.t2fis/.fis/.toml) instead of --controller.")
+              help="Fuzzy controller file (.toml/.t2fis/.fis/.fll/.fml/.fcl) instead of "
+                   "--controller.")
 @click.option("--fou", default=0.2, show_default=True, type=float,
               help="FoU width for it2 / t1-matched.")
 @click.option("--reducer", default="exhaustive", show_default=True,

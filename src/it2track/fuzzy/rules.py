@@ -63,7 +63,7 @@ class Input:
                 label, mf = s
                 converted.append(IT2Set.type1(mf, label))
         names = [s.name for s in converted]
-        if not converted:
+        if not converted and kind != "input":  # an input may feed linear consequents only
             raise ValueError(f"{kind} {name!r}: needs at least one set")
         if len(set(names)) != len(names) or any(not n for n in names):
             raise ValueError(f"{kind} {name!r}: set names {names!r} must be non-empty and unique")

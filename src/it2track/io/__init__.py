@@ -7,6 +7,8 @@ suffix      format
 ``.t2fis``  the IT2FLS MATLAB toolbox of Taskin & Kumbasar (:mod:`.t2fis`)
 ``.fis``    MATLAB's Fuzzy Logic Toolbox: Sugeno and Mamdani; type-2 in our layout
             (:mod:`.matfis`)
+``.fll``    fuzzylite's FuzzyLite Language (:mod:`.fll`): type-1 Mamdani and Sugeno
+``.fml``    IEEE 1855 Fuzzy Markup Language (:mod:`.fml`): type-1 Mamdani and Sugeno
 ``.fcl``    Fuzzy Control Language, IEC 61131-7 (:mod:`.fcl`): type-1, read only
 ==========  ===================================================================================
 
@@ -35,14 +37,16 @@ from pathlib import Path
 from .._files import InputFileError, decode_text, read_bytes, refuse_binary
 from ..atomicfile import atomic_write_text
 from ..fuzzy import AnySystem
-from . import fcl, matfis, t2fis, tomlfmt
+from . import fcl, fll, fml, matfis, t2fis, tomlfmt
 from ._matlab import decode
-from .errors import FisFormatError, UnsupportedFeatureError
+from .errors import FisFormatError, FisFormatWarning, UnsupportedFeatureError
 
 __all__ = [
     "FORMATS",
     "READ_ONLY",
+    "TYPE2",
     "FisFormatError",
+    "FisFormatWarning",
     "UnsupportedFeatureError",
     "dumps",
     "format_of",
@@ -60,7 +64,11 @@ FORMATS: dict[str, tuple[str, _Loader, _Dumper]] = {
     "toml": (".toml", tomlfmt.loads, tomlfmt.dumps),
     "t2fis": (".t2fis", t2fis.loads, t2fis.dumps),
     "fis": (".fis", matfis.loads, matfis.dumps),
+    "fll": (".fll", fll.loads, fll.dumps),
+    "fml": (".fml", fml.loads, fml.dumps),
 }
+#: the formats that carry interval type-2 systems (the others are type-1 only)
+TYPE2 = frozenset({"toml", "t2fis", "fis"})
 #: format name -> (file suffix, loads): the formats it2track only reads
 READ_ONLY: dict[str, tuple[str, _Loader]] = {
     "fcl": (".fcl", fcl.loads),
@@ -83,7 +91,8 @@ def _dumper(name: str) -> _Dumper:
 
 
 def format_of(path: str | os.PathLike[str]) -> str:
-    """The format name (``"toml"``, ``"t2fis"``, ``"fis"``, ``"fcl"``) for a path's suffix.
+    """The format name (``"toml"``, ``"t2fis"``, ``"fis"``, ``"fll"``, ``"fml"``, ``"fcl"``)
+    for a path's suffix.
 
     Raises
     ------
@@ -109,16 +118,25 @@ def _format(fmt: str) -> tuple[str, _Loader, _Dumper]:
         raise ValueError(f"unknown format {fmt!r}; choose one of {known}") from None
 
 
-def loads(text: str, fmt: str, *, path: str = "<string>") -> AnySystem:
-    """Parse ``text`` in format ``fmt`` (``"toml"``, ``"t2fis"``, ``"fis"`` or ``"fcl"``).
+def loads(text: str, fmt: str, *, path: str = "<string>", block: str | None = None
+          ) -> AnySystem:
+    """Parse ``text`` in format ``fmt`` (``"toml"``, ``"t2fis"``, ``"fis"``, ``"fll"``,
+    ``"fml"`` or ``"fcl"``).
 
-    ``path`` only labels error messages.
+    ``path`` only labels error messages; ``block`` names the FCL ``FUNCTION_BLOCK`` to read
+    (``None``: the first; other formats take no ``block``).
     """
-    return _format(fmt)[1](text, path)
+    _, loader, _ = _format(fmt)
+    if block is None:
+        return loader(text, path)
+    if loader is not fcl.loads:
+        raise ValueError(f"block= names an FCL FUNCTION_BLOCK; format {fmt!r} has none")
+    return fcl.loads(text, path, block=block)
 
 
 def dumps(system: AnySystem, fmt: str) -> str:
-    """Text of ``system`` in format ``fmt`` (``"toml"``, ``"t2fis"`` or ``"fis"``).
+    """Text of ``system`` in format ``fmt`` (``"toml"``, ``"t2fis"``, ``"fis"``, ``"fll"`` or
+    ``"fml"``).
 
     Raises
     ------
@@ -128,12 +146,13 @@ def dumps(system: AnySystem, fmt: str) -> str:
     return _format(fmt)[2](system)
 
 
-def load(path: str | os.PathLike[str]) -> AnySystem:
-    """Read a fuzzy system from ``path``; the format follows the suffix.
+def load(path: str | os.PathLike[str], *, block: str | None = None) -> AnySystem:
+    """Read a fuzzy system from ``path``; the format follows the suffix (``block``: the FCL
+    ``FUNCTION_BLOCK`` to read, as :func:`loads`).
 
     Returns
     -------
-    IT2Sugeno, T1Sugeno, IT2Mamdani or T1Mamdani
+    IT2Sugeno, T1Sugeno, IT2Mamdani, T1Mamdani, T1Tsukamoto or HybridSystem
         Evaluate as ``system(x1, x2, ...)``.
 
     Raises
@@ -144,7 +163,7 @@ def load(path: str | os.PathLike[str]) -> AnySystem:
         ``.toml``) is not UTF-8; ``str(err)`` is ``"path:line: problem"`` (or ``"path:
         problem"``).
     ValueError
-        For an unknown suffix.
+        For an unknown suffix, or ``block`` with a format other than FCL.
     OSError
         If the file does not exist or cannot be read.
     """
@@ -159,7 +178,7 @@ def load(path: str | os.PathLike[str]) -> AnySystem:
             text = decode(data)  # UTF-8, else Latin-1 (MATLAB files)
     except InputFileError as exc:
         raise FisFormatError(label, exc.line, exc.problem) from None
-    return _loader(name)(text, label)
+    return loads(text, name, path=label, block=block)
 
 
 def save(system: AnySystem, path: str | os.PathLike[str]) -> None:

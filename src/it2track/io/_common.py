@@ -1,74 +1,58 @@
-"""Fuzzy-aware helpers shared by the ``.t2fis`` and ``.fis`` readers and writers.
+"""Fuzzy-aware helpers shared by the readers of MATLAB-syntax files (and used by the others).
 
 Membership-function conversion between MATLAB's parameter vectors and our classes, rule
 building with line-accurate errors, and a guard that turns numeric trouble and the fuzzy core's
-``ValueError`` into :class:`~it2track.io.errors.FisFormatError`.
+``ValueError`` into :class:`~it2track.io.errors.FisFormatError`. The writers' helpers are in
+:mod:`._writing`.
 """
 
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import math
 from collections.abc import Iterator, Sequence
 
 import numpy as np
 
 from ..fuzzy import (
-    Aggregation,
     AnySystem,
-    Connective,
     Consequent,
-    Defuzzifier,
-    Gaussian,
-    Implication,
     Input,
-    IT2Mamdani,
     IT2Set,
-    IT2Sugeno,
     Linear,
     MembershipFunction,
+    PiecewiseLinear,
     Rule,
-    Sampling,
-    SNorm,
-    T1Mamdani,
-    T1Sugeno,
-    TNorm,
     Trapezoid,
     Triangle,
     UncertainMeanGaussianUpper,
-    WeightedDefuzzifier,
 )
-from ._matlab import Document, MFValue, ParsedRule, fmt_number, fmt_string, fmt_vector
+from ..fuzzy.terms import MATLAB_MFS, from_fuzzylite, to_matlab
+from ._matlab import Document, MFValue, ParsedRule
+from ._writing import fmt_string, fmt_vector
 from .errors import FisFormatError, UnsupportedFeatureError
 
 __all__ = [
-    "SUPPORTED_MF_TYPES",
+    "FUZZYLITE_FIS_NAMES",
     "build_input",
     "build_rules",
-    "check_writable",
-    "consequent_tables",
-    "fmt_rule",
     "guard",
     "linear_from",
-    "mamdani_indices",
     "mf_from_matlab",
     "mf_line",
     "mf_to_matlab",
-    "output_range",
     "set_name",
-    "sugeno_span",
+    "shoulder_problem",
     "system_of",
+    "widened",
 ]
 
-#: MATLAB MF types we read (and write).
-SUPPORTED_MF_TYPES = ("trimf", "trapmf", "gaussmf", "gauss2mf")
-#: MATLAB MF types that exist but that it2track has no class for.
-_KNOWN_UNSUPPORTED = (
-    "gbellmf", "sigmf", "dsigmf", "psigmf", "pimf", "smf", "zmf", "linsmf", "linzmf",
-)
-_PARAMS = {"trimf": "[a b c]", "trapmf": "[a b c d]", "gaussmf": "[sigma c]",
-           "gauss2mf": "[sigma1 c1 sigma2 c2]"}
-_COUNTS = {"trimf": 3, "trapmf": 4, "gaussmf": 2, "gauss2mf": 4}
+#: fuzzylite's ``.fis`` names of its own terms (parameters in fuzzylite's order)
+FUZZYLITE_FIS_NAMES = {
+    "rampmf": "Ramp", "rectmf": "Rectangle", "cosinemf": "Cosine", "spikemf": "Spike",
+    "concavemf": "Concave", "discretemf": "Discrete", "binarymf": "Binary",
+}
 
 
 @contextlib.contextmanager
@@ -92,71 +76,102 @@ def guard(doc: Document, line: int | None, what: str = "") -> Iterator[None]:
 
 
 def mf_from_matlab(doc: Document, mfv: MFValue, *, with_height: bool) -> MembershipFunction:
-    """Our MF for ``'type',[params]`` (toolbox convention: ``with_height`` appends ``h``)."""
+    """Our MF for ``'type',[params]`` (toolbox convention: ``with_height`` appends ``h``).
+
+    MATLAB's functions go through :func:`~it2track.fuzzy.terms.from_matlab`'s table; a lenient
+    document also reads fuzzylite's names of its own terms (``'rampmf'``, ``'cosinemf'``, ...,
+    parameters in fuzzylite's order) and MATLAB's extra parameters (ignored, with a warning).
+    A ``gauss2mf`` with equal sigmas and ``c1 <= c2`` is our uncertain-mean Gaussian upper MF
+    (the same function).
+    """
     kind = mfv.type
-    if kind not in _COUNTS:
-        if kind.lower() in _KNOWN_UNSUPPORTED:
-            raise doc.error(
-                mfv.line,
-                f"unsupported MF type {kind!r} (it2track reads {', '.join(SUPPORTED_MF_TYPES)})",
-            )
-        raise doc.error(mfv.line, f"unknown MF type {kind!r}")
-    n = _COUNTS[kind] + (1 if with_height else 0)
-    if len(mfv.params) != n:
-        form = _PARAMS[kind][:-1] + (" h]" if with_height else "]")
+    spec = MATLAB_MFS.get(kind)
+    if spec is None:
+        if doc.lenient and kind in FUZZYLITE_FIS_NAMES:
+            with guard(doc, mfv.line, f"MF {mfv.name!r}"):
+                return from_fuzzylite(FUZZYLITE_FIS_NAMES[kind], mfv.params)
+        known = ", ".join([*MATLAB_MFS, *(FUZZYLITE_FIS_NAMES if doc.lenient else ())])
+        raise doc.error(mfv.line, f"unknown MF type {kind!r} (known: {known})")
+    n = spec.count + (1 if with_height else 0)
+    p = list(mfv.params)
+    if len(p) > n and doc.lenient:
+        doc.warn(mfv.line, f"{kind} {fmt_vector(p)} has {len(p)} parameters; read as "
+                 f"{fmt_vector(p[:n])}, as MATLAB's {kind} uses the first {n}")
+        p = p[:n]
+    if len(p) != n:
+        form = spec.params[:-1] + (" h]" if with_height else "]")
         raise doc.error(
             mfv.line, f"{kind} needs {n} parameters {form}, got {len(mfv.params)}"
         )
-    p = list(mfv.params)
     h = p.pop() if with_height else 1.0
     with guard(doc, mfv.line, f"MF {mfv.name!r}"):
-        if kind == "trimf":
-            return Triangle(p[0], p[1], p[2], h)
-        if kind == "trapmf":
-            return Trapezoid(p[0], p[1], p[2], p[3], h)
-        if kind == "gaussmf":
-            return Gaussian(p[1], p[0], h)
-        sigma1, c1, sigma2, c2 = p
-        if sigma1 != sigma2 or c1 > c2:
-            raise doc.error(
-                mfv.line,
-                "gauss2mf is supported only as an uncertain-mean Gaussian: sigma1 == sigma2 "
-                f"and c1 <= c2 (got {fmt_vector(p)})",
-            )
-        return UncertainMeanGaussianUpper(c1, c2, sigma1, h)
+        if kind == "gauss2mf" and p[0] == p[2] and p[1] <= p[3]:
+            return UncertainMeanGaussianUpper(p[1], p[3], p[0], h)
+        return spec.build(p, h)
 
 
 def mf_to_matlab(
     mf: MembershipFunction, *, with_height: bool, what: str
 ) -> tuple[str, tuple[float, ...]]:
-    """``(type, params)`` of one of our MFs; ``what`` names it in errors."""
-    kind = type(mf)
-    params: tuple[float, ...]
-    if kind is Triangle:
-        assert isinstance(mf, Triangle)
-        kind_name, params, h = "trimf", (mf.a, mf.b, mf.c), mf.h
-    elif kind is Trapezoid:
-        assert isinstance(mf, Trapezoid)
-        kind_name, params, h = "trapmf", (mf.a, mf.b, mf.c, mf.d), mf.h
-    elif kind is Gaussian:
-        assert isinstance(mf, Gaussian)
-        kind_name, params, h = "gaussmf", (mf.sigma, mf.mean), mf.h
-    elif kind is UncertainMeanGaussianUpper:
-        assert isinstance(mf, UncertainMeanGaussianUpper)
-        kind_name, params, h = "gauss2mf", (mf.sigma, mf.m1, mf.sigma, mf.m2), mf.h
-    else:
+    """``(type, params)`` of one of our MFs (``with_height``: the height appended); ``what``
+    names it in errors."""
+    h = float(getattr(mf, "h", 1.0))
+    try:
+        kind, params = to_matlab(mf if h == 1.0 else dataclasses.replace(mf, h=1.0))  # type: ignore[type-var]
+    except (ValueError, TypeError):
         raise UnsupportedFeatureError(
-            f"{what} is a {kind.__name__}, which has no MATLAB MF type (these formats carry "
-            "Triangle, Trapezoid, Gaussian and UncertainMeanGaussianUpper); save as .toml"
-        )
+            f"{what} is a {type(mf).__name__}, which has no MATLAB MF type (these formats carry "
+            f"{', '.join(MATLAB_MFS)}); save as .toml"
+        ) from None
     values = tuple(float(v) for v in params)
     if with_height:
-        return kind_name, (*values, float(h))
-    if float(h) != 1.0:
+        return kind, (*values, h)
+    if h != 1.0:
         raise UnsupportedFeatureError(
-            f"{what} has height h={h!r}; MATLAB's {kind_name} has no height parameter (only 1)"
+            f"{what} has height h={h!r}; MATLAB's {kind} has no height parameter (only 1)"
         )
-    return kind_name, values
+    return kind, values
+
+
+def shoulder_problem(mf: MembershipFunction, universe: tuple[float, float], label: str,
+                     tool: str) -> str | None:
+    """Why a triangle/trapezoid ``mf`` read from a tool cannot be ours, or ``None``.
+
+    MATLAB's, fuzzylite's and jFuzzyLogic's triangles and trapezoids are 0 outside their feet,
+    even next to a shoulder (``a == b``), while ours keep their height beyond the peak side
+    (DESIGN.md sec. 2); they agree on the universe when each shoulder's foot is at or beyond
+    its end. ``label`` names the MF as written, ``tool`` the tool's function.
+    """
+    if not isinstance(mf, PiecewiseLinear):
+        return None
+    a, b, c, d, _ = mf.as_trapezoid()
+    lo, hi = universe
+    for shoulder, foot, inside, side in ((a == b, a, a > lo, "left"), (c == d, d, d < hi, "right")):
+        if shoulder and inside:
+            return (f"{label} has a {side} shoulder at x={foot:g} inside the range "
+                    f"[{lo:g} {hi:g}]: {tool} drops to 0 beyond it, which it2track's shoulders "
+                    "(constant beyond the peak) cannot represent; move the shoulder to the range "
+                    "end")
+    return None
+
+
+def widened(mf: MembershipFunction, universe: tuple[float, float]) -> MembershipFunction:
+    """``mf`` with a shoulder inside the universe moved out to its end: the same values on the
+    universe, and the same for tools whose triangles and trapezoids are 0 beyond their feet
+    (:func:`shoulder_problem`)."""
+    if type(mf) not in (Triangle, Trapezoid):
+        return mf
+    assert isinstance(mf, PiecewiseLinear)
+    a, b, c, d, h = mf.as_trapezoid()
+    lo, hi = universe
+    left, right = a == b and a > lo, c == d and d < hi
+    if not (left or right):
+        return mf
+    if left:
+        a = b = lo
+    if right:
+        c = d = hi
+    return Trapezoid(a, b, c, d, h)
 
 
 def mf_line(key: str, name: str, kind: str, params: Sequence[float], what: str) -> str:
@@ -234,7 +249,8 @@ def build_rules(
     for pr in parsed:
         antecedent: list[str | None] = []
         negated: list[bool] = []
-        for inp, index in zip(inputs, pr.antecedent, strict=True):
+        for inp, code in zip(inputs, pr.antecedent, strict=True):
+            index = _whole(doc, pr.line, code)
             if abs(index) > len(inp.sets):
                 raise doc.error(
                     pr.line,
@@ -246,7 +262,8 @@ def build_rules(
         if all(a is None for a in antecedent):
             raise doc.error(pr.line, "rule mentions no input (all antecedent indices are 0)")
         cons: list[Consequent] = []
-        for k, (out, table) in enumerate(zip(pr.consequent, consequents, strict=True)):
+        for k, (code, table) in enumerate(zip(pr.consequent, consequents, strict=True)):
+            out = _whole(doc, pr.line, code)
             if out < 0:
                 raise doc.error(pr.line, f"negated consequent ({out}) is not supported")
             if out > len(table):
@@ -268,6 +285,22 @@ def build_rules(
                               connective="or" if pr.connection == 2 else "and",
                               negated=negated))
     return rules
+
+
+#: Octave's and fuzzylite's hedges, by the fraction of a rule index (in hundredths)
+_HEDGES = {1: "seldom", 5: "somewhat", 20: "very", 30: "extremely", 40: "very very", 99: "any"}
+
+
+def _whole(doc: Document, line: int, code: float) -> int:
+    """A rule index as an integer; a fraction is Octave's and fuzzylite's hedge, refused."""
+    whole = math.trunc(code)
+    if code == whole:
+        return int(whole)
+    hundredths = round(100 * (abs(code) - abs(whole)))
+    hedge = _HEDGES.get(hundredths)
+    meaning = f" (the hedge {hedge!r} of Octave and fuzzylite)" if hedge else ""
+    raise doc.error(line, f"rule index {code:g} has a fraction{meaning}: hedges are not "
+                    "supported")
 
 
 def linear_from(doc: Document, mfv: MFValue, n_inputs: int, *, interval: bool) -> Linear:
@@ -301,141 +334,3 @@ def system_of(
     with guard(doc, line):
         system: AnySystem = cls(**options)
         return system
-
-
-# ---------------------------------------------------------------------------------------------
-# Writers
-# ---------------------------------------------------------------------------------------------
-
-
-def _key(value: float) -> tuple[float, bool]:
-    return (value, math.copysign(1.0, value) < 0)
-
-
-def _cons_key(cons: Consequent) -> object:
-    if isinstance(cons, Linear):
-        return ("linear", tuple(_key(v) for v in (*cons.lo, cons.constant_lo, *cons.hi,
-                                                   cons.constant_hi)))
-    assert isinstance(cons, tuple)
-    return (_key(float(cons[0])), _key(float(cons[1])))
-
-
-def consequent_tables(
-    system: AnySystem,
-) -> tuple[list[list[Consequent]], list[list[int]]]:
-    """Per output: the distinct Sugeno consequents in order of first use, and each rule's
-    1-based index into them (0 where the rule does not act on the output)."""
-    tables: list[list[Consequent]] = []
-    which: list[list[int]] = [[] for _ in system.rules]
-    for k in range(system.n_outputs):
-        table: list[Consequent] = []
-        index: dict[object, int] = {}
-        for r, rule in enumerate(system.rules):
-            cons = rule.consequents[k]
-            if cons is None:
-                which[r].append(0)
-                continue
-            key = _cons_key(cons)
-            if key not in index:
-                table.append(cons)
-                index[key] = len(table)
-            which[r].append(index[key])
-        tables.append(table)
-    return tables, which
-
-
-def mamdani_indices(system: IT2Mamdani | T1Mamdani) -> list[list[int]]:
-    """Each rule's 1-based output set index per output (0: not acting on it)."""
-    return [
-        [0 if c is None else out.set_index(str(c)) + 1
-         for out, c in zip(system.outputs, rule.consequents, strict=True)]
-        for rule in system.rules
-    ]
-
-
-def fmt_rule(system: AnySystem, rule: Rule, out_indices: Sequence[int]) -> str:
-    """``a1 a2 ..., c1 c2 (w) : k`` for one of our rules (``-j`` for NOT set ``j``)."""
-    indices = []
-    for inp, label, neg in zip(system.inputs, rule.antecedent, rule.negated, strict=True):
-        j = 0 if label is None else inp.set_index(label) + 1
-        indices.append(-j if neg else j)
-    conn = 2 if rule.connective is Connective.OR else 1
-    outs = " ".join(str(i) for i in out_indices)
-    return f"{' '.join(str(i) for i in indices)}, {outs} ({fmt_number(rule.weight)}) : {conn}"
-
-
-def check_writable(system: object, fmt: str) -> None:
-    if not isinstance(system, IT2Sugeno | T1Sugeno | IT2Mamdani | T1Mamdani):
-        raise TypeError(f"can only write IT2Sugeno, T1Sugeno, IT2Mamdani or T1Mamdani systems "
-                        f"to {fmt}, got {type(system).__name__}")
-    check_matlab_operators(system, fmt)
-
-
-def check_matlab_operators(system: object, fmt: str) -> None:
-    """Refuse operators MATLAB's files cannot name (fuzzylite's other norms, ``wtsum``
-    here, fuzzylite's midpoint sampling) rather than write another one in their place."""
-    for what, value, allowed in (
-        ("t-norm", getattr(system, "tnorm", None), (TNorm.PRODUCT, TNorm.MINIMUM)),
-        ("s-norm", getattr(system, "snorm", None), (SNorm.MAXIMUM, SNorm.PROBOR)),
-        ("implication", getattr(system, "implication", Implication.MINIMUM),
-         (Implication.MINIMUM, Implication.PRODUCT)),
-        ("aggregation", getattr(system, "aggregation", Aggregation.MAXIMUM),
-         (Aggregation.MAXIMUM, Aggregation.SUM, Aggregation.PROBOR)),
-        ("defuzzifier", getattr(system, "defuzzifier", None),
-         (None, WeightedDefuzzifier.AVERAGE, *Defuzzifier)),
-        ("sampling", getattr(system, "sampling", Sampling.ENDPOINTS), (Sampling.ENDPOINTS,)),
-    ):
-        if value not in allowed:
-            raise UnsupportedFeatureError(
-                f"{fmt} cannot carry the {what} {value!r} (only "
-                f"{', '.join(repr(a) for a in allowed if a is not None)}); save as .toml")
-
-
-def sugeno_span(table: Sequence[Consequent]) -> list[tuple[float, float]]:
-    """The intervals an output range must cover: each constant consequent, and each linear
-    consequent's constant term (its value at the origin)."""
-    spans = []
-    for cons in table:
-        if isinstance(cons, Linear):
-            spans.append((cons.constant_lo, cons.constant_hi))
-        else:
-            assert isinstance(cons, tuple)
-            spans.append((float(cons[0]), float(cons[1])))
-    return spans
-
-
-def output_range(
-    table: Sequence[tuple[float, float]], on_zero_firing: float | None
-) -> tuple[float, float]:
-    """An output ``Range`` covering the consequents (``lo < hi``).
-
-    With ``on_zero_firing`` set, the range's midpoint (MATLAB's output where no rule fires) is
-    exactly ``on_zero_firing``: a range symmetric about it that covers the consequents if one
-    exists in floating point, else ``[0, 2 c]`` (or ``[2 c, 0]``; ``[-1, 1]`` for ``c == 0``).
-    """
-    lo = min(v[0] for v in table)
-    hi = max(v[1] for v in table)
-    if on_zero_firing is None:
-        if lo == hi:
-            pad = max(1.0, abs(lo))
-            return lo - pad, hi + pad
-        return lo, hi
-    c = float(on_zero_firing)
-    span = max(c - lo, hi - c, 0.0) or max(1.0, abs(c))
-    candidates = [span]
-    step = 2.0 ** math.ceil(math.log2(span))
-    candidates += [step * 2.0**k for k in range(8)]
-    for r in candidates:
-        a, b = c - r, c + r
-        if math.isfinite(a) and math.isfinite(b) and a <= lo and b >= hi and a < b:
-            if (a + b) / 2 == c:
-                return a, b
-    if c == 0.0:
-        return -1.0, 1.0
-    a, b = sorted((0.0, 2.0 * c))
-    if not math.isfinite(b - a) or (a + b) / 2 != c:
-        raise UnsupportedFeatureError(
-            f"on_zero_firing={c!r} cannot be written as the midpoint of an output range"
-        )
-    return a, b
-

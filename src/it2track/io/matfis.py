@@ -33,20 +33,26 @@ Type-1 (``sugfis``), as written by MATLAB's ``writeFIS``::
     [Rules]
     1 1, 1 (1) : 1
 
-Read: ``trimf [a b c]``, ``trapmf [a b c d]``, ``gaussmf [sigma c]``, ``gauss2mf [sigma c1 sigma
-c2]`` (equal sigmas, ``c1 <= c2`` only); ``AndMethod`` ``'prod'`` or ``'min'``, ``OrMethod``
-``'max'`` or ``'probor'``; several outputs; rules ``a1 ... an, c1 ... cm (w) : k`` with NOT
-(``-j``), weights in ``[0, 1]``, AND (``k = 1``) and OR (``k = 2``), output index 0 for an
-output a rule leaves out.
+Read as MATLAB, Octave and fuzzylite write it: every MATLAB membership function
+(:data:`~it2track.fuzzy.terms.MATLAB_MFS`) and fuzzylite's names; ``AndMethod``/``OrMethod``
+by MATLAB's, Octave's or fuzzylite's norm names (``''``: none, refused where a rule needs
+one); several outputs; rules ``a1 ... an, c1 ... cm (w) : k`` with NOT (``-j``), weights in
+``[0, 1]``, AND (``k = 1``) and OR (``k = 2``), index 0 for a variable a rule leaves out,
+indices written ``1.000``. ``%``/``#`` comment lines, ``pi`` expressions, fuzzylite's
+``Enabled``/``LockRange``/``LockPrevious``/``Default`` at harmless values; an unknown key, extra
+MF parameters, a repeated ``MF`` key and undercounted ``NumMFs``/``NumRules`` are read as
+MATLAB or fuzzylite reads them, with a :class:`~it2track.io.FisFormatWarning`.
 
-- ``Type='sugeno'``: ``'constant',[c]`` and ``'linear',[c1 ... cn c0]`` outputs;
-  ``DefuzzMethod='wtaver'`` (``'wtsum'`` is rejected); missing ``AndMethod``/``DefuzzMethod``
-  mean MATLAB's Sugeno defaults ``'prod'``/``'wtaver'``.
+- ``Type='sugeno'``: ``'constant',[c]`` and ``'linear',[c1 ... cn c0]`` outputs (an output of
+  monotonic MFs: fuzzylite's Tsukamoto); ``DefuzzMethod`` ``'wtaver'`` or ``'wtsum'``; missing
+  ``AndMethod``/``DefuzzMethod`` mean MATLAB's Sugeno defaults ``'prod'``/``'wtaver'``.
 - ``Type='mamdani'``: output sets like the input sets (evaluated on MATLAB's 101 points);
-  ``ImpMethod`` ``'min'``/``'prod'``, ``AggMethod`` ``'max'``/``'sum'``/``'probor'``,
+  ``ImpMethod`` and ``AggMethod`` (``'max'``/``'sum'``/``'probor'``, any norm by name),
   ``DefuzzMethod`` ``'centroid'``, ``'bisector'``, ``'mom'``, ``'som'``, ``'lom'`` (type-2:
   ``'centroid'``, reduced by ``TypeReductionMethod``); defaults are ``mamfis``'s (min, max,
   min, max, centroid).
+- fuzzylite's ``Type='tsukamoto'`` and ``'hybrid'`` (a :class:`~it2track.fuzzy.HybridSystem`
+  of the runs of Mamdani and Takagi-Sugeno outputs).
 
 Where no rule fires MATLAB returns the middle of the output ``Range``: the loaded system's
 ``on_zero_firing`` is that midpoint (one per output), and for Sugeno systems the writer chooses
@@ -105,115 +111,239 @@ Mamdani ``resolution`` other than 101, centre-of-sets type reduction, and a Mamd
 
 from __future__ import annotations
 
+import itertools
 import math
-from decimal import Decimal, localcontext
-from fractions import Fraction
+from collections.abc import Sequence
+from typing import Any, TypeVar
 
 from ..fuzzy import (
-    EIASC,
-    EKM,
-    EXHAUSTIVE,
-    KM,
-    NIE_TAN,
-    WU_MENDEL,
     Aggregation,
     AnySystem,
+    Connective,
     Consequent,
     Defuzzifier,
-    Gaussian,
-    Implication,
+    HybridSystem,
     Input,
     IT2Mamdani,
     IT2Set,
     IT2Sugeno,
-    Linear,
     MembershipFunction,
     Output,
-    PiecewiseLinear,
-    ScaledLagged,
+    Rule,
     SNorm,
     T1Mamdani,
     T1Sugeno,
+    T1Tsukamoto,
     TNorm,
-    Trapezoid,
-    Triangle,
-    TypeReducer,
-    TypeReduction,
+    WeightedDefuzzifier,
 )
-from ..fuzzy.mamdani import RESOLUTION
-from ._common import (
-    build_input,
-    build_rules,
-    check_writable,
-    consequent_tables,
-    fmt_rule,
-    guard,
-    linear_from,
-    mamdani_indices,
-    mf_from_matlab,
-    mf_to_matlab,
-    output_range,
-    sugeno_span,
-    system_of,
+from ._common import mf_from_matlab, shoulder_problem, system_of
+from ._fisfile import (
+    FisReader,
 )
-from ._matlab import (
-    Document,
-    MFValue,
-    Section,
-    fmt_number,
-    fmt_string,
-    fmt_vector,
-)
-from .errors import UnsupportedFeatureError
+from ._fiswrite import READ_REDUCERS, dumps
+from ._lowerlag import LOWER_KEYS, lag_foot, lower_from
+from ._matlab import Document, Entry, MFValue, Section
+from ._writing import fmt_vector
 
-__all__ = ["dumps", "loads"]
+__all__ = ["dumps", "lag_foot", "loads"]
 
-_READ_REDUCERS: dict[str, TypeReducer] = {
-    "karnikmendel": KM,
-    "ekm": EKM,
-    "iasc": EIASC,
-    "eiasc": EIASC,
-    "exhaustive": EXHAUSTIVE,
-    "nietan": NIE_TAN,
-    "wumendel": WU_MENDEL,
-}
-_WRITE_REDUCERS = {
-    "km": "karnikmendel",
-    "ekm": "ekm",
-    "eiasc": "eiasc",
-    "exhaustive": "exhaustive",
-    "nie-tan": "nietan",
-    "wu-mendel": "wumendel",
-}
-_SYSTEM_KEYS = {
+_SYSTEM_KEYS = frozenset({
     "Name", "Type", "Version", "NumInputs", "NumOutputs", "NumRules", "AndMethod", "OrMethod",
     "ImpMethod", "AggMethod", "DefuzzMethod", "TypeReductionMethod",
+})
+#: fuzzylite's keys: harmless at these values, refused at others
+_FUZZYLITE_FLAGS = {"Enabled": 1.0, "LockPrevious": 0.0, "LockRange": 0.0}
+_FLAG_MEANING = {
+    "Enabled": "a disabled variable",
+    "LockPrevious": "keeping the previous output where no rule fires (state)",
+    "LockRange": "clipping the output to its Range",
 }
-_TNORMS = {"prod": TNorm.PRODUCT, "min": TNorm.MINIMUM}
-_SNORMS = {"max": SNorm.MAXIMUM, "probor": SNorm.PROBOR}
-_IMPLICATIONS = {"min": Implication.MINIMUM, "prod": Implication.PRODUCT}
-_LOWER_KEYS = ("LowerScale", "LowerLag")
+_N = TypeVar("_N", TNorm, SNorm)
 
 
-def _variable(doc: Document, section: Section, *, type2: bool, cls: type) -> Input:
-    doc.check_keys(section, {"Name", "Range", "NumMFs"}, r"MF[1-9]\d{0,8}")
-    name_entry = doc.entry(section, "Name")
-    universe = doc.universe(doc.entry(section, "Range"))
-    n_mfs_entry = doc.entry(section, "NumMFs")
-    n_mfs = doc.integer(n_mfs_entry, minimum=1)
-    doc.check_mf_keys(section, n_mfs, n_mfs_entry)
-    sets = []
-    for j in range(1, n_mfs + 1):
-        mfv = doc.mf(doc.entry(section, f"MF{j}"), extras=_LOWER_KEYS if type2 else ())
-        upper = mf_from_matlab(doc, mfv, with_height=False)
-        _check_shoulders(doc, mfv, upper, universe)
-        lower = _lower_from(doc, mfv, upper) if type2 else upper
-        sets.append((IT2Set(upper, lower, mfv.name), mfv.line, mfv.line))
-    var = build_input(doc, doc.string(name_entry), universe, sets, name_entry.line)
-    if cls is Output:
-        with guard(doc, name_entry.line):
-            return Output(var.name, var.universe, var.sets)
-    return var
+class _Reader(FisReader):
+    suffix = ".fis"
+    lenient = True
+    system_keys = _SYSTEM_KEYS
+    variable_keys = frozenset({"Name", "Range", "NumMFs", "Enabled"})
+    sugeno_output_keys = frozenset({"Name", "Range", "NumMFs", *_FUZZYLITE_FLAGS, "Default"})
+
+    def __init__(self, text: str, path: str) -> None:
+        super().__init__(text, path)
+        self.type2 = False
+        self.defaults: list[float | None] = []
+        self.missing: dict[str, int] = {}
+
+    def system_type(self, system: Section) -> str:
+        """MATLAB's ``'sugeno'``/``'mamdani'``, and fuzzylite's ``'tsukamoto'``/``'hybrid'``."""
+        entry = self.doc.entry(system, "Type")
+        fis_type = self.doc.string(entry).lower()
+        if fis_type not in ("sugeno", "mamdani", "tsukamoto", "hybrid"):
+            raise self.doc.error(entry.line, f"Type={fis_type!r} is not supported ('sugeno', "
+                                 "'mamdani', and fuzzylite's 'tsukamoto' and 'hybrid')")
+        if fis_type in ("tsukamoto", "hybrid") and "TypeReductionMethod" in system.entries:
+            raise self.doc.error(entry.line, f"a type-2 system of Type={fis_type!r}")
+        return fis_type
+
+    def output_kind(self, section: Section) -> str:
+        if self.type not in ("hybrid", "sugeno") or self.type2:
+            return self.type
+        constant = {self.doc.mf(entry).type in ("constant", "linear") for entry in section.mfs}
+        if self.type == "hybrid":  # fuzzylite's: an output of 'constant'/'linear' MFs is TSK
+            return "sugeno" if constant == {True} else "mamdani"
+        if constant == {False}:
+            # fuzzylite's importer takes any term; its weighted average of monotonic terms is
+            # Tsukamoto's (MATLAB refuses such a file)
+            self.doc.warn(section.line, f"[{section.title}] of a Type='sugeno' system has "
+                          "membership functions, not 'constant'/'linear' ones: read as "
+                          "fuzzylite reads it, a Tsukamoto output")
+            return "tsukamoto"
+        return "sugeno"
+
+    def header(self, system: Section) -> dict[str, Any]:
+        doc = self.doc
+        self.type2 = "TypeReductionMethod" in system.entries
+        options: dict[str, Any] = {
+            "tnorm": self._norm(system, "AndMethod", TNorm,
+                                TNorm.PRODUCT if self.type == "sugeno" else TNorm.MINIMUM),
+            "snorm": self._norm(system, "OrMethod", SNorm, SNorm.MAXIMUM),
+        }
+        if self.type in ("mamdani", "hybrid"):
+            options.update(self.mamdani_options(system))
+            allowed = ("centroid",) if self.type2 else tuple(d.value for d in Defuzzifier)
+            defuzz, _ = doc.method(system, "DefuzzMethod", allowed, "centroid")
+            if not self.type2:
+                options["defuzzifier"] = Defuzzifier.from_name(defuzz)
+        else:
+            if self.type == "tsukamoto":  # fuzzylite 8 aggregates the firing of a set with it
+                options["aggregation"] = self.operator(system, "AggMethod", Aggregation,
+                                                       Aggregation.SUM)
+            else:
+                for key in ("ImpMethod", "AggMethod"):  # MATLAB's Sugeno systems ignore them
+                    if key in system.entries:
+                        doc.string(system.entries[key])
+            allowed = ("wtaver",) if self.type2 else ("wtaver", "wtsum")
+            defuzz, _ = doc.method(system, "DefuzzMethod", allowed, "wtaver")
+            if defuzz == "wtsum":
+                options["defuzzifier"] = WeightedDefuzzifier.SUM
+        if self.type2:
+            entry = system.entries["TypeReductionMethod"]
+            method = doc.string(entry)
+            if method.strip().lower() not in READ_REDUCERS:
+                known = ", ".join(READ_REDUCERS)
+                raise doc.error(
+                    entry.line, f"unknown TypeReductionMethod {method!r} (known: {known})"
+                )
+            options["reducer"] = READ_REDUCERS[method.strip().lower()]
+        return options
+
+    def _norm(self, system: Section, key: str, kind: type[_N], default: _N) -> _N:
+        """A norm method; fuzzylite writes ``''`` for "none" (one-input systems): the default,
+        with the line kept to refuse a rule that needs it."""
+        entry = system.entries.get(key)
+        if entry is not None and self.doc.string(entry) == "":
+            self.missing[key] = entry.line
+            return default
+        return self.operator(system, key, kind, default)
+
+    def input_extras(self, section: Section) -> None:
+        self._flags(section)
+
+    def output_extras(self, section: Section) -> None:
+        self._flags(section)
+        default = section.entries.get("Default")
+        value: float | None = None
+        if default is None:
+            lo, hi = self.doc.universe(self.doc.entry(section, "Range"), point_ok=not self.mamdani)
+            value = (lo + hi) / 2
+            if not math.isfinite(value):
+                raise self.doc.error(section.entries["Range"].line, "output Range is too wide")
+        elif default.value.strip().lower() != "nan":
+            value = self.doc.number(default)
+        self.defaults.append(value)
+
+    def _flags(self, section: Section) -> None:
+        for key, harmless in _FUZZYLITE_FLAGS.items():
+            entry = section.entries.get(key)
+            if entry is not None and self.doc.number(entry) != harmless:
+                raise self.doc.error(
+                    entry.line, f"{key}={entry.value} ({_FLAG_MEANING[key]}) is not supported"
+                )
+
+    def sets(self, section: Section, n: int, count_entry: Entry, universe: tuple[float, float]
+             ) -> list[tuple[IT2Set, int, int]]:
+        sets = []
+        for entry in self.mf_lines(section, n, count_entry):
+            mfv = self.doc.mf(entry, extras=LOWER_KEYS if self.type2 else ())
+            upper = mf_from_matlab(self.doc, mfv, with_height=False)
+            _check_shoulders(self.doc, mfv, upper, universe)
+            lower = lower_from(self.doc, mfv, upper) if self.type2 else upper
+            sets.append((IT2Set(upper, lower, mfv.name), mfv.line, mfv.line))
+        return sets
+
+    def constant(self, mfv: MFValue) -> Consequent:
+        if len(mfv.params) != 1:
+            raise self.doc.error(
+                mfv.line, f"'constant' needs one number, got {len(mfv.params)}"
+            )
+        return (mfv.params[0], mfv.params[0])
+
+    def check_rules(self, rules: Sequence[Rule]) -> None:
+        for rule, parsed in zip(rules, self.doc.sections["Rules"].rows, strict=True):
+            used = sum(label is not None for label in rule.antecedent)
+            key = "OrMethod" if rule.connective is Connective.OR else "AndMethod"
+            missing = self.missing.get(key)
+            if used > 1 and missing is not None:
+                raise self.doc.error(
+                    parsed[1], f"this rule joins {used} inputs with "
+                    f"{rule.connective.value.upper()}, but {key}='' (line {missing}) names no "
+                    "operator",
+                )
+
+    def finish(self, options: dict[str, Any], inputs: list[Input], outputs: list[Output | str],
+               kinds: list[str], ranges: list[tuple[tuple[float, float], Section]],
+               rules: list[Rule]) -> AnySystem:
+        defaults = self.defaults
+        if any(d is None for d in defaults) and any(d is not None for d in defaults):
+            section = ranges[[d is None for d in defaults].index(True)][1]
+            raise self.doc.error(section.entries["Default"].line,
+                                 "Default=nan for some outputs and not others")
+        line = self.doc.sections["System"].line
+        parts = []
+        start = 0
+        for kind, run in itertools.groupby(kinds):  # fuzzylite's hybrid: a system per run
+            n = len(list(run))
+            cut = range(start, start + n)
+            mine = [Rule(r.antecedent, consequents=[r.consequents[k] for k in cut],
+                         weight=r.weight, connective=r.connective, negated=r.negated)
+                    for r in rules if any(r.consequents[k] is not None for k in cut)]
+            if not mine:
+                raise self.doc.error(line, f"no rule acts on output {start + 1}")
+            part = dict(options)
+            zero = [defaults[k] for k in cut]
+            if zero[0] is not None:
+                part["on_zero_firing"] = zero[0] if n == 1 else tuple(zero)
+            names = [outputs[k] for k in cut]
+            if kind == "sugeno":
+                cls: type = IT2Sugeno if self.type2 else T1Sugeno
+                for key in ("implication", "aggregation"):
+                    part.pop(key, None)
+                if isinstance(part.get("defuzzifier"), Defuzzifier):
+                    part["defuzzifier"] = WeightedDefuzzifier.AVERAGE
+                if n > 1 or names != ["output1"]:
+                    part["outputs"] = tuple(names)
+            else:
+                cls = T1Tsukamoto if kind == "tsukamoto" else (
+                    IT2Mamdani if self.type2 else T1Mamdani)
+                part["outputs"] = tuple(names)
+            parts.append(system_of(self.doc, line, cls, inputs=tuple(inputs), rules=tuple(mine),
+                                   **part))
+            start += n
+        if len(parts) == 1:
+            return parts[0]
+        return system_of(self.doc, line, HybridSystem, systems=tuple(parts),
+                         name=options["name"])
 
 
 def loads(text: str, path: str = "<string>") -> AnySystem:
@@ -223,383 +353,22 @@ def loads(text: str, path: str = "<string>") -> AnySystem:
     ------
     FisFormatError
         On any malformed or unsupported content, naming ``path``, the line and the problem.
-    """
-    doc = Document(text, path)
-    system = doc.section("System")
-    doc.check_keys(system, _SYSTEM_KEYS)
-    name, fis_type = doc.system_type(system)
-    mamdani = fis_type == "mamdani"
-    if "Version" in system.entries:
-        doc.number(system.entries["Version"])
-    type2 = "TypeReductionMethod" in system.entries
-    options: dict[str, object] = {
-        "name": name,
-        "tnorm": _TNORMS[doc.method(system, "AndMethod", tuple(_TNORMS),
-                                    "min" if mamdani else "prod")],
-        "snorm": _SNORMS[doc.method(system, "OrMethod", tuple(_SNORMS), "max")],
-    }
-    if mamdani:
-        options["implication"] = _IMPLICATIONS[
-            doc.method(system, "ImpMethod", tuple(_IMPLICATIONS), "min")]
-        options["aggregation"] = Aggregation.from_name(
-            doc.method(system, "AggMethod", ("max", "sum", "probor"), "max"))
-        allowed = ("centroid",) if type2 else tuple(d.value for d in Defuzzifier)
-        defuzz = doc.method(system, "DefuzzMethod", allowed, "centroid")
-        if not type2:
-            options["defuzzifier"] = Defuzzifier.from_name(defuzz)
-    else:
-        for key in ("ImpMethod", "AggMethod"):
-            if key in system.entries:
-                doc.string(system.entries[key])
-        doc.method(system, "DefuzzMethod", ("wtaver",), "wtaver")
-    if type2:
-        entry = system.entries["TypeReductionMethod"]
-        method = doc.string(entry)
-        if method.strip().lower() not in _READ_REDUCERS:
-            known = ", ".join(_READ_REDUCERS)
-            raise doc.error(
-                entry.line, f"unknown TypeReductionMethod {method!r} (known: {known})"
-            )
-        options["reducer"] = _READ_REDUCERS[method.strip().lower()]
-    counts = doc.counts(system)
-    inputs = [
-        _variable(doc, doc.section(f"Input{k}", promised_by=counts.n_in_entry), type2=type2,
-                  cls=Input)
-        for k in range(1, counts.n_inputs + 1)
-    ]
-    outputs: list[Output] = []
-    names: list[str] = []
-    midpoints: list[float] = []
-    consequents: list[list[Consequent]] = []
-    for k in range(1, counts.n_outputs + 1):
-        output = doc.section(f"Output{k}", promised_by=counts.n_out_entry)
-        range_entry = doc.entry(output, "Range")
-        out_lo, out_hi = doc.universe(range_entry)
-        midpoint = (out_lo + out_hi) / 2
-        if not math.isfinite(midpoint):
-            raise doc.error(range_entry.line, "output Range is too wide")
-        midpoints.append(midpoint)
-        if mamdani:
-            out = _variable(doc, output, type2=type2, cls=Output)
-            assert isinstance(out, Output)
-            outputs.append(out)
-            consequents.append([s.name for s in out.sets])
-            continue
-        doc.check_keys(output, {"Name", "Range", "NumMFs"}, r"MF[1-9]\d{0,8}")
-        names.append(doc.string(doc.entry(output, "Name")))
-        n_out_mfs_entry = doc.entry(output, "NumMFs")
-        n_out_mfs = doc.integer(n_out_mfs_entry, minimum=1)
-        doc.check_mf_keys(output, n_out_mfs, n_out_mfs_entry)
-        table: list[Consequent] = []
-        for j in range(1, n_out_mfs + 1):
-            mfv = doc.mf(doc.entry(output, f"MF{j}"))
-            if mfv.type == "linear":
-                table.append(linear_from(doc, mfv, counts.n_inputs, interval=False))
-                continue
-            if mfv.type != "constant":
-                raise doc.error(
-                    mfv.line, f"unknown output MF type {mfv.type!r} (expected 'constant' or "
-                    "'linear')"
-                )
-            if len(mfv.params) != 1:
-                raise doc.error(
-                    mfv.line, f"'constant' needs one number, got {len(mfv.params)}"
-                )
-            table.append((mfv.params[0], mfv.params[0]))
-        consequents.append(table)
 
-    parsed = doc.counted_rules(counts)
-    rules = build_rules(doc, parsed, inputs, consequents)
-    options["on_zero_firing"] = midpoints[0] if len(midpoints) == 1 else tuple(midpoints)
-    if mamdani:
-        options["outputs"] = tuple(outputs)
-        cls: type = IT2Mamdani if type2 else T1Mamdani
-    else:
-        cls = IT2Sugeno if type2 else T1Sugeno
-        if len(names) > 1 or names != ["output1"]:
-            options["outputs"] = tuple(names)
-    return system_of(doc, system.line, cls, inputs=tuple(inputs), rules=tuple(rules), **options)
+    Warns
+    -----
+    FisFormatWarning
+        For what is read as MATLAB's ``readfis`` or fuzzylite reads it but may not be what
+        was meant (an unknown key, extra MF parameters, a misnumbered ``MF`` line, more MF
+        lines or rules than ``NumMFs``/``NumRules`` say, a ``Type='sugeno'`` output of
+        monotonic membership functions, read as Tsukamoto's).
+    """
+    return _Reader(text, path).read()
 
 
 def _check_shoulders(
     doc: Document, mfv: MFValue, mf: MembershipFunction, universe: tuple[float, float]
 ) -> None:
-    if not isinstance(mf, PiecewiseLinear):
-        return
-    a, b, c, d, _ = mf.as_trapezoid()
-    lo, hi = universe
-    for shoulder, foot, inside, side in ((a == b, a, a > lo, "left"), (c == d, d, d < hi, "right")):
-        if shoulder and inside:
-            raise doc.error(
-                mfv.line,
-                f"{mfv.type} {fmt_vector(mfv.params)} has a {side} shoulder at x={foot:g} inside "
-                f"the Range [{lo:g} {hi:g}]: MATLAB's {mfv.type} drops to 0 beyond it, which "
-                "it2track's shoulders (constant beyond the peak) cannot represent; move the "
-                "shoulder to the range end",
-            )
-
-
-def _lower_from(doc: Document, mfv: MFValue, upper: MembershipFunction) -> MembershipFunction:
-    """The lower MF of a type-2 ``.fis`` MF line (``LowerScale``, ``LowerLag``)."""
-    for key in _LOWER_KEYS:
-        if key not in mfv.extras:
-            raise doc.error(
-                mfv.line,
-                f"type-2 MF needs 'LowerScale',s,'LowerLag',l after its parameters "
-                f"(missing {key!r})",
-            )
-    scale_v = mfv.extras["LowerScale"]
-    lag_v = mfv.extras["LowerLag"]
-    if len(scale_v) != 1:
-        raise doc.error(mfv.line, "LowerScale must be one number")
-    scale = float(scale_v[0])
-    if not 0.0 < scale <= 1.0:
-        raise doc.error(mfv.line, f"LowerScale={scale:g} must satisfy 0 < scale <= 1")
-    if len(lag_v) not in (1, 2):
-        raise doc.error(mfv.line, "LowerLag must be one number or two (left, right)")
-    lags = (Fraction(lag_v[0]), Fraction(lag_v[-1]))
-    for lag in lags:
-        if not 0 <= lag < 1:
-            raise doc.error(mfv.line, f"LowerLag={float(lag):g} must satisfy 0 <= lag < 1")
-    if scale == 1.0 and lags == (0, 0):
-        return upper
-    with guard(doc, mfv.line, f"MF {mfv.name!r}"):
-        if isinstance(upper, PiecewiseLinear):
-            a, b, c, d, _ = upper.as_trapezoid()
-            la = lag_foot(a, b, lags[0])
-            ld = lag_foot(d, c, lags[1])
-            if isinstance(upper, Triangle):
-                return Triangle(la, b, ld, scale)
-            return Trapezoid(la, b, c, ld, scale)
-        if lags[0] != lags[1]:
-            raise doc.error(
-                mfv.line, f"a two-sided LowerLag needs a trimf or trapmf, not {mfv.type}"
-            )
-        return ScaledLagged(upper, scale, float(lags[0]))
-
-
-def lag_foot(foot: float, peak: float, lag: Fraction) -> float:
-    """Where a lower MF side starts: ``foot + lag * (peak - foot)``, rounded once.
-
-    The upper MF side rises from ``foot`` (value 0) to ``peak`` (value 1), so it reaches the
-    value ``lag`` there. The expression is evaluated exactly (rational arithmetic) and rounded
-    to the nearest float, so that a lag written with enough digits reproduces any foot.
-    """
-    if foot == peak or lag == 0:
-        return foot
-    return float(Fraction(foot) + lag * (Fraction(peak) - Fraction(foot)))
-
-
-# ---------------------------------------------------------------------------------------------
-# Writing
-# ---------------------------------------------------------------------------------------------
-
-
-def _mf_lines(var: Input, *, type2: bool, what_kind: str) -> list[str]:
-    lines = []
-    for j, s in enumerate(var.sets, start=1):
-        what = f"{what_kind} {var.name!r} set {s.name!r}"
-        kind, params = mf_to_matlab(s.upper, with_height=False, what=f"{what} upper MF")
-        kind, params = _widen_shoulders(kind, params, var.universe)
-        line = f"MF{j}={fmt_string(s.name, 'set name')}:'{kind}',{fmt_vector(params)}"
-        if type2:
-            scale, lags = _scale_lag(s, what)
-            lag_text = f"[{lags[0]} {lags[1]}]" if len(lags) == 2 else lags[0]
-            line += f",'LowerScale',{fmt_number(scale)},'LowerLag',{lag_text}"
-        elif not s.is_type1:
-            raise UnsupportedFeatureError(f"{what} has a footprint in a type-1 system")
-        lines.append(line)
-    return lines
-
-
-def dumps(system: AnySystem) -> str:
-    """``.fis`` text for ``system`` (type-1 for :class:`T1Sugeno`/:class:`T1Mamdani`, type-2
-    for :class:`IT2Sugeno`/:class:`IT2Mamdani`).
-
-    Raises
-    ------
-    UnsupportedFeatureError
-        If the system uses something the format cannot carry (see the module docstring).
-    """
-    check_writable(system, ".fis")
-    type2 = isinstance(system, IT2Sugeno | IT2Mamdani)
-    mamdani = isinstance(system, IT2Mamdani | T1Mamdani)
-    extra: list[str] = []
-    if isinstance(system, IT2Mamdani | T1Mamdani):
-        if system.resolution != RESOLUTION:
-            raise UnsupportedFeatureError(
-                f"the .fis format cannot carry resolution={system.resolution} (MATLAB "
-                f"evaluates {RESOLUTION} points); save as .toml"
-            )
-        if isinstance(system, IT2Mamdani) and (
-            system.type_reduction is not TypeReduction.CENTROID
-        ):
-            raise UnsupportedFeatureError(
-                "MATLAB's type-2 Mamdani systems use centroid type reduction; this system uses "
-                "centre-of-sets (save as .t2fis or .toml)"
-            )
-        for k, out in enumerate(system.outputs):
-            zero = system.zero_firing_value(k)
-            middle = (out.universe[0] + out.universe[1]) / 2
-            if zero is not None and zero != middle:
-                raise UnsupportedFeatureError(
-                    f"in a .fis Mamdani system the output where no rule fires is the middle of "
-                    f"the output range ({middle!r} for {out.name!r}), not on_zero_firing="
-                    f"{zero!r}; save as .toml"
-                )
-        imp = "min" if system.implication is Implication.MINIMUM else "prod"
-        agg = system.aggregation.value
-        defuzz = (system.defuzzifier.value if isinstance(system, T1Mamdani) else "centroid")
-        which = mamdani_indices(system)
-    else:
-        imp, agg, defuzz = "prod", "sum", "wtaver"
-        tables, which = consequent_tables(system)
-        for table in tables:
-            for cons in table:
-                if isinstance(cons, Linear):
-                    if not cons.crisp:
-                        raise UnsupportedFeatureError(
-                            "MATLAB's linear Sugeno outputs have crisp coefficients; this system "
-                            "has interval coefficients (save as .t2fis or .toml)"
-                        )
-                elif isinstance(cons, tuple) and cons[0] != cons[1]:
-                    raise UnsupportedFeatureError(
-                        "MATLAB's Sugeno systems have crisp consequents; this system has "
-                        "interval consequents (save as .t2fis or .toml)"
-                    )
-    lines = [
-        "[System]",
-        f"Name={fmt_string(system.name, 'system name')}",
-        f"Type='{'mamdani' if mamdani else 'sugeno'}'",
-        "Version=2.0",
-        f"NumInputs={system.n_inputs}",
-        f"NumOutputs={system.n_outputs}",
-        f"NumRules={system.n_rules}",
-        f"AndMethod='{'prod' if system.tnorm is TNorm.PRODUCT else 'min'}'",
-        f"OrMethod='{system.snorm.value}'",
-        f"ImpMethod='{imp}'",
-        f"AggMethod='{agg}'",
-        f"DefuzzMethod='{defuzz}'",
-        *extra,
-    ]
-    if isinstance(system, IT2Sugeno | IT2Mamdani):
-        reducer = system.reducer
-        if reducer.name not in _WRITE_REDUCERS:
-            raise UnsupportedFeatureError(f"reducer {reducer.name!r} has no .fis name")
-        method = _WRITE_REDUCERS[reducer.name]
-        if reducer.max_iter != _READ_REDUCERS[method].max_iter:
-            raise UnsupportedFeatureError(
-                f"the .fis format cannot carry max_iter={reducer.max_iter!r}; save as .toml"
-            )
-        lines.append(f"TypeReductionMethod='{method}'")
-    for k, inp in enumerate(system.inputs, start=1):
-        lines += [
-            "",
-            f"[Input{k}]",
-            f"Name={fmt_string(inp.name, 'input name')}",
-            f"Range={fmt_vector(inp.universe)}",
-            f"NumMFs={len(inp.sets)}",
-        ]
-        lines += _mf_lines(inp, type2=type2, what_kind="input")
-    if isinstance(system, IT2Mamdani | T1Mamdani):
-        for k, out in enumerate(system.outputs, start=1):
-            lines += [
-                "",
-                f"[Output{k}]",
-                f"Name={fmt_string(out.name, 'output name')}",
-                f"Range={fmt_vector(out.universe)}",
-                f"NumMFs={len(out.sets)}",
-            ]
-            lines += _mf_lines(out, type2=type2, what_kind="output")
-    else:
-        for k, (out_name, table) in enumerate(zip(system.output_names, tables, strict=True)):
-            lo, hi = output_range(sugeno_span(table), system.zero_firing_value(k))
-            lines += [
-                "",
-                f"[Output{k + 1}]",
-                f"Name={fmt_string(out_name, 'output name')}",
-                f"Range={fmt_vector((lo, hi))}",
-                f"NumMFs={len(table)}",
-            ]
-            for j, cons in enumerate(table, start=1):
-                if isinstance(cons, Linear):
-                    params = fmt_vector([*cons.lo, cons.constant_lo])
-                    lines.append(f"MF{j}='mf{j}':'linear',{params}")
-                else:
-                    assert isinstance(cons, tuple)
-                    lines.append(f"MF{j}='mf{j}':'constant',[{fmt_number(cons[0])}]")
-    lines += ["", "[Rules]"]
-    for rule, outs in zip(system.rules, which, strict=True):
-        lines.append(fmt_rule(system, rule, outs))
-    return "\n".join(lines) + "\n"
-
-
-def _widen_shoulders(
-    kind: str, params: tuple[float, ...], universe: tuple[float, float]
-) -> tuple[str, tuple[float, ...]]:
-    """Move a shoulder inside the universe out to its end (same values on the universe)."""
-    if kind not in ("trimf", "trapmf"):
-        return kind, params
-    a, b, c, d = (params[0], params[1], params[1], params[2]) if kind == "trimf" else params
-    lo, hi = universe
-    left = a == b and a > lo
-    right = c == d and d < hi
-    if not (left or right):
-        return kind, params
-    if left:
-        a = b = lo
-    if right:
-        c = d = hi
-    return "trapmf", (a, b, c, d)
-
-
-def _scale_lag(s: IT2Set, what: str) -> tuple[float, tuple[str, ...]]:
-    """``(LowerScale, LowerLag)`` such that the reader rebuilds ``s.lower`` exactly."""
-    upper, lower = s.upper, s.lower
-    piecewise = isinstance(upper, PiecewiseLinear)
-    if lower is upper or lower == upper:
-        return 1.0, ("0", "0") if piecewise else ("0",)
-    if isinstance(lower, ScaledLagged) and (lower.upper is upper or lower.upper == upper):
-        if piecewise:
-            raise UnsupportedFeatureError(
-                f"{what}: a ScaledLagged lower MF of a triangle/trapezoid is not the MATLAB "
-                "lower MF (use IT2Set.from_scale_lag, which builds a trapezoid)"
-            )
-        return float(lower.scale), (fmt_number(lower.lag),)
-    if type(upper) is Gaussian and type(lower) is Gaussian:
-        assert isinstance(upper, Gaussian) and isinstance(lower, Gaussian)
-        if lower.mean == upper.mean and lower.sigma == upper.sigma and upper.h == 1.0:
-            return float(lower.h), ("0",)
-    if piecewise and isinstance(lower, PiecewiseLinear) and type(lower) in (Triangle, Trapezoid):
-        assert isinstance(upper, PiecewiseLinear)
-        a, b, c, d, h = upper.as_trapezoid()
-        la, lb, lc, ld, lh = lower.as_trapezoid()
-        if lb == b and lc == c and h == 1.0 and a <= la and ld <= d:
-            left = _solve_lag(a, b, la)
-            right = _solve_lag(d, c, ld)
-            if left is not None and right is not None:
-                return lh, (left, right)
-    raise UnsupportedFeatureError(
-        f"{what}: its lower MF {lower!r} is not a LowerScale/LowerLag image of its upper MF "
-        f"{upper!r}, the only lower MFs MATLAB's type-2 .fis can describe; save as .t2fis or "
-        ".toml"
-    )
-
-
-def _solve_lag(foot: float, peak: float, target: float) -> str | None:
-    """The shortest decimal lag in ``[0, 1)`` for which :func:`lag_foot` gives ``target``."""
-    if foot == peak:
-        return "0" if target == foot else None
-    exact = (Fraction(target) - Fraction(foot)) / (Fraction(peak) - Fraction(foot))
-    if not 0 <= exact < 1:
-        return None
-    if exact == 0:
-        return "0"
-    for digits in range(1, 60):
-        with localcontext() as ctx:
-            ctx.prec = digits
-            text = str(Decimal(exact.numerator) / Decimal(exact.denominator))
-        lag = Fraction(text)
-        if 0 <= lag < 1 and lag_foot(foot, peak, lag) == target:
-            return text
-    return None  # pragma: no cover - 60 digits always suffice for doubles
+    problem = shoulder_problem(mf, universe, f"{mfv.type} {fmt_vector(mfv.params)}",
+                               f"MATLAB's {mfv.type}")
+    if problem:
+        raise doc.error(mfv.line, problem)

@@ -84,6 +84,8 @@ the centroid.
 
 from __future__ import annotations
 
+from typing import Any
+
 from ..fuzzy import (
     EIASC,
     EKM,
@@ -91,12 +93,10 @@ from ..fuzzy import (
     KM,
     NIE_TAN,
     WU_MENDEL,
-    Aggregation,
     AnySystem,
     Consequent,
     Defuzzifier,
     Gaussian,
-    Implication,
     Input,
     IT2Mamdani,
     IT2Set,
@@ -104,6 +104,7 @@ from ..fuzzy import (
     Linear,
     MembershipFunction,
     Output,
+    Rule,
     ScaledLagged,
     SNorm,
     T1Mamdani,
@@ -111,26 +112,27 @@ from ..fuzzy import (
     TNorm,
     TypeReducer,
     TypeReduction,
+    WeightedDefuzzifier,
 )
-from ..fuzzy.mamdani import RESOLUTION
-from ._common import (
-    build_input,
-    build_rules,
+from ._common import mf_from_matlab, mf_line, mf_to_matlab, set_name, system_of
+from ._fisfile import (
+    FisReader,
+    header_lines,
+    mamdani_methods,
+    reducer_name,
+    rules_lines,
+    variable_lines,
+)
+from ._matlab import Entry, MFValue, Section
+from ._writing import (
     check_writable,
     consequent_tables,
-    fmt_rule,
-    guard,
-    linear_from,
+    fmt_number,
+    fmt_vector,
     mamdani_indices,
-    mf_from_matlab,
-    mf_line,
-    mf_to_matlab,
     output_range,
-    set_name,
     sugeno_span,
-    system_of,
 )
-from ._matlab import Document, Entry, Section, fmt_number, fmt_string, fmt_vector
 from .errors import UnsupportedFeatureError
 
 __all__ = ["dumps", "loads"]
@@ -153,34 +155,108 @@ _WRITE_REDUCERS = {
     "nie-tan": "NT",
     "wu-mendel": "WM",
 }
-_SYSTEM_KEYS = {
+_SYSTEM_KEYS = frozenset({
     "Name", "Type", "Version", "NumInputs", "NumOutputs", "NumRules", "AndMethod", "OrMethod",
     "ImpMethod", "AggMethod", "DefuzzMethod", "TypeRedMethod", "outputType",
-}
-_TNORMS = {"prod": TNorm.PRODUCT, "min": TNorm.MINIMUM}
-_SNORMS = {"max": SNorm.MAXIMUM, "probor": SNorm.PROBOR}
-_IMPLICATIONS = {"min": Implication.MINIMUM, "prod": Implication.PRODUCT}
+})
 _TYPE_REDUCTIONS = {"centroid": TypeReduction.CENTROID, "cos": TypeReduction.CENTRE_OF_SETS}
 
 
-def _variable(doc: Document, section: Section, n_mfs_entry: Entry, n_mfs: int,
-              universe: tuple[float, float], name_entry: Entry, cls: type) -> Input:
-    doc.check_mf_keys(section, n_mfs, n_mfs_entry, suffixes=("U", "L"))
-    sets = []
-    for j in range(1, n_mfs + 1):
-        up_v = doc.mf(doc.entry(section, f"MF{j}U"))
-        low_v = doc.mf(doc.entry(section, f"MF{j}L"))
-        upper = mf_from_matlab(doc, up_v, with_height=True)
-        lower = mf_from_matlab(doc, low_v, with_height=True)
-        if lower == upper:
-            lower = upper
-        label = set_name(up_v.name, low_v.name)
-        sets.append((IT2Set(upper, lower, label), up_v.line, low_v.line))
-    var = build_input(doc, doc.string(name_entry), universe, sets, name_entry.line)
-    if cls is Output:
-        with guard(doc, name_entry.line):
-            return Output(var.name, var.universe, var.sets)
-    return var
+class _Reader(FisReader):
+    suffix = ".t2fis"
+    system_keys = _SYSTEM_KEYS
+    sugeno_output_keys = frozenset({"Name", "Range", "NumMFs", "CrispInterval"})
+    mf_pattern = r"MF[1-9]\d{0,8}[UL]"
+    interval_linear = True
+
+    def header(self, system: Section) -> dict[str, Any]:
+        doc = self.doc
+        for key in ("ImpMethod", "AggMethod", "DefuzzMethod", "outputType"):
+            if key in system.entries:
+                doc.string(system.entries[key])
+        doc.entry(system, "AndMethod")  # required
+        options: dict[str, Any] = {
+            "tnorm": self.operator(system, "AndMethod", TNorm, TNorm.PRODUCT),
+            "snorm": self.operator(system, "OrMethod", SNorm, SNorm.MAXIMUM),
+        }
+        if self.mamdani:
+            options.update(self.mamdani_options(system))
+            options["type_reduction"] = _TYPE_REDUCTIONS[
+                doc.method(system, "DefuzzMethod", tuple(_TYPE_REDUCTIONS), "centroid")[0]]
+        self.reducer = KM
+        if "TypeRedMethod" in system.entries:
+            entry = system.entries["TypeRedMethod"]
+            method = doc.string(entry)
+            key = method.strip().lower()
+            if key not in _READ_REDUCERS:
+                problem = (
+                    "the BMM reducer is not supported" if key.startswith("bmm")
+                    else f"unknown TypeRedMethod {method!r}"
+                )
+                raise doc.error(
+                    entry.line,
+                    f"{problem} (known: Karnik-Mendel, KM, EKM, IASC, EIASC, EODS, NT, WM)",
+                )
+            self.reducer = _READ_REDUCERS[key]
+        return options
+
+    def output_extras(self, section: Section) -> None:
+        if not self.mamdani and "CrispInterval" in section.entries:
+            self.doc.string(section.entries["CrispInterval"])
+
+    def sets(self, section: Section, n: int, count_entry: Entry, universe: tuple[float, float]
+             ) -> list[tuple[IT2Set, int, int]]:
+        doc = self.doc
+        doc.check_mf_keys(section, n, count_entry, suffixes=("U", "L"))
+        sets = []
+        for j in range(1, n + 1):
+            up_v = doc.mf(doc.entry(section, f"MF{j}U"))
+            low_v = doc.mf(doc.entry(section, f"MF{j}L"))
+            upper = mf_from_matlab(doc, up_v, with_height=True)
+            lower = mf_from_matlab(doc, low_v, with_height=True)
+            if lower == upper:
+                lower = upper
+            label = set_name(up_v.name, low_v.name)
+            sets.append((IT2Set(upper, lower, label), up_v.line, low_v.line))
+        return sets
+
+    def constant(self, mfv: MFValue) -> Consequent:
+        if len(mfv.params) not in (1, 2):
+            raise self.doc.error(
+                mfv.line, f"'constant' needs [y_lower y_upper] (or one number), got "
+                f"{len(mfv.params)} numbers"
+            )
+        lo, hi = mfv.params[0], mfv.params[-1]
+        if lo > hi:
+            raise self.doc.error(mfv.line,
+                                 f"consequent [{lo:g} {hi:g}] must satisfy lower <= upper")
+        return (lo, hi)
+
+    def finish(self, options: dict[str, Any], inputs: list[Input], outputs: list[Output | str],
+               kinds: list[str], ranges: list[tuple[tuple[float, float], Section]],
+               rules: list[Rule]) -> AnySystem:
+        names = [o for o in outputs if isinstance(o, str)]
+        sets_of = [o for o in outputs if isinstance(o, Output)]
+        all_type1 = all(s.is_type1 for var in (*inputs, *sets_of) for s in var.sets)
+        if self.mamdani:
+            options["outputs"] = tuple(sets_of)
+            cls: type = T1Mamdani if all_type1 else IT2Mamdani
+            if cls is T1Mamdani:
+                del options["type_reduction"]
+            else:
+                options["reducer"] = self.reducer
+        else:
+            crisp = all(
+                (c[0] == c[1]) if isinstance(c, tuple) else (not isinstance(c, Linear) or c.crisp)
+                for rule in rules for c in rule.consequents if c is not None
+            )
+            cls = T1Sugeno if all_type1 and crisp else IT2Sugeno
+            if cls is IT2Sugeno:
+                options["reducer"] = self.reducer
+            if len(names) > 1 or names != ["output1"]:
+                options["outputs"] = tuple(names)
+        return system_of(self.doc, self.doc.sections["System"].line, cls, inputs=tuple(inputs),
+                         rules=tuple(rules), **options)
 
 
 def loads(text: str, path: str = "<string>") -> AnySystem:
@@ -198,126 +274,7 @@ def loads(text: str, path: str = "<string>") -> AnySystem:
     FisFormatError
         On any malformed or unsupported content, naming ``path``, the line and the problem.
     """
-    doc = Document(text, path)
-    system = doc.section("System")
-    doc.check_keys(system, _SYSTEM_KEYS)
-    name, fis_type = doc.system_type(system)
-    mamdani = fis_type == "mamdani"
-    for key in ("ImpMethod", "AggMethod", "DefuzzMethod", "outputType"):
-        if key in system.entries:
-            doc.string(system.entries[key])
-    if "Version" in system.entries:
-        doc.number(system.entries["Version"])
-    and_entry = doc.entry(system, "AndMethod")
-    and_method = doc.string(and_entry)
-    if and_method.lower() not in _TNORMS:
-        raise doc.error(
-            and_entry.line, f"AndMethod={and_method!r} is not supported ('prod' or 'min')"
-        )
-    options: dict[str, object] = {
-        "name": name,
-        "tnorm": _TNORMS[and_method.lower()],
-        "snorm": _SNORMS[doc.method(system, "OrMethod", tuple(_SNORMS), "max")],
-    }
-    if mamdani:
-        options["implication"] = _IMPLICATIONS[doc.method(system, "ImpMethod", ("min", "prod"),
-                                                          "min")]
-        options["aggregation"] = Aggregation.from_name(
-            doc.method(system, "AggMethod", ("max", "sum", "probor"), "max"))
-        options["type_reduction"] = _TYPE_REDUCTIONS[
-            doc.method(system, "DefuzzMethod", tuple(_TYPE_REDUCTIONS), "centroid")]
-    reducer = KM
-    if "TypeRedMethod" in system.entries:
-        entry = system.entries["TypeRedMethod"]
-        method = doc.string(entry)
-        key = method.strip().lower()
-        if key not in _READ_REDUCERS:
-            problem = (
-                "the BMM reducer is not supported" if key.startswith("bmm")
-                else f"unknown TypeRedMethod {method!r}"
-            )
-            raise doc.error(
-                entry.line,
-                f"{problem} (known: Karnik-Mendel, KM, EKM, IASC, EIASC, EODS, NT, WM)",
-            )
-        reducer = _READ_REDUCERS[key]
-    counts = doc.counts(system)
-    n_inputs, n_in_entry, n_out_entry = counts.n_inputs, counts.n_in_entry, counts.n_out_entry
-
-    inputs = []
-    for k in range(1, n_inputs + 1):
-        section = doc.section(f"Input{k}", promised_by=n_in_entry)
-        doc.check_keys(section, {"Name", "Range", "NumMFs"}, r"MF[1-9]\d{0,8}[UL]")
-        n_mfs_entry = doc.entry(section, "NumMFs")
-        inputs.append(_variable(
-            doc, section, n_mfs_entry, doc.integer(n_mfs_entry, minimum=1),
-            doc.universe(doc.entry(section, "Range")), doc.entry(section, "Name"), Input))
-
-    outputs: list[Output] = []
-    names: list[str] = []
-    consequents: list[list[Consequent]] = []
-    for k in range(1, counts.n_outputs + 1):
-        output = doc.section(f"Output{k}", promised_by=n_out_entry)
-        n_out_mfs_entry = doc.entry(output, "NumMFs")
-        n_out_mfs = doc.integer(n_out_mfs_entry, minimum=1)
-        universe = doc.universe(doc.entry(output, "Range"))
-        if mamdani:
-            doc.check_keys(output, {"Name", "Range", "NumMFs"}, r"MF[1-9]\d{0,8}[UL]")
-            out = _variable(doc, output, n_out_mfs_entry, n_out_mfs, universe,
-                            doc.entry(output, "Name"), Output)
-            assert isinstance(out, Output)
-            outputs.append(out)
-            consequents.append([s.name for s in out.sets])
-            continue
-        doc.check_keys(output, {"Name", "Range", "NumMFs", "CrispInterval"}, r"MF[1-9]\d{0,8}")
-        names.append(doc.string(doc.entry(output, "Name")))
-        if "CrispInterval" in output.entries:
-            doc.string(output.entries["CrispInterval"])
-        doc.check_mf_keys(output, n_out_mfs, n_out_mfs_entry, suffixes=("",))
-        table: list[Consequent] = []
-        for j in range(1, n_out_mfs + 1):
-            mfv = doc.mf(doc.entry(output, f"MF{j}"))
-            if mfv.type == "linear":
-                table.append(linear_from(doc, mfv, n_inputs, interval=True))
-                continue
-            if mfv.type != "constant":
-                raise doc.error(
-                    mfv.line, f"unknown output MF type {mfv.type!r} (expected 'constant' or "
-                    "'linear')"
-                )
-            if len(mfv.params) not in (1, 2):
-                raise doc.error(
-                    mfv.line, f"'constant' needs [y_lower y_upper] (or one number), got "
-                    f"{len(mfv.params)} numbers"
-                )
-            lo, hi = mfv.params[0], mfv.params[-1]
-            if lo > hi:
-                raise doc.error(mfv.line,
-                                f"consequent [{lo:g} {hi:g}] must satisfy lower <= upper")
-            table.append((lo, hi))
-        consequents.append(table)
-
-    parsed = doc.counted_rules(counts)
-    rules = build_rules(doc, parsed, inputs, consequents)
-    all_type1 = all(s.is_type1 for var in (*inputs, *outputs) for s in var.sets)
-    if mamdani:
-        options["outputs"] = tuple(outputs)
-        cls: type = T1Mamdani if all_type1 else IT2Mamdani
-        if cls is T1Mamdani:
-            del options["type_reduction"]
-        else:
-            options["reducer"] = reducer
-    else:
-        crisp = all(
-            (c[0] == c[1]) if isinstance(c, tuple) else (not isinstance(c, Linear) or c.crisp)
-            for table in consequents for c in table
-        )
-        cls = T1Sugeno if all_type1 and crisp else IT2Sugeno
-        if cls is IT2Sugeno:
-            options["reducer"] = reducer
-        if len(names) > 1 or names != ["output1"]:
-            options["outputs"] = tuple(names)
-    return system_of(doc, system.line, cls, inputs=tuple(inputs), rules=tuple(rules), **options)
+    return _Reader(text, path).read()
 
 
 def _mf_lines(var: Input, key_what: str) -> list[str]:
@@ -355,71 +312,35 @@ def dumps(system: AnySystem) -> str:
             f"the .t2fis format cannot carry on_zero_firing={system.on_zero_firing!r}; save as "
             ".toml or use dataclasses.replace(system, on_zero_firing=None)"
         )
-    mamdani = isinstance(system, IT2Mamdani | T1Mamdani)
-    if isinstance(system, IT2Mamdani | T1Mamdani) and system.resolution != RESOLUTION:
-        raise UnsupportedFeatureError(
-            f"the .t2fis format cannot carry resolution={system.resolution} (it means "
-            f"{RESOLUTION} points); save as .toml"
-        )
-    if isinstance(system, T1Mamdani) and system.defuzzifier is not Defuzzifier.CENTROID:
-        raise UnsupportedFeatureError(
-            f"the .t2fis format cannot carry defuzzifier={system.defuzzifier.value!r} (only "
-            "centroid type reduction); save as .fis or .toml"
-        )
+    method = "KM"
     if isinstance(system, IT2Sugeno | IT2Mamdani):
-        reducer = system.reducer
-        if reducer.name not in _WRITE_REDUCERS:
-            raise UnsupportedFeatureError(f"reducer {reducer.name!r} has no .t2fis name")
-        default = _READ_REDUCERS[_WRITE_REDUCERS[reducer.name].lower()]
-        if reducer.max_iter != default.max_iter:
-            raise UnsupportedFeatureError(
-                f"the .t2fis format cannot carry max_iter={reducer.max_iter!r}; save as .toml"
-            )
-        method = _WRITE_REDUCERS[reducer.name]
-    else:
-        method = "KM"
+        method = reducer_name(system.reducer, _WRITE_REDUCERS, _READ_REDUCERS, ".t2fis")
     if isinstance(system, IT2Mamdani | T1Mamdani):
-        imp = "min" if system.implication is Implication.MINIMUM else "prod"
-        agg = system.aggregation.value
+        imp, agg = mamdani_methods(system, ".t2fis")
+        if isinstance(system, T1Mamdani) and system.defuzzifier is not Defuzzifier.CENTROID:
+            raise UnsupportedFeatureError(
+                f"the .t2fis format cannot carry defuzzifier={system.defuzzifier.value!r} "
+                "(only centroid type reduction); save as .fis or .toml"
+            )
         defuzz = ("cos" if isinstance(system, IT2Mamdani)
                   and system.type_reduction is TypeReduction.CENTRE_OF_SETS else "centroid")
     else:
+        if isinstance(system, T1Sugeno) and system.defuzzifier is not WeightedDefuzzifier.AVERAGE:
+            raise UnsupportedFeatureError(
+                f"the .t2fis format cannot carry defuzzifier={system.defuzzifier.value!r} "
+                "(the toolbox averages); save as .fis or .toml"
+            )
         imp, agg, defuzz = "prod", "sum", "wtaver"
-    lines = [
-        "[System]",
-        f"Name={fmt_string(system.name, 'system name')}",
-        f"Type='{'mamdani' if mamdani else 'sugeno'}'",
-        "Version=2.0",
-        f"NumInputs={system.n_inputs}",
-        f"NumOutputs={system.n_outputs}",
-        f"NumRules={system.n_rules}",
-        f"AndMethod='{'prod' if system.tnorm is TNorm.PRODUCT else 'min'}'",
-        f"OrMethod='{system.snorm.value}'",
-        f"ImpMethod='{imp}'",
-        f"AggMethod='{agg}'",
-        f"DefuzzMethod='{defuzz}'",
-        f"TypeRedMethod='{method}'",
-    ]
+    lines = header_lines(system, imp=imp, agg=agg, defuzz=defuzz,
+                         extra=[f"TypeRedMethod='{method}'"])
     for k, inp in enumerate(system.inputs, start=1):
-        lines += [
-            "",
-            f"[Input{k}]",
-            f"Name={fmt_string(inp.name, 'input name')}",
-            f"Range={fmt_vector(inp.universe)}",
-            f"NumMFs={len(inp.sets)}",
-        ]
-        lines += _mf_lines(inp, "input")
+        lines += variable_lines(f"Input{k}", inp.name, inp.universe, len(inp.sets),
+                                _mf_lines(inp, "input"))
     if isinstance(system, IT2Mamdani | T1Mamdani):
         which = mamdani_indices(system)
         for k, out in enumerate(system.outputs, start=1):
-            lines += [
-                "",
-                f"[Output{k}]",
-                f"Name={fmt_string(out.name, 'output name')}",
-                f"Range={fmt_vector(out.universe)}",
-                f"NumMFs={len(out.sets)}",
-            ]
-            lines += _mf_lines(out, "output")
+            lines += variable_lines(f"Output{k}", out.name, out.universe, len(out.sets),
+                                    _mf_lines(out, "output"))
     else:
         tables, which = consequent_tables(system)
         for k, (out_name, table) in enumerate(zip(system.output_names, tables, strict=True),
@@ -427,20 +348,11 @@ def dumps(system: AnySystem) -> str:
             spans = sugeno_span(table)
             interval = any(lo != hi for lo, hi in spans) or any(
                 isinstance(c, Linear) and not c.crisp for c in table)
-            lo, hi = output_range(spans, None)
-            lines += [
-                "",
-                f"[Output{k}]",
-                f"Name={fmt_string(out_name, 'output name')}",
-                f"CrispInterval='{'interval' if interval else 'crisp'}'",
-                f"Range={fmt_vector((lo, hi))}",
-                f"NumMFs={len(table)}",
-            ]
-            lines += [_consequent_mf(j, c) for j, c in enumerate(table, start=1)]
-    lines += ["", "[Rules]"]
-    for rule, outs in zip(system.rules, which, strict=True):
-        lines.append(fmt_rule(system, rule, outs))
-    return "\n".join(lines) + "\n"
+            lines += variable_lines(
+                f"Output{k}", out_name, output_range(spans, None), len(table),
+                [_consequent_mf(j, c) for j, c in enumerate(table, start=1)],
+                extra=[f"CrispInterval='{'interval' if interval else 'crisp'}'"])
+    return "\n".join(lines + rules_lines(system, which)) + "\n"
 
 
 def _plain(mf: MembershipFunction) -> MembershipFunction:

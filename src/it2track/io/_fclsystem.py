@@ -1,0 +1,266 @@
+"""Assembling an FCL function block into an it2track system: methods, operators (per rule
+block, agreeing), rules and defaults (see :mod:`.fcl` for what is read)."""
+
+from __future__ import annotations
+
+import dataclasses
+import itertools
+import math
+from typing import Any
+
+from ..fuzzy import (
+    Aggregation,
+    AnySystem,
+    Consequent,
+    HybridSystem,
+    Implication,
+    Input,
+    Output,
+    Rule,
+    SNorm,
+    T1Mamdani,
+    T1Sugeno,
+    T1Tsukamoto,
+    TNorm,
+)
+from ._fclbuild import ACCU, AND, MAMDANI, OR, PARTNER_OF_OR, SUGENO, Builder
+from ._fclparse import Block, FclVar, FunctionBlock, Parser, RuleNode, Tok
+from ._ruletree import DUALS, flatten, propositions
+
+__all__ = ["POINTS", "build"]
+
+#: Mamdani outputs are sampled at jFuzzyLogic's 1000 intervals: 1001 points, both ends
+POINTS = 1001
+
+_ACT = {k: Implication.from_name(v.value) for k, v in AND.items()}
+
+
+class _Setting:
+    """One operator the whole system must agree on: its value and where it was set."""
+
+    def __init__(self, what: str, default: Any) -> None:
+        self.what = what
+        self.value = default
+        self.token: Tok | None = None
+
+    def set(self, b: Builder, value: Any, tok: Tok | None) -> None:
+        if self.token is not None and value is not self.value:
+            where = tok.line if tok is not None else None
+            text = tok.text if tok is not None else "the default"
+            raise b.error(where, f"{self.what} : {text} differs from the earlier {self.what} : "
+                          f"{self.token.text} (line {self.token.line}); one setting per system")
+        if self.token is None:
+            self.value, self.token = value, tok
+
+
+def _op(b: Builder, block: Block, key: str, table: dict[str, Any]) -> Any:
+    tok = block.ops.get(key)
+    if tok is None:
+        return None
+    if tok.upper not in table:
+        raise b.error(tok.line, f"{key} : {tok.text} is not supported ({', '.join(table)})")
+    return table[tok.upper]
+
+
+def _method(b: Builder, var: FclVar) -> str:
+    tok = var.method
+    name = tok.upper if tok is not None else "COG"
+    if name not in MAMDANI and name not in SUGENO:
+        known = ", ".join([*MAMDANI, *SUGENO])
+        assert tok is not None
+        raise b.error(tok.line, f"METHOD {tok.text} is not supported ({known})")
+    return name
+
+
+def _variable(b: Builder, cls: type[Input], var: FclVar, universe: tuple[float, float],
+              sets: list[tuple[str, Any]]) -> Input:
+    made: Input = b.guarded(var.block_line, lambda: cls(var.name, universe, sets))
+    return made
+
+
+def _rule(b: Builder, rule: RuleNode, antecedent: list[str | None], cons: list[Consequent],
+          op: str, negated: list[bool]) -> Rule:
+    made: Rule = b.guarded(rule.line, lambda: Rule(antecedent, consequents=cons,
+                                                   weight=rule.weight, connective=op,
+                                                   negated=negated))
+    return made
+
+
+def _kind(b: Builder, var: FclVar) -> str:
+    """``"mamdani"``, ``"sugeno"`` or ``"tsukamoto"`` (a singleton method on MF terms, as
+    fuzzylite exports its Tsukamoto engines)."""
+    if _method(b, var) in MAMDANI:
+        return "mamdani"
+    mfs = [t.kind in ("points", "shape") and t.shape not in ("Constant", "Linear")
+           for t in var.terms.values()]
+    if all(mfs):
+        return "tsukamoto"
+    if any(mfs):
+        raise b.error(var.block_line, f"the terms of {var.name!r} mix values and membership "
+                      "functions")
+    return "sugeno"
+
+
+def build(parser: Parser, fb: FunctionBlock) -> AnySystem:
+    """The system of one parsed function block: one system, or a
+    :class:`~it2track.fuzzy.HybridSystem` of one per run of outputs of the same kind."""
+    b = Builder(parser, fb)
+    if not fb.inputs:
+        raise b.error(fb.line, "no VAR_INPUT variables")
+    if not fb.outputs:
+        raise b.error(fb.line, "no VAR_OUTPUT variables (a function block without outputs is "
+                      "not a fuzzy system)")
+    for var in (*fb.inputs.values(), *fb.outputs.values()):
+        if var.block_line is None:
+            kind = "FUZZIFY" if var.name in fb.inputs else "DEFUZZIFY"
+            raise b.error(var.line, f"variable {var.name!r} has no {kind} block")
+    inputs = []
+    for var in fb.inputs.values():
+        universe = b.universe(var)
+        if universe[0] == universe[1]:
+            raise b.error(var.range_line, f"RANGE of {var.name!r} is a point; an input needs "
+                          "lo < hi")
+        sets = [(t.name, b.mf(t, universe)) for t in var.terms.values()]
+        inputs.append(_variable(b, Input, var, universe, sets))
+    parsed: list[tuple[RuleNode, str, list, Block, TNorm, SNorm]] = []
+    for block in fb.blocks:
+        and_, or_ = _op(b, block, "AND", AND), _op(b, block, "OR", OR)
+        and_ = and_ or PARTNER_OF_OR.get(or_) or TNorm.MINIMUM
+        or_ = or_ or DUALS.get(and_) or SNorm.MAXIMUM
+        for rule in block.rules:
+            for prop in propositions(rule.condition):
+                if prop.variable not in fb.inputs:
+                    what = "an output (a chained system)" if prop.variable in fb.outputs else (
+                        "not an input")
+                    raise b.error(rule.line, f"rule names {prop.variable!r}, which is {what}")
+            try:
+                op, props = flatten(rule.condition, tnorm=and_, snorm=or_)
+            except ValueError as exc:
+                raise b.error(rule.line, str(exc)) from None
+            parsed.append((rule, op, props, block, and_, or_))
+    if not parsed:
+        raise b.error(fb.line, f"FUNCTION_BLOCK {fb.name}: no RULE")
+    kinds = [(name, _kind(b, var)) for name, var in fb.outputs.items()]
+    parts = []
+    for kind, run in itertools.groupby(kinds, key=lambda item: item[1]):
+        names = [name for name, _ in run]
+        mine = [p for p in parsed if any(v in names for v, _ in p[0].conclusions)]
+        if not mine:
+            raise b.error(fb.outputs[names[0]].block_line, f"no rule concludes {names}")
+        parts.append(_part(b, fb, inputs, names, kind, mine))
+    if len(parts) == 1:
+        return parts[0]
+    hybrid: AnySystem = b.guarded(fb.line, lambda: HybridSystem(tuple(parts), name=fb.name))
+    return hybrid
+
+
+def _part(b: Builder, fb: FunctionBlock, inputs: list[Input], names: list[str], kind: str,
+          parsed: list[tuple[RuleNode, str, list, Block, TNorm, SNorm]]) -> AnySystem:
+    """The system of one run of outputs: the operators its rules' blocks agree on."""
+    outputs = {name: fb.outputs[name] for name in names}
+    tnorm = _Setting("AND", TNorm.MINIMUM)
+    snorm = _Setting("OR", SNorm.MAXIMUM)
+    act = _Setting("ACT", Implication.MINIMUM)
+    accu = _Setting("ACCU", Aggregation.SUM)  # jFuzzyLogic's default; fuzzylite's none
+    methods = _Setting("METHOD", None)
+    for var in outputs.values():
+        method = _method(b, var)
+        methods.set(b, MAMDANI.get(method) or SUGENO[method], var.method)
+        if var.accu is not None:
+            if var.accu.upper not in ACCU:
+                raise b.error(var.accu.line, f"ACCU : {var.accu.text} is not supported "
+                              f"({', '.join(ACCU)})")
+            accu.set(b, ACCU[var.accu.upper], var.accu)
+    rules = []
+    for rule, op, props, block, and_, or_ in parsed:
+        if block.ops.get("ACCU") is not None:
+            accu.set(b, _op(b, block, "ACCU", ACCU), block.ops["ACCU"])
+        if len(props) > 1:
+            setting, value, key = (tnorm, and_, "AND") if op == "and" else (snorm, or_, "OR")
+            setting.set(b, value, block.ops.get(key) or block.ops.get(
+                "OR" if key == "AND" else "AND"))
+        if kind == "mamdani":
+            act.set(b, _op(b, block, "ACT", _ACT) or Implication.MINIMUM, block.ops.get("ACT"))
+        conclusions = [c for c in rule.conclusions if c[0] in outputs]
+        rules.append((dataclasses.replace(rule, conclusions=conclusions), op, props))
+    return _assemble(b, fb, outputs, inputs, rules, kind, methods.value,
+                     (tnorm.value, snorm.value, act.value, accu))
+
+
+def _assemble(b: Builder, fb: FunctionBlock, outputs: dict[str, FclVar], inputs: list[Input],
+              rules: list[tuple[RuleNode, str, list]], kind: str, defuzzifier: Any,
+              ops: tuple[TNorm, SNorm, Implication, _Setting]) -> AnySystem:
+    tnorm, snorm, implication, accu = ops
+    in_names = list(fb.inputs)
+    out_names = list(outputs)
+    sugeno = kind == "sugeno"
+    values: dict[str, dict[str, Consequent]] = {}
+    if sugeno:
+        for name, var in outputs.items():
+            values[name] = {t.name: b.consequent(t, in_names) for t in var.terms.values()}
+    built: list[Rule] = []
+    users: dict[tuple[str, str], tuple[int, str]] = {}
+    for rule, op, props in rules:
+        antecedent: list[str | None] = [None] * len(in_names)
+        negated = [False] * len(in_names)
+        for prop in props:
+            if prop.term not in fb.inputs[prop.variable].terms:
+                raise b.error(rule.line, f"input {prop.variable!r} has no term {prop.term!r}")
+            k = in_names.index(prop.variable)
+            antecedent[k], negated[k] = prop.term, prop.negated
+        cons: list[Consequent] = [None] * len(out_names)
+        for vname, term in rule.conclusions:
+            if vname not in outputs:
+                raise b.error(rule.line, f"rule concludes {vname!r}, which is not an output")
+            if term not in outputs[vname].terms:
+                raise b.error(rule.line, f"output {vname!r} has no term {term!r}")
+            k = out_names.index(vname)
+            if cons[k] is not None:
+                raise b.error(rule.line, f"rule concludes {vname!r} twice")
+            cons[k] = values[vname][term] if sugeno else term
+            # jFuzzyLogic accumulates singletons by their value (x): equal values are one
+            key = (vname, repr(cons[k]))
+            if sugeno and accu.value is not Aggregation.SUM and key in users:
+                first, first_term = users[key]
+                same = f"term {term!r}" if first_term == term else (
+                    f"term {term!r} (the value of {first_term!r})")
+                raise b.error(rule.line, f"{same} of {vname!r} is concluded by this rule and the "
+                              f"one at line {first}: with ACCU : "
+                              f"{accu.token.text if accu.token else 'MAX'} that is not a "
+                              "weighted average of rules (use ACCU : NSUM, or one rule per value)")
+            users.setdefault(key, (rule.line, term))
+        if not 0.0 <= rule.weight <= 1.0:
+            raise b.error(rule.line, f"rule weight {rule.weight:g} must be in [0, 1]")
+        built.append(_rule(b, rule, antecedent, cons, op, negated))
+    defaults = [var.default for var in outputs.values()]
+    numbers = [None if d is None or math.isnan(d[0]) else d[0] for d in defaults]
+    if any(v is None for v in numbers) and any(v is not None for v in numbers):
+        var = next(v for v, n in zip(outputs.values(), numbers, strict=True) if n is None)
+        raise b.error(var.block_line, "give DEFAULT for every output or for none")
+    options: dict[str, Any] = {
+        "inputs": tuple(inputs), "rules": tuple(built), "name": fb.name, "tnorm": tnorm,
+        "snorm": snorm, "defuzzifier": defuzzifier,
+        "on_zero_firing": None if numbers[0] is None else (
+            numbers[0] if len(numbers) == 1 else tuple(numbers)),
+    }
+    if sugeno:
+        if len(out_names) > 1 or out_names != ["output1"]:
+            options["outputs"] = tuple(out_names)
+        made: AnySystem = b.guarded(None, lambda: T1Sugeno(**options))
+        return made
+    sets_of = []
+    for var in outputs.values():
+        universe = b.universe(var)
+        if universe[0] == universe[1]:
+            raise b.error(var.range_line, f"RANGE of {var.name!r} is a point; an output with "
+                          "sets needs lo < hi")
+        sets = [(t.name, b.mf(t, universe)) for t in var.terms.values()]
+        sets_of.append(_variable(b, Output, var, universe, sets))
+    options["outputs"] = tuple(sets_of)
+    if kind == "tsukamoto":  # fuzzylite 8 combines the firing of a set with the ACCU
+        options["aggregation"] = accu.value if accu.token is not None else Aggregation.SUM
+        system: AnySystem = b.guarded(None, lambda: T1Tsukamoto(**options))
+        return system
+    options.update(implication=implication, aggregation=accu.value, resolution=POINTS)
+    mamdani: AnySystem = b.guarded(None, lambda: T1Mamdani(**options))
+    return mamdani

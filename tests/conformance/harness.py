@@ -1,0 +1,171 @@
+"""Load every conformance file with it2track and compare with its reference table.
+
+``check(example)`` gives a :class:`Result`: the file loads and agrees with pyfuzzylite's
+reading of its twin (``≤ 1e-9`` relative to the output range, Mamdani at matched resolution),
+loads and differs (``notes.py`` must say which is right and why), loads with no reference, or
+is refused (the :class:`~it2track.io.FisFormatError`, naming the line and the feature).
+
+Where the reference has no output (fuzzylite's ``default: nan`` where no rule fires, ``inf``
+where a Tsukamoto set is read beyond its range) it2track must have none either -- a
+:class:`~it2track.fuzzy.ZeroFiringError` or the ``ValueError`` of a set without an inverse --
+or, for a MATLAB ``.fis``, MATLAB's documented fallback (the middle of the output range) at a
+point where none of its rules fires.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import math
+import sys
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).parent))
+from catalog import FILES, OUTPUT_NAMES, Example, examples
+
+from it2track.fuzzy import HybridSystem, Rule
+from it2track.io import FisFormatError, load
+
+#: agreement bound, relative to the output's range
+TOLERANCE = 1e-9
+
+
+@dataclass(frozen=True)
+class Result:
+    """What happened to one example file."""
+
+    example: Example
+    status: str  # "agrees", "differs", "loads", "refused"
+    detail: str = ""
+    error: float | None = None  # largest |ours - reference| / range
+    points: int = 0
+    fallback: int = 0  # points where neither engine has a rule firing
+    warnings: tuple[str, ...] = field(default=())
+
+
+def _reference(path: Path) -> tuple[list[str], list[tuple[float, float]], np.ndarray]:
+    lines = path.read_text().splitlines()
+    spans_line = next(line for line in lines if line.startswith("# output ranges: "))
+    spans = [tuple(float(v) for v in part.split())
+             for part in spans_line.removeprefix("# output ranges: ").split("; ")]
+    body = [line for line in lines if not line.startswith("#")]
+    names = body[0].split(",")
+    rows = np.array([[float(v) for v in line.split(",")] for line in body[1:]])
+    return names, spans, rows  # type: ignore[return-value]
+
+
+def _single(system, k: int):
+    """The system of output ``k`` alone (its rules, its zero-firing value)."""
+    if isinstance(system, HybridSystem):
+        for part in system.systems:
+            if k < part.n_outputs:
+                return _single(part, k)
+            k -= part.n_outputs
+    if system.n_outputs == 1:
+        return system
+    rules = [Rule(r.antecedent, r.consequents[k], weight=r.weight, connective=r.connective,
+                  negated=r.negated) for r in system.rules if r.consequents[k] is not None]
+    outputs = system.outputs
+    if outputs:
+        outputs = (outputs[k],)
+    return dataclasses.replace(system, rules=tuple(rules), outputs=outputs,
+                               on_zero_firing=system.zero_firing_value(k))
+
+
+def _ours(system, x: np.ndarray) -> np.ndarray:
+    """Outputs ``(N, m)``; NaN where it2track has none: ZeroFiringError (no rule fires), or
+    the ValueError of a Tsukamoto set fired beyond its range (no inverse)."""
+    m = system.n_outputs
+    try:
+        y = np.asarray(system.evaluate(x), dtype=float)
+        return y.reshape(len(x), m)
+    except ValueError:
+        out = np.empty((len(x), m))
+        for i, row in enumerate(x):
+            for k in range(m):
+                part = _single(system, k)
+                try:
+                    out[i, k] = float(np.asarray(part.evaluate(row), dtype=float))
+                except ValueError:
+                    out[i, k] = np.nan
+        return out
+
+
+def _nothing_fires(system, x: np.ndarray) -> np.ndarray:
+    _, upper = system.firing(*x.T)
+    return np.asarray(upper).reshape(len(x), -1).sum(axis=1) == 0
+
+
+@functools.cache
+def check(example: Example) -> Result:
+    """Load ``example`` and compare it with its reference."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            system = load(FILES / example.path)
+        except FisFormatError as err:
+            where = f"line {err.line}: " if err.line is not None else ""
+            return Result(example, "refused", where + err.message)
+    noted = tuple(str(w.message).split(": ", 1)[-1] for w in caught)
+    if example.reference is None:
+        why = "no twin .fll" if example.twin is None else "pyfuzzylite cannot evaluate its twin"
+        return Result(example, "loads", why, warnings=noted)
+    names, spans, rows = _reference(example.reference)
+    n_in = len(names) - len(spans)
+    x, ref = rows[:, :n_in], rows[:, n_in:]
+    # jFuzzyLogic sorts its variables by name: put them in it2track's order
+    ours_in, outs = [i.name for i in system.inputs], list(system.output_names)
+    if sorted(names[:n_in]) == sorted(ours_in):
+        x = x[:, [names.index(n) for n in ours_in]]
+    rename = OUTPUT_NAMES.get(example.path)
+    if rename is not None:  # the twin's outputs of these names, in it2track's order
+        outs = [rename.get(n, n) for n in outs]
+        if set(outs) <= set(names[n_in:]):
+            columns = [names[n_in:].index(n) for n in outs]
+            ref, spans, names = ref[:, columns], [spans[c] for c in columns], names[:n_in] + outs
+    if sorted(names[n_in:]) == sorted(outs):
+        columns = [names[n_in:].index(n) for n in outs]
+        ref, spans = ref[:, columns], [spans[c] for c in columns]
+    if system.n_inputs != n_in or system.n_outputs != ref.shape[1]:
+        return Result(example, "differs", f"{system.n_inputs} inputs and {system.n_outputs} "
+                      f"outputs; the reference has {n_in} and {ref.shape[1]}", warnings=noted)
+    ours = _ours(system, x)
+    worst, fallback, problems = 0.0, 0, []
+    idle = None
+    for k in range(ref.shape[1]):
+        lo, hi = spans[k]
+        finite = ref[np.isfinite(ref[:, k]), k]
+        scale = hi - lo if hi > lo else (float(np.ptp(finite)) if finite.size else 0.0) or 1.0
+        for i in range(len(x)):
+            r, o = ref[i, k], ours[i, k]
+            if not math.isfinite(r):  # fuzzylite: nan (no rule fires), inf (no inverse)
+                if math.isnan(o):
+                    fallback += 1
+                    continue
+                idle = _nothing_fires(system, x) if idle is None else idle
+                if idle[i] and o == system.zero_firing_value(k):
+                    fallback += 1
+                    continue
+                problems.append(f"output {k + 1} at {x[i].tolist()}: reference has none, "
+                                f"it2track {o!r}")
+            elif math.isnan(o):
+                problems.append(f"output {k + 1} at {x[i].tolist()}: it2track has none (no rule "
+                                f"fires), reference {r!r}")
+            else:
+                worst = max(worst, abs(o - r) / scale)
+    fallback //= 1
+    if problems:
+        return Result(example, "differs", f"{len(problems)} points: {problems[0]}", worst,
+                      len(x), fallback, noted)
+    status = "agrees" if worst <= TOLERANCE else "differs"
+    detail = "" if status == "agrees" else f"largest difference {worst:.3g} of the range"
+    return Result(example, status, detail, worst, len(x), fallback, noted)
+
+
+def results() -> list[Result]:
+    """Every example's result, by path."""
+    return [check(example) for example in examples()]
