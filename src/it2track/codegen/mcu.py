@@ -148,7 +148,6 @@ def run_on_avr(code: CCode, x: ArrayLike, *, build_dir: str | os.PathLike[str] |
     BuildError
         If compiling fails or simavr's output is incomplete.
     """
-    require(AVR_TOOLS)
     pts = np.ascontiguousarray(np.asarray(x, dtype=np.float32))
     if pts.ndim != 2 or pts.shape[1] != code.n_inputs:
         raise ValueError(f"x must have shape (N, {code.n_inputs}), got {pts.shape}")
@@ -156,6 +155,7 @@ def run_on_avr(code: CCode, x: ArrayLike, *, build_dir: str | os.PathLike[str] |
         raise ValueError(f"at most 65535 points per run, got {len(pts)}")
     if not np.all(np.isfinite(pts)):
         raise ValueError("x must be finite (it is printed as C constants)")
+    require(AVR_TOOLS)  # after the input checks: a bad input is refused on any machine
     work = _workdir(build_dir, f"avr-{code.prefix}")
     _write_code(code, work)
     outs = []
@@ -436,11 +436,11 @@ def measure_costs(
     """
     from ..paper import heading_fls
 
+    x = cost_grid(grid, n_random=n_random)  # the grid is checked before the tools
     require(AVR_TOOLS)
     if arm:
         require(ARM_TOOLS)
     reds = list(Reducer) if reducers is None else list(reducers)
-    x = cost_grid(grid, n_random=n_random)
     x64 = x.astype(np.float64)
     systems: list[tuple[str, IT2Sugeno | T1Sugeno]] = []
     if include_type1:
