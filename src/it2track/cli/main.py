@@ -75,6 +75,7 @@ def simulate(**opts: Any) -> None:
     from ..plant import HeadingNoise
     from ..tracking import LoopConfig, RunTable, get_trajectory
     from ..tracking import simulate as run
+    from ..tracking.metrics import METRIC_UNITS
 
     _reject_inapplicable(click.get_current_context(), opts)
     # Everything that can fail is checked before the simulation starts, each error naming
@@ -155,8 +156,10 @@ def simulate(**opts: Any) -> None:
     click.echo(f"{spec.label} on {trajectory.name}, sigma = {sigma:g} rad, seed {opts['seed']}, "
                f"{opts['duration']:g} s")
     width = max(len(k) for k in metrics)
-    for key, value in metrics.items():
-        click.echo(f"  {key:<{width}}  {value:.6g}")
+    values = {k: f"{v:.6g}" for k, v in metrics.items()}
+    vwidth = max(len(v) for v in values.values())
+    for key, value in values.items():
+        click.echo(f"  {key:<{width}}  {value:>{vwidth}}  {METRIC_UNITS[key]}")
 
 
 def _check_output_file(path: str, option: str) -> None:
