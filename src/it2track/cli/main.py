@@ -208,12 +208,13 @@ def _reject_inapplicable(ctx: click.Context, opts: dict[str, Any]) -> None:
 
 def _register_subcommands() -> None:
     """Attach the commands that live in their own modules."""
+    from .config import config
     from .export import export
     from .fis import fis, surface
     from .reproduce import reproduce
     from .sweep import optimize, sweep
 
-    for command in (reproduce, sweep, optimize, fis, surface, export):
+    for command in (reproduce, sweep, optimize, config, fis, surface, export):
         main.add_command(command)
 
 

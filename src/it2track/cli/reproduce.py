@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
+from .config import ConfigFile
 from .outdir import _discard_staging, _fail, _make_staging, _publish
 from .sweep import check_scheduler as _check_scheduler
 from .sweep import dask_options as _dask_options
@@ -40,8 +41,9 @@ def _quick(config: Any) -> Any:
 @click.command()
 @click.option("--out", "out_dir", default="results", show_default=True,
               type=click.Path(file_okay=False), help="Output folder.")
-@click.option("--config", "config_path", type=click.Path(exists=True, dir_okay=False),
-              help="Study TOML file (default: the paper's defaults, configs/paper.toml).")
+@click.option("--config", "config_path", type=ConfigFile(),
+              help="Study TOML file, or the name of a packaged config (default: paper, the "
+              "paper's defaults; `it2track config show paper --out FILE` writes it out).")
 @click.option("--seeds", type=click.IntRange(min=1), help="Noise realisations per cell.")
 @click.option("--sweep-seeds", type=click.IntRange(min=1),
               help="Noise realisations per cell of the noise and FoU sweeps.")

@@ -17,6 +17,8 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
+from .config import ConfigFile
+
 if TYPE_CHECKING:
     from ..experiments.executors import Executor
 
@@ -114,8 +116,8 @@ def _check_out_dir(out_dir: str, files: tuple[str, ...] = ()) -> None:
 
 
 @click.command("sweep")
-@click.option("--config", "config_path", required=True,
-              type=click.Path(exists=True, dir_okay=False), help="Sweep TOML file.")
+@click.option("--config", "config_path", required=True, type=ConfigFile(),
+              help="Sweep TOML file, or the name of a packaged config (sweep: an example).")
 @click.option("--out", "out_dir", required=True, type=click.Path(file_okay=False),
               help="Results directory (sweep.json, chunks/, results.csv).")
 @click.option("--resume", is_flag=True,
@@ -191,8 +193,9 @@ def sweep(
 
 
 @click.command("optimize")
-@click.option("--config", "config_path", required=True,
-              type=click.Path(exists=True, dir_okay=False), help="Optimisation TOML file.")
+@click.option("--config", "config_path", required=True, type=ConfigFile(),
+              help="Optimisation TOML file, or the name of a packaged config (optimize: the "
+              "paper's controller).")
 @click.option("--out", "out_dir", required=True, type=click.Path(file_okay=False),
               help="Output directory (optimize.json, optimize.md, convergence.png).")
 @_WORKERS

@@ -168,7 +168,7 @@ class PDTuning:
 
 @dataclass(frozen=True, kw_only=True)
 class StudyConfig:
-    """Everything the study runs; ``configs/paper.toml`` holds the defaults.
+    """Everything the study runs; the packaged config ``paper`` holds the defaults.
 
     Parameters
     ----------
@@ -422,7 +422,7 @@ def _levels_valid(factor: Any, loop: LoopConfig) -> bool:
 
 
 def load_study_config(path: str | Path, **overrides: Any) -> StudyConfig:
-    """Read a study TOML file (see ``configs/paper.toml``).
+    """Read a study TOML file (see the packaged config ``paper``, :mod:`it2track.configs`).
 
     Sections: ``[simulation]``, ``[robot]`` (+ ``[robot.motor]``), ``[study]``, ``[pd]`` (or
     ``pd_baseline = false`` in ``[study]``), ``[tuning]`` (or ``tuning = false``),
