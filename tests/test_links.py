@@ -24,8 +24,9 @@ HEADING = re.compile(r"^(#{1,6})\s+(.*?)\s*#*\s*$")
 SCHEME = re.compile(r"^[a-zA-Z][a-zA-Z0-9+.-]*:")
 
 
-def _prose_lines(text: str) -> list[tuple[int, str]]:
-    """Lines outside fenced code blocks, with inline code spans blanked out."""
+def _prose_lines(text: str, *, blank_code: bool = True) -> list[tuple[int, str]]:
+    """Lines outside fenced code blocks, with inline code spans blanked out (unless
+    ``blank_code`` is false)."""
     out, fence = [], None
     for number, line in enumerate(text.splitlines(), 1):
         m = re.match(r"^\s*(`{3,}|~{3,})", line)
@@ -39,7 +40,8 @@ def _prose_lines(text: str) -> list[tuple[int, str]]:
                 fence = None
                 continue
         if fence is None:
-            out.append((number, re.sub(r"(`+)(?:(?!\1).)+?\1", "``", line)))
+            out.append((number, re.sub(r"(`+)(?:(?!\1).)+?\1", "``", line) if blank_code
+                        else line))
     return out
 
 
@@ -58,7 +60,7 @@ def anchors(page: Path, *, max_level: int = 6) -> set[str]:
     GitHub)."""
     seen: dict[str, int] = {}
     found = set()
-    for _, line in _prose_lines(page.read_text(encoding="utf-8")):
+    for _, line in _prose_lines(page.read_text(encoding="utf-8"), blank_code=False):
         m = HEADING.match(line)
         if not m:
             continue
@@ -120,7 +122,7 @@ def test_the_checker_finds_broken_links_and_anchors(tmp_path):
     (tmp_path / "other.md").write_text("# Other page\n\n#### Deep — `code` here\n")
     page = tmp_path / "page.md"
     page.write_text(
-        "# Title\n\n## A *b* `c_d` and [link](x.md)\n\n"
+        "# Title\n\n## A *b* `c_d` and [link](other.md)\n\n"
         "[ok](other.md#other-page) [ok2](#a-b-c_d-and-link) ![img](other.md)\n"
         "[deep](other.md#deep--code-here)\n"
         "[bad file](missing.md) [bad anchor](other.md#nope) [bad self](#nothing)\n"

@@ -76,6 +76,7 @@ def simulate(**opts: Any) -> None:
     from ..tracking import LoopConfig, RunTable, get_trajectory
     from ..tracking import simulate as run
     from ..tracking.metrics import METRIC_UNITS
+    from .kernels import kernel_stage
 
     _reject_inapplicable(click.get_current_context(), opts)
     # Everything that can fail is checked before the simulation starts, each error naming
@@ -129,7 +130,8 @@ def simulate(**opts: Any) -> None:
         noise_opt = "--noise-power" if opts["noise_power"] is not None else "--noise-std"
         _fail(f"--seed {opts['seed']} / {noise_opt}: {exc}")
     try:
-        trace = run([controller], [trajectory], runs, config)
+        with kernel_stage(progress=True):
+            trace = run([controller], [trajectory], runs, config)
     except ValueError as exc:
         _fail(f"the simulation stopped: {exc}")
     metrics = {k: float(v[0]) for k, v in trace.metrics.items()}

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any
 import click
 
 from .config import ConfigFile
+from .kernels import kernel_stage
 from .outdir import _discard_staging, _fail, _make_staging, _publish
 from .sweep import check_scheduler as _check_scheduler
 from .sweep import dask_options as _dask_options
@@ -145,11 +146,14 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
                                    svg=svg)
         # Figure workers start now and import matplotlib while the study runs; each figure is
         # drawn as soon as its data exist (report.render), so both cores stay busy.
-        with FigureRenderer(staging, workers=default_figure_workers(), svg=svg,
-                            on_done=stages.figure_done) as renderer:
+        # (The kernels first: on a first run their compile starts before the workers do.)
+        with kernel_stage(progress=not no_progress) as kernels, FigureRenderer(
+                staging, workers=default_figure_workers(), svg=svg,
+                on_done=stages.figure_done) as renderer:
             with stages.stage("simulating"), tqdm(
                     total=total, unit="run", disable=no_progress, file=sys.stderr,
                     desc="simulating", leave=False) as bar:
+                kernels.watch(bar)
                 try:
                     # The time series and control surfaces need no Monte Carlo: their
                     # figures are drawn while the experiments run.

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any
 import click
 
 from .config import ConfigFile
+from .kernels import kernel_stage
 
 if TYPE_CHECKING:
     from ..experiments.executors import Executor
@@ -161,7 +162,7 @@ def sweep(
         err=True,
     )
     try:
-        with executor:
+        with kernel_stage(progress=progress), executor:
             summary = run_sweep(plan, out, executor=executor, resume=resume, progress=progress)
     except (StoreError, ConfigError) as exc:
         raise click.ClickException(str(exc)) from None
@@ -224,7 +225,8 @@ def optimize(
     out = Path(out_dir)
     t0 = time.perf_counter()
     try:
-        with _executor(workers, scheduler, dask_settings(**dask)) as executor:
+        with kernel_stage(progress=progress), _executor(workers, scheduler,
+                                                        dask_settings(**dask)) as executor:
             result = run_optimization(
                 cfg, executor=executor, progress=progress, log=lambda s: click.echo(s, err=True)
             )

@@ -442,7 +442,9 @@ def _settings(t: Table, cls: type, spec: dict[str, type]) -> Any:
 
 
 def load_optimize_config(path: str | Path) -> OptimizeConfig:
-    """Parse an optimisation TOML file (see the packaged config ``optimize``, :mod:`it2track.configs`).
+    """Parse an optimisation TOML file (see the packaged config ``optimize``).
+
+    The packaged configs are described in :mod:`it2track.configs`.
 
     Sections: ``[optimize]`` (``seed``, ``objective``, ``train_seeds``, ``holdout_seeds``,
     ``noise_std``, ``trajectories``, ``bounds``, ``compare``, ``compare_flc``, ``batch_size``),
