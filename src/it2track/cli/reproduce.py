@@ -48,7 +48,8 @@ def _quick(config: Any) -> Any:
 @click.option("--seeds", type=click.IntRange(min=1), help="Noise realisations per cell.")
 @click.option("--sweep-seeds", type=click.IntRange(min=1),
               help="Noise realisations per cell of the noise and FoU sweeps.")
-@click.option("--quick", is_flag=True, help="A seconds-long smoke version (few seeds/levels).")
+@click.option("--quick", is_flag=True,
+              help="A seconds-long smoke version (few seeds/levels, draft figures).")
 @click.option("--workers", type=click.IntRange(min=0), default=0, show_default=True,
               help="Local worker processes for the experiments' runs (0: this process).")
 @click.option("--scheduler", metavar="tcp://HOST:PORT", callback=_check_scheduler,
@@ -149,7 +150,7 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
         # (The kernels first: on a first run their compile starts before the workers do.)
         with kernel_stage(progress=not no_progress) as kernels, FigureRenderer(
                 staging, workers=default_figure_workers(), svg=svg,
-                on_done=stages.figure_done) as renderer:
+                on_done=stages.figure_done, draft=quick) as renderer:
             with stages.stage("simulating"), tqdm(
                     total=total, unit="run", disable=no_progress, file=sys.stderr,
                     desc="simulating", leave=False) as bar:
