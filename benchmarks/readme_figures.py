@@ -156,7 +156,7 @@ def count_tests(out: dict[str, object]) -> _Counter:
     cwd, env = os.getcwd(), dict(os.environ)
     os.chdir(ROOT)
     try:
-        code = pytest.main(["--collect-only", "-q", "-p", "no:cacheprovider"],
+        code = pytest.main(["--collect-only", "-qq", "-p", "no:cacheprovider"],
                            plugins=[counter])
     finally:  # the tests' conftest sets variables the measured commands must not inherit
         os.chdir(cwd)
