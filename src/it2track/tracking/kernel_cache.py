@@ -205,8 +205,9 @@ def _status_path(lock: Path) -> Path:
 
 def estimate_seconds(lock: Path | None = None) -> float:
     """How long a compile takes here, in wall seconds: its CPU time (the last compile's on
-    this machine, else :data:`DEFAULT_CPU_SECONDS`) stretched by the load (a compile is one
-    busy thread: on ``n`` CPUs with load ``a``, it gets about ``n / (a + 1)`` of one)."""
+    this machine, recorded beside ``lock``, default :func:`lock_path`; else
+    :data:`DEFAULT_CPU_SECONDS`) stretched by the load (a compile is one busy thread: on ``n``
+    CPUs with load ``a``, it gets about ``n / (a + 1)`` of one)."""
     cpu = DEFAULT_CPU_SECONDS
     lock = lock or lock_path()
     if lock is not None:
