@@ -1,8 +1,8 @@
 """The documentation site builds warning-free and holds what it promises.
 
 The build is the one README gives (``python -m sphinx -W --keep-going -b html docs OUT``), run
-on a scratch copy of ``docs/`` and the folders its pages include (``examples/``, ``configs/``,
-``benchmarks/``), so that the generated pages (``docs/api/generated``,
+on a scratch copy of ``docs/`` and the folders its pages include (``examples/``,
+``src/it2track/configs/``, ``benchmarks/``), so that the generated pages (``docs/api/generated``,
 ``docs/auto_examples``) never land in the work tree. Executing the
 gallery runs every example script once more.
 """
@@ -61,7 +61,7 @@ def site(tmp_path_factory: pytest.TempPathFactory) -> Path:
     work = tmp_path_factory.mktemp("docs-build")
     generated = shutil.ignore_patterns("_build", "generated", "auto_examples", "__pycache__",
                                        "sg_execution_times.rst", "*.pyc")
-    for folder in ("docs", "examples", "configs", "benchmarks"):
+    for folder in ("docs", "examples", "src/it2track/configs", "benchmarks"):
         shutil.copytree(ROOT / folder, work / folder, ignore=generated)
     out = work / "html"
     env = {**os.environ, "MPLBACKEND": "Agg"}

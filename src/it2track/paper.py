@@ -105,7 +105,7 @@ def heading_fls(
         raise ValueError(f"fou={fou!r} must satisfy 0 <= fou < {MAX_FOU}")
     return heading_fls_widths(
         (fou, fou, fou), (fou, fou, fou), reducer=reducer, tnorm=tnorm,
-        name=f"paper FLC (FoU {fou:g})",
+        name=f"paper IT2FLC (FoU {fou:g})" if fou > 0.0 else "paper FLC (type-1)",
     )
 
 
@@ -126,7 +126,8 @@ def heading_fls_widths(
     reducer, tnorm
         As in :func:`heading_fls`.
     name : str
-        The system's name (default: the widths).
+        The system's name (default: ``"paper IT2FLC (FoU e ... de ...)"`` with the widths, or
+        ``"paper FLC (type-1)"`` when every width is 0).
 
     Returns
     -------
@@ -159,11 +160,12 @@ def heading_fls_widths(
                 )
         sets = [IT2Set.from_fou(CENTRE_SETS[k], w, k) for k, w in zip(LABELS, ws, strict=True)]
         inputs.append(Input(label, (-1.0, 1.0), sets))
+    type1 = all(s.is_type1 for inp in inputs for s in inp.sets)
     if not name:
-        name = "paper FLC (FoU e {} de {})".format(
+        name = "paper FLC (type-1)" if type1 else "paper IT2FLC (FoU e {} de {})".format(
             ",".join(f"{w:g}" for w in e_widths), ",".join(f"{w:g}" for w in de_widths)
         )
-    if all(s.is_type1 for inp in inputs for s in inp.sets):
+    if type1:
         return T1Sugeno(inputs=tuple(inputs), rules=_rules(), tnorm=tnorm, name=name)
     return IT2Sugeno(
         inputs=tuple(inputs), rules=_rules(), tnorm=tnorm, reducer=reducer, name=name

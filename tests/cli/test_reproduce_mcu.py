@@ -76,10 +76,18 @@ def runs(tmp_path_factory):
             child.setattr(mcu_job, "missing_tools", lambda tools: [])
             child.setattr(mcu_job, "_child_argv", lambda: [sys.executable, str(script)])
             out["failed"] = _run(root / "failed", "--mcu-grid", str(GRID))
+        # A hermetic toolbox, whatever this machine has: these three and newlib are missing,
+        # the other microcontroller tools present (never run: the job stops at the check).
         real = shutil.which
         hidden = {"avr-gcc", "simavr", "arm-none-eabi-gcc"}
-        mp.setattr(shutil, "which",
-                   lambda name, *a, **k: None if name in hidden else real(name, *a, **k))
+
+        def which(name, *a, **k):
+            if name in hidden:
+                return None
+            return f"/usr/bin/{name}" if name in tools.TOOL_PACKAGES else real(name, *a, **k)
+
+        mp.setattr(shutil, "which", which)
+        mp.setattr(tools, "_avr_libc_present", lambda: True)
         mp.setattr(tools, "_newlib_present", lambda: False)
         out["toolless"] = _run(root / "toolless")
     return out

@@ -13,6 +13,7 @@ import pytest
 import scipy.optimize
 from click.testing import CliRunner
 
+from it2track import configs
 from it2track.cli.sweep import optimize as optimize_command
 from it2track.experiments import optimize as optimize_module
 from it2track.experiments.executors import InProcessExecutor, ProcessExecutor
@@ -324,8 +325,7 @@ def test_config_errors_name_file_key_value(
 
 
 def test_example_config_parses() -> None:
-    root = Path(__file__).resolve().parents[2]
-    cfg = load_optimize_config(root / "configs" / "optimize.toml")
+    cfg = load_optimize_config(configs.path("optimize"))
     assert not set(cfg.train_seeds) & set(cfg.holdout_seeds)
     assert cfg.asymmetric.enabled and cfg.compare == (0.1, 0.2, 0.3)
 

@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from it2track import configs
 from it2track.experiments.optimize import load_optimize_config, run_optimization
 from it2track.experiments.specs import ConfigError
 from it2track.experiments.study import load_study_config
@@ -80,7 +81,7 @@ def test_sweep_on_a_linear_plant_equals_the_library(tmp_path: Path) -> None:
 
 
 def test_the_example_dc_motor_sweep_parses() -> None:
-    plan = load_sweep_config(ROOT / "configs" / "sweep_dc_motor.toml")
+    plan = load_sweep_config(configs.path("sweep_dc_motor"))
     spec = plan.config.plant
     assert isinstance(spec, LinearSpec) and spec.input_limits == ((-12.0, 12.0),)
     # the paper's motor (Table 3) from voltage to angle, K / (s ((J s + b)(L s + R) + K^2))

@@ -1,19 +1,17 @@
 """The study's TOML configuration: defaults, strictness, error messages."""
 
 from dataclasses import replace
-from pathlib import Path
 
 import pytest
 
+from it2track import configs
 from it2track.experiments.specs import ConfigError, ControllerKind, ControllerSpec
 from it2track.experiments.study import StudyConfig, experiment_sizes, load_study_config
 
-ROOT = Path(__file__).resolve().parents[2]
-
 
 def test_paper_toml_equals_the_defaults():
-    # configs/paper.toml documents the defaults; the two must not drift apart.
-    assert load_study_config(ROOT / "configs" / "paper.toml") == StudyConfig()
+    # the packaged config "paper" documents the defaults; the two must not drift apart.
+    assert load_study_config(configs.path("paper")) == StudyConfig()
 
 
 def write(tmp_path, text):

@@ -29,7 +29,13 @@ from it2track.fuzzy import (
     T1Sugeno,
     TNorm,
 )
-from it2track.paper import CENTRE_SETS, RULE_TABLE, dead_zone_matched_fls, heading_fls
+from it2track.paper import (
+    CENTRE_SETS,
+    RULE_TABLE,
+    dead_zone_matched_fls,
+    heading_fls,
+    heading_fls_widths,
+)
 
 EXACT = (KM, EKM, EIASC, EXHAUSTIVE)
 
@@ -237,6 +243,17 @@ def test_controller_structure():
         assert [r.consequent[0] for r in fls.rules] == [v for row in RULE_TABLE for v in row]
     assert heading_fls(0.2).reducer is EXHAUSTIVE
     assert set(CENTRE_SETS) == {"N", "Z", "P"}
+
+
+def test_names_say_type_2_or_type_1():
+    # the paper's "FLC" is its type-1 controller: an IT2 system must not carry that name
+    assert heading_fls(0.2).name == "paper IT2FLC (FoU 0.2)"
+    assert heading_fls(0.05).name == "paper IT2FLC (FoU 0.05)"
+    assert heading_fls(0.0).name == "paper FLC (type-1)"
+    assert heading_fls_widths((0.1, 0.2, 0), (0, 0, 0.3)).name == (
+        "paper IT2FLC (FoU e 0.1,0.2,0 de 0,0,0.3)")
+    assert heading_fls_widths((0, 0, 0), (0, 0, 0)).name == "paper FLC (type-1)"
+    assert heading_fls_widths((0, 0, 0), (0, 0, 0), name="mine").name == "mine"
 
 
 @pytest.mark.parametrize("w", [-0.1, 1.6, 2.0, float("nan"), float("inf")])

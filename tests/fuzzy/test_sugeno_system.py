@@ -233,7 +233,57 @@ def test_scalar_calls():
     assert isinstance(arr, np.ndarray) and arr.shape == ()
     assert float(arr) == u
     yl, yr = fls.interval(0.3, -0.1)
-    assert yl.shape == yr.shape == ()
+    assert type(yl) is float and type(yr) is float and (yl + yr) / 2 == u
+
+
+def _scalar_interval_systems():
+    """One system of every class (IT2/T1 Sugeno, IT2/T1 Mamdani), one output each."""
+    from it2track.fuzzy import IT2Mamdani, Output, T1Mamdani
+
+    x = Input("x", (0, 1), [IT2Set(Triangle(0, 0, 1), Triangle(0, 0, 0.5), "lo"),
+                            IT2Set(Triangle(0, 1, 1), Triangle(0.5, 1, 1), "hi")])
+    y = Output("y", (0, 4), [IT2Set(Triangle(0, 0, 4), Triangle(0, 0, 2), "small"),
+                             IT2Set(Triangle(0, 4, 4), Triangle(2, 4, 4), "big")])
+    x1 = Input("x", (0, 1), [("lo", Triangle(0, 0, 1)), ("hi", Triangle(0, 1, 1))])
+    y1 = Output("y", (0, 4), [("small", Triangle(0, 0, 4)), ("big", Triangle(0, 4, 4))])
+    rules = [Rule(["lo"], "small"), Rule(["hi"], "big")]
+    return {
+        **{f"IT2Sugeno-{r.name}": dataclasses.replace(heading_fls(0.2), reducer=r)
+           for r in (*EXACT, NIE_TAN, WU_MENDEL)},
+        "T1Sugeno": heading_fls(0.0),
+        "IT2Mamdani": IT2Mamdani(inputs=[x], outputs=[y], rules=rules, resolution=9),
+        "T1Mamdani": T1Mamdani(inputs=[x1], outputs=[y1], rules=rules, resolution=9),
+    }
+
+
+@pytest.mark.parametrize("engine", ["auto", "numpy"])
+@pytest.mark.parametrize("name", list(_scalar_interval_systems()))
+def test_interval_of_scalars_is_two_python_floats_like_the_call(name, engine, monkeypatch):
+    monkeypatch.setenv("IT2TRACK_ENGINE", engine)
+    fls = _scalar_interval_systems()[name]  # built after the engine is chosen
+    point = (0.3, -0.1)[:fls.n_inputs]
+    for xs in (point, tuple(np.float64(v) for v in point), tuple(int(v > 0) for v in point)):
+        u = fls(*xs)
+        yl, yr = fls.interval(*xs)
+        assert type(u) is float and type(yl) is float and type(yr) is float, (name, xs)
+        assert (yl + yr) / 2 == u, (name, xs)
+        # the same bits as an array evaluation at that point
+        arr_l, arr_r = fls.interval(*(np.array([v], dtype=float) for v in xs))
+        assert (yl, yr) == (arr_l[0], arr_r[0]), (name, xs)
+    # arrays, 0-d arrays included, stay arrays of the broadcast shape
+    yl, yr = fls.interval(*(np.array(v) for v in point))
+    assert isinstance(yl, np.ndarray) and yl.shape == yr.shape == ()
+    yl, yr = fls.interval(*(np.full((2, 3), v) for v in point))
+    assert yl.shape == yr.shape == (2, 3)
+
+
+def test_interval_of_scalars_with_several_outputs_is_arrays():
+    a = Input("a", (0, 1), [("lo", Triangle(0, 0, 1)), ("hi", Triangle(0, 1, 1))])
+    fls = T1Sugeno(inputs=[a], rules=[Rule(["lo"], consequents=[1.0, 2.0]),
+                                      Rule(["hi"], consequents=[3.0, 5.0])], outputs=("u", "v"))
+    yl, yr = fls.interval(0.25)
+    assert yl.shape == yr.shape == (2,)
+    assert_allclose(yl, [1.5, 2.75], rtol=0, atol=1e-15)
 
 
 def test_evaluate_stacked_inputs():

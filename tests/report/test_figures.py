@@ -299,3 +299,29 @@ def test_tuned_and_slope_matched_controllers_have_their_own_place_and_look(study
     grid = _surface_layout(other, ctrls)
     assert ["opaque C" in row for row in grid] == [False, False, True], grid
     assert grid[2][grid[0].index("IT2FLC FoU 0.2")] == "opaque C", "under its IT2FLC"
+
+
+def test_draft_figures_are_smaller_and_the_same_drawing(study, written, tmp_path):
+    """A smoke run's drafts: the same figure at DRAFT_DPI, RGB(A) straight from matplotlib (the
+    published PNG is a 256-colour palette at FIGURE_DPI); rcParams untouched."""
+    import PIL.Image
+
+    from it2track.report.figures.style import DRAFT_DPI, FIGURE_DPI
+    from it2track.report.render import FigureRenderer
+
+    _, figures, _, _ = written
+    summary = summarise(study.rows)
+    rc_before = dict(matplotlib.rcParams)
+    with FigureRenderer(tmp_path, workers=0, svg=False, draft=True) as renderer:
+        renderer.submit(study, summary)
+        drafts = renderer.results(study)
+    assert dict(matplotlib.rcParams) == rc_before
+    assert set(drafts) == set(figures)
+    for key, png in drafts.items():
+        fig = draw_figure(key, study, summary)
+        width, height = fig.get_size_inches()
+        with PIL.Image.open(png) as draft, PIL.Image.open(figures[key]) as final:
+            assert draft.mode in ("RGB", "RGBA") and final.mode == "P", key
+            assert draft.size == (round(width * DRAFT_DPI), round(height * DRAFT_DPI)), key
+            assert final.size == (round(width * FIGURE_DPI), round(height * FIGURE_DPI)), key
+    assert sorted(p.suffix for p in tmp_path.iterdir()) == [".png"] * len(figures)

@@ -323,10 +323,16 @@ def _screenshot(exe: str, page: Path, shot: Path, profile: Path, size: str) -> N
     assert proc.returncode == 0, f"chromium failed ({proc.returncode}): {proc.stderr[-2000:]}"
 
 
+#: Decided before the fixtures (which run a study) are set up: skips cost nothing.
+needs_chromium = pytest.mark.skipif(
+    _chromium() is None,
+    reason="chromium not installed: apt-get install chromium (or chromium-browser)")
+
+
+@needs_chromium
 def test_renders_in_headless_chromium(report, tmp_path):
     exe = _chromium()
-    if exe is None:
-        pytest.skip("chromium not installed: apt-get install chromium (or chromium-browser)")
+    assert exe is not None
     path, _, _ = report
     shot = tmp_path / "shot.png"
     _screenshot(exe, path, shot, tmp_path / "profile", "1280,2000")
@@ -337,12 +343,12 @@ def test_renders_in_headless_chromium(report, tmp_path):
     assert ink > 0.01, f"screenshot nearly blank ({ink:.2%} ink)"
 
 
+@needs_chromium
 def test_figures_decode_in_chromium(report, tmp_path):
     """A window tall enough for the whole page: the embedded figures must be drawn (the page's
     own text and tables are grey; saturated colour comes from the figures)."""
     exe = _chromium()
-    if exe is None:
-        pytest.skip("chromium not installed: apt-get install chromium (or chromium-browser)")
+    assert exe is not None
     path, _, _ = report
     shot = tmp_path / "tall.png"
     _screenshot(exe, path, shot, tmp_path / "profile", "1280,16000")

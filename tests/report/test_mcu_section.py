@@ -203,10 +203,18 @@ def test_missing_tools_finish_the_job_without_a_process(monkeypatch, tmp_path):
 
     from it2track.codegen import tools
 
+    # A hermetic toolbox, whatever this machine has: these three and newlib are missing, the
+    # other microcontroller tools present (never run: the job stops at the check).
     real = shutil.which
     hidden = {"avr-gcc", "simavr", "arm-none-eabi-gcc"}
-    monkeypatch.setattr(shutil, "which",
-                        lambda name, *a, **k: None if name in hidden else real(name, *a, **k))
+
+    def which(name, *a, **k):
+        if name in hidden:
+            return None
+        return f"/usr/bin/{name}" if name in tools.TOOL_PACKAGES else real(name, *a, **k)
+
+    monkeypatch.setattr(shutil, "which", which)
+    monkeypatch.setattr(tools, "_avr_libc_present", lambda: True)
     monkeypatch.setattr(tools, "_newlib_present", lambda: False)
     job = McuJob.start(out_dir=tmp_path, fou=0.2, grid=3, svg=False)
     costs = job.result()

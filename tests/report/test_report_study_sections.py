@@ -8,6 +8,7 @@ from __future__ import annotations
 import base64
 import html
 import re
+import shutil
 from html.parser import HTMLParser
 
 import matplotlib
@@ -186,12 +187,14 @@ def test_assumptions_cite_the_model_document_for_every_open_choice(page):
     assert "DESIGN.md" not in plain
 
 
+@pytest.mark.skipif(  # decided before the fixture (a study) is set up
+    shutil.which("chromium") is None and shutil.which("chromium-browser") is None,
+    reason="chromium not installed: apt-get install chromium (or chromium-browser)")
 def test_the_whole_study_page_renders_in_headless_chromium(page, tmp_path):
     from test_html_render import _chromium, _screenshot
 
     exe = _chromium()
-    if exe is None:
-        pytest.skip("chromium not installed: apt-get install chromium (or chromium-browser)")
+    assert exe is not None
     *_, figures, _, _ = page
     path = next(iter(figures.values())).parent / "report.html"
     shot = tmp_path / "tall.png"

@@ -88,6 +88,8 @@ def simulate(**opts: Any) -> None:
     from ..plant import HeadingNoise
     from ..tracking import LoopConfig, RunTable, StepReference, check_task, get_trajectory
     from ..tracking import simulate as run
+    from ..tracking.metrics import METRIC_UNITS
+    from .kernels import kernel_stage
 
     _reject_inapplicable(click.get_current_context(), opts)
     # Everything that can fail is checked before the simulation starts, each error naming
@@ -156,7 +158,8 @@ def simulate(**opts: Any) -> None:
         noise_opt = "--noise-power" if opts["noise_power"] is not None else "--noise-std"
         _fail(f"--seed {opts['seed']} / {noise_opt}: {exc}")
     try:
-        trace = run([controller], [target], runs, config)
+        with kernel_stage(progress=True):
+            trace = run([controller], [target], runs, config)
     except ValueError as exc:
         _fail(f"the simulation stopped: {exc}")
     metrics = {k: float(v[0]) for k, v in trace.metrics.items()}
@@ -184,8 +187,10 @@ def simulate(**opts: Any) -> None:
     click.echo(f"{spec.label} on {target.name}, sigma = {sigma:g} {unit}, seed {opts['seed']}, "
                f"{opts['duration']:g} s" + ("" if plant is None else f", plant {opts['plant']}"))
     width = max(len(k) for k in metrics)
-    for key, value in metrics.items():
-        click.echo(f"  {key:<{width}}  {value:.6g}")
+    values = {k: f"{v:.6g}" for k, v in metrics.items()}
+    vwidth = max(len(v) for v in values.values())
+    for key, value in values.items():
+        click.echo(f"  {key:<{width}}  {value:>{vwidth}}  {METRIC_UNITS[key]}")
 
 
 def _plant_option(value: str, friction: str | None = None) -> Any:
@@ -272,12 +277,13 @@ def _reject_inapplicable(ctx: click.Context, opts: dict[str, Any]) -> None:
 
 def _register_subcommands() -> None:
     """Attach the commands that live in their own modules."""
+    from .config import config
     from .export import export
     from .fis import fis, surface
     from .reproduce import reproduce
     from .sweep import optimize, sweep
 
-    for command in (reproduce, sweep, optimize, fis, surface, export):
+    for command in (reproduce, sweep, optimize, config, fis, surface, export):
         main.add_command(command)
 
 

@@ -16,6 +16,8 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
+from .config import ConfigFile
+from .kernels import kernel_stage
 from .outdir import _discard_staging, _fail, _make_staging, _publish
 from .sweep import check_scheduler as _check_scheduler
 from .sweep import dask_options as _dask_options
@@ -40,12 +42,14 @@ def _quick(config: Any) -> Any:
 @click.command()
 @click.option("--out", "out_dir", default="results", show_default=True,
               type=click.Path(file_okay=False), help="Output folder.")
-@click.option("--config", "config_path", type=click.Path(exists=True, dir_okay=False),
-              help="Study TOML file (default: the paper's defaults, configs/paper.toml).")
+@click.option("--config", "config_path", type=ConfigFile(),
+              help="Study TOML file, or the name of a packaged config (default: paper, the "
+              "paper's defaults; `it2track config show paper --out FILE` writes it out).")
 @click.option("--seeds", type=click.IntRange(min=1), help="Noise realisations per cell.")
 @click.option("--sweep-seeds", type=click.IntRange(min=1),
               help="Noise realisations per cell of the noise and FoU sweeps.")
-@click.option("--quick", is_flag=True, help="A seconds-long smoke version (few seeds/levels).")
+@click.option("--quick", is_flag=True,
+              help="A seconds-long smoke version (few seeds/levels, draft figures).")
 @click.option("--workers", type=click.IntRange(min=0), default=0, show_default=True,
               help="Local worker processes for the experiments' runs (0: this process).")
 @click.option("--scheduler", metavar="tcp://HOST:PORT", callback=_check_scheduler,
@@ -143,11 +147,14 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
                                    svg=svg)
         # Figure workers start now and import matplotlib while the study runs; each figure is
         # drawn as soon as its data exist (report.render), so both cores stay busy.
-        with FigureRenderer(staging, workers=default_figure_workers(), svg=svg,
-                            on_done=stages.figure_done) as renderer:
+        # (The kernels first: on a first run their compile starts before the workers do.)
+        with kernel_stage(progress=not no_progress) as kernels, FigureRenderer(
+                staging, workers=default_figure_workers(), svg=svg,
+                on_done=stages.figure_done, draft=quick) as renderer:
             with stages.stage("simulating"), tqdm(
                     total=total, unit="run", disable=no_progress, file=sys.stderr,
                     desc="simulating", leave=False) as bar:
+                kernels.watch(bar)
                 try:
                     # The time series and control surfaces need no Monte Carlo: their
                     # figures are drawn while the experiments run.

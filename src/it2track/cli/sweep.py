@@ -17,6 +17,9 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
+from .config import ConfigFile
+from .kernels import kernel_stage
+
 if TYPE_CHECKING:
     from ..experiments.executors import Executor
 
@@ -114,8 +117,8 @@ def _check_out_dir(out_dir: str, files: tuple[str, ...] = ()) -> None:
 
 
 @click.command("sweep")
-@click.option("--config", "config_path", required=True,
-              type=click.Path(exists=True, dir_okay=False), help="Sweep TOML file.")
+@click.option("--config", "config_path", required=True, type=ConfigFile(),
+              help="Sweep TOML file, or the name of a packaged config (sweep: an example).")
 @click.option("--out", "out_dir", required=True, type=click.Path(file_okay=False),
               help="Results directory (sweep.json, chunks/, results.csv).")
 @click.option("--resume", is_flag=True,
@@ -159,7 +162,7 @@ def sweep(
         err=True,
     )
     try:
-        with executor:
+        with kernel_stage(progress=progress), executor:
             summary = run_sweep(plan, out, executor=executor, resume=resume, progress=progress)
     except (StoreError, ConfigError) as exc:
         raise click.ClickException(str(exc)) from None
@@ -191,8 +194,9 @@ def sweep(
 
 
 @click.command("optimize")
-@click.option("--config", "config_path", required=True,
-              type=click.Path(exists=True, dir_okay=False), help="Optimisation TOML file.")
+@click.option("--config", "config_path", required=True, type=ConfigFile(),
+              help="Optimisation TOML file, or the name of a packaged config (optimize: the "
+              "paper's controller).")
 @click.option("--out", "out_dir", required=True, type=click.Path(file_okay=False),
               help="Output directory (optimize.json, optimize.md, convergence.png).")
 @_WORKERS
@@ -221,7 +225,8 @@ def optimize(
     out = Path(out_dir)
     t0 = time.perf_counter()
     try:
-        with _executor(workers, scheduler, dask_settings(**dask)) as executor:
+        with kernel_stage(progress=progress), _executor(workers, scheduler,
+                                                        dask_settings(**dask)) as executor:
             result = run_optimization(
                 cfg, executor=executor, progress=progress, log=lambda s: click.echo(s, err=True)
             )

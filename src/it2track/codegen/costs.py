@@ -197,11 +197,11 @@ def measure_costs(
         if real not in ARITHMETICS:
             raise ValueError(f"arithmetics: {real!r} is not one of "
                              f"{', '.join(r.value for r in ARITHMETICS)}")
+    x = cost_grid(grid, n_random=n_random)  # the grid is checked before the tools
     require(AVR_TOOLS)
     if arm:
         require(ARM_TOOLS)
     reds = list(Reducer) if reducers is None else list(reducers)
-    x = cost_grid(grid, n_random=n_random)
     x64 = x.astype(np.float64)
     systems: list[tuple[str, IT2Sugeno | T1Sugeno]] = []
     if include_type1:

@@ -404,7 +404,7 @@ def _context(system: IT2Sugeno | T1Sugeno, real: RealType, prefix: str) -> dict[
         "reducer": red_name, "reducer_title": TITLES[red_name].split(" (")[0],
         "reducer_text": TITLES[red_name],
         "km_tol_l": lit(km_tol_l), "km_tol_r": lit(km_tol_r), "max_iter": max_iter,
-        "max_iter_text": f"{max_iter} iterations" if iterative else "(not iterative)",
+        "max_iter_text": f"{max_iter} iterations" if iterative else None,
         "wm": wm, "tnorm": system.tnorm.value,
         "keys": real is RealType.FLOAT,
         "klo": [key(v) for v in lo], "khi": [key(v) for v in hi],

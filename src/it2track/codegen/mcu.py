@@ -146,7 +146,6 @@ def run_on_avr(code: CCode, x: ArrayLike, *, build_dir: str | os.PathLike[str] |
     BuildError
         If compiling fails or simavr's output is incomplete.
     """
-    require(AVR_TOOLS)
     fmt = code.fixed
     arr = np.asarray(x, dtype=np.float64)
     if arr.ndim != 2 or arr.shape[1] != code.n_inputs:
@@ -155,6 +154,7 @@ def run_on_avr(code: CCode, x: ArrayLike, *, build_dir: str | os.PathLike[str] |
         raise ValueError(f"at most 65535 points per run, got {len(arr)}")
     if not np.all(np.isfinite(arr)):
         raise ValueError("x must be finite (it is printed as C constants)")
+    require(AVR_TOOLS)  # after the input checks: a bad input is refused on any machine
     pts: NDArray[Any] = np.ascontiguousarray(
         fmt.to_int(arr) if fmt is not None else arr.astype(np.float32))
 

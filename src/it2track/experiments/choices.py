@@ -342,7 +342,7 @@ def _c(name: str, sets: Sequence[str], default: Sequence[Any],
                   doc=doc)
 
 
-#: The open choices ``configs/paper.toml`` lists (a test keeps the two identical).
+#: The open choices the packaged config ``paper`` lists (a test keeps the two identical).
 DEFAULT_CHOICES: tuple[Choice, ...] = (
     _c("half_track", ["robot.half_track"], [5.6], [[0.28], [0.056]],
        "Table 3 prints l = 5.6 m, implausible for a small robot; 0.28 m and 0.056 m are the "

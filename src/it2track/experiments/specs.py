@@ -301,7 +301,7 @@ class Table:
     """A TOML table being mapped onto Python values, tracking which keys were used.
 
     Every lookup checks the value's type; :meth:`done` raises on keys never looked up.
-    Messages name ``where`` (``"configs/paper.toml [study]"``) and the key.
+    Messages name ``where`` (``"study.toml [study]"``) and the key.
     """
 
     def __init__(

@@ -486,11 +486,15 @@ def eval_block(P, X, L, S, yl, yr, st, ext=None):
     elif red == EIASC:  # status: the left side's failure first, as s1 if s1 != OK else s2
         _eiasc_lanes(P, L, S, flb, fub, tb, ylo, -1, True, yl, st)
         _eiasc_lanes(P, L, S, flb, fub, tb, yhs, ohi, False, yr, st)
-    else:  # KM, EKM
+    else:  # KM, EKM: left then right through one call site with the side a run-time value
+        # (a literal side compiles _switch_lanes, the costliest reducer to compile, twice)
         k0l = -1 if red == KM else int(P[K0_L])
         k0r = -1 if red == KM else int(P[K0_R])
-        _switch_lanes(P, L, S, flb, fub, tb, ylo, -1, True, k0l, P[TOL_L], yl, st)
-        _switch_lanes(P, L, S, flb, fub, tb, yhs, ohi, False, k0r, P[TOL_R], yr, st)
+        for side in range(2):
+            left = side == 0
+            _switch_lanes(P, L, S, flb, fub, tb, ylo if left else yhs, -1 if left else ohi,
+                          left, k0l if left else k0r, P[TOL_L] if left else P[TOL_R],
+                          yl if left else yr, st)
     # Zero firing (as IT2Sugeno/T1Sugeno._interval_blocks): the reference raises where the
     # status is not OK. Lanes to look at are counted first by a branch-free pass (a loop with
     # a rare branch costs ~10 ns per lane even when the branch is never taken).
@@ -535,10 +539,11 @@ def scalar2(P, a, b, ext=None):
     X[1, 0] = clip_input(P, 1, b)
     st = np.empty(1, dtype=np.int8)
     yl, yr = buf[rows + 2 : rows + 3], buf[rows + 3 : rows + 4]
+    # X.shape[1], not the literal 1: the same specialisation of eval_block as batch and loop
     if ext is None:  # (one basic specialisation of eval_block: ext left out, as everywhere)
-        eval_block(P, X, 1, S, yl, yr, st)
+        eval_block(P, X, X.shape[1], S, yl, yr, st)
     else:
-        eval_block(P, X, 1, S, yl, yr, st, ext)
+        eval_block(P, X, X.shape[1], S, yl, yr, st, ext)
     if st[0] != OK:
         return math.nan
     return (buf[rows + 2] + buf[rows + 3]) * 0.5

@@ -74,6 +74,31 @@ _REDUCERS: dict[Any, int] = {
 _T1, _T1_SUM = 6, 7
 _PARALLEL_MIN = 8192  # fewer points than this: the serial kernel (no thread start-up)
 _jit: Any = None
+#: Environment variable naming the lock of a background compile (it2track.tracking.kernel_cache):
+#: while another process holds it, this one uses the numpy engine (same bits).
+LOCK_ENV = "IT2TRACK_KERNEL_LOCK"
+
+
+def locked(path: str) -> bool:
+    """Whether another process holds the lock file ``path`` (a background compile runs)."""
+    try:
+        import fcntl
+
+        fd = os.open(path, os.O_RDONLY | os.O_NOFOLLOW)
+    except (ImportError, OSError):
+        return False
+    try:
+        fcntl.flock(fd, fcntl.LOCK_SH | fcntl.LOCK_NB)
+    except BlockingIOError:
+        return True
+    finally:
+        os.close(fd)  # (closing releases the shared lock taken above)
+    return False
+
+
+#: While this returns True the compiled engine is not used: :func:`load_jit` answers None.
+_defer: Callable[[], bool] | None = (
+    (lambda: locked(os.environ[LOCK_ENV])) if os.environ.get(LOCK_ENV) else None)
 
 
 def engine() -> str:
@@ -95,7 +120,7 @@ def load_jit() -> Any:
     global _jit
     if _jit is None:
         choice = engine()
-        if choice == "numpy":
+        if choice == "numpy" or (_defer is not None and _defer()):
             return None
         try:
             from . import _jit as module
@@ -214,9 +239,12 @@ def _entry(system: Any) -> FloatArray | None:
         pass
     packed = None
     ext = False
-    if engine() != "numpy" and supported(system) is None and load_jit() is not None:
-        packed = pack(system)
-        ext = extended(system)
+    if engine() != "numpy" and supported(system) is None:
+        if load_jit() is not None:
+            packed = pack(system)
+            ext = extended(system)
+        elif _defer is not None:
+            return None  # deferred to the numpy engine for now: ask again at the next call
     # immutable system: derived caches (set before the pack, which output() looks up first)
     object.__setattr__(system, "_kernel_ext", ext)
     object.__setattr__(system, "_kernel_pack", packed)

@@ -364,14 +364,22 @@ class _SystemBase:
     def _no_output_message(self, point: str) -> str:
         return f"{type(self).__name__} {self.name!r} has no output at ({point})"
 
-    def interval(self, *xs: ArrayLike) -> tuple[FloatArray, FloatArray]:
+    def interval(self, *xs: ArrayLike) -> tuple[Any, Any]:
         """Type-reduced interval ``(yl, yr)``, each of the broadcast input shape ``S``
-        (``S + (m,)`` for ``m > 1`` outputs)."""
+        (``S + (m,)`` for ``m > 1`` outputs).
+
+        Called with Python/NumPy real scalars (as :meth:`__call__` takes them), a one-output
+        system returns two Python floats, as ``__call__`` returns one.
+        """
         x, shape = self._prepare(xs)
         fast = _kernels.interval(self, x, crisp=False)  # compiled when supported (same bits)
         yl, yr = fast if fast is not None else self._interval_blocks(x)
         assert yr is not None
-        return yl.reshape(self._out_shape(shape)), yr.reshape(self._out_shape(shape))
+        out = self._out_shape(shape)
+        if out == () and all(type(v) is float or type(v) is int or isinstance(v, np.floating)
+                             for v in xs):
+            return float(yl[0]), float(yr[0])
+        return yl.reshape(out), yr.reshape(out)
 
     def __call__(self, *xs: ArrayLike) -> Any:
         """Crisp output ``u = (yl + yr) / 2`` (eq. 18), shape of the broadcast inputs

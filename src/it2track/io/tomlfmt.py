@@ -9,7 +9,7 @@ the one written. Layout (the paper's IT2 controller, abridged)::
     kind = "it2"                  # "it2" / "t1" (IT2Sugeno / T1Sugeno),
                                   # "it2-mamdani" / "t1-mamdani" (IT2Mamdani / T1Mamdani),
                                   # "t1-tsukamoto" (T1Tsukamoto: aggregation, defuzzifier)
-    name = "paper FLC (FoU 0.2)"
+    name = "paper IT2FLC (FoU 0.2)"
     tnorm = "product"             # or "min"
     # snorm = "probor"            # optional, OR rules: "max" (default) or "probor"
     reducer = "exhaustive"        # it2 only: km, ekm, eiasc, exhaustive, nie-tan, wu-mendel

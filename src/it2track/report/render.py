@@ -28,8 +28,8 @@ from ..experiments.study import StudyResult
 
 __all__ = ["FigureError", "FigureRenderer", "default_figure_workers"]
 
-#: Module the figure workers import before their first job.
-_PRELOAD = "it2track.report.figures"
+#: Module the figure workers import before their first job: the figures, warmed up.
+_PRELOAD = "it2track.report._figure_preload"
 
 
 class FigureError(RuntimeError):
@@ -47,12 +47,12 @@ def default_figure_workers() -> int:
 
 
 def _timed_write(key: str, result: StudyResult, summary: Sequence[Mapping[str, Any]],
-                 out_dir: Path, svg: bool) -> tuple[Path, float]:
+                 out_dir: Path, svg: bool, draft: bool = False) -> tuple[Path, float]:
     """Worker job: write one figure; returns its PNG and the CPU seconds it took."""
     from .figures import write_figure
 
     started = time.process_time()
-    png = write_figure(key, result, summary, out_dir, svg=svg)
+    png = write_figure(key, result, summary, out_dir, svg=svg, draft=draft)
     return png, time.process_time() - started
 
 
@@ -85,6 +85,8 @@ class FigureRenderer:
     on_done : callable, optional
         Called in this process as ``on_done(key, cpu_seconds)`` when a figure is written
         (from :meth:`submit` without workers, from :meth:`results` with them).
+    draft : bool, default False
+        Draft PNGs, for a smoke run (see :func:`~it2track.report.figures.write_figure`).
 
     Examples
     --------
@@ -96,11 +98,13 @@ class FigureRenderer:
     """
 
     def __init__(self, out_dir: Path, *, workers: int, svg: bool = True,
-                 on_done: Callable[[str, float], object] | None = None) -> None:
+                 on_done: Callable[[str, float], object] | None = None,
+                 draft: bool = False) -> None:
         if workers < 0:
             raise ValueError(f"workers={workers} must be >= 0")
         self.out_dir = Path(out_dir)
         self.svg = svg
+        self.draft = draft
         self.on_done = on_done
         self.workers = workers
         self._pool: Executor | None = None
@@ -176,7 +180,7 @@ class FigureRenderer:
 
         keys = [k for k in figure_plan(result, summary) if k not in self.submitted]
         for key in keys:
-            args = (key, result, summary, self.out_dir, self.svg)
+            args = (key, result, summary, self.out_dir, self.svg, self.draft)
             if self._pool is None:
                 png, seconds = self._write_here(*args)
                 self._done[key] = png
@@ -190,9 +194,9 @@ class FigureRenderer:
         return keys
 
     def _write_here(self, key: str, result: StudyResult, summary: Sequence[Mapping[str, Any]],
-                    out_dir: Path, svg: bool) -> tuple[Path, float]:
+                    out_dir: Path, svg: bool, draft: bool) -> tuple[Path, float]:
         try:
-            return _timed_write(key, result, summary, out_dir, svg)
+            return _timed_write(key, result, summary, out_dir, svg, draft)
         except Exception as exc:
             raise FigureError(f"figure {key!r} failed: {type(exc).__name__}: {exc}") from exc
 

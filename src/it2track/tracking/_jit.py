@@ -364,6 +364,10 @@ def _loop(C, c_off, blocks, tidx, std, zinv, Z, hold, xref, yref, v0ref, start, 
     W = np.zeros((_W_ROWS, LANES))
     A = np.zeros((_A_ROWS, LANES))
     X = np.empty((2, LANES))
+    # The lane count as a run-time value, not the literal LANES: eval_block is then compiled
+    # once for the loop, the batch and the scalar call (a literal would be a specialisation
+    # of its own, with every reducer in it: twice the compile time of a first run).
+    lanes = X.shape[1]
     yl = np.empty(LANES)
     yr = np.empty(LANES)
     st = np.zeros(LANES, dtype=np.int8)
@@ -455,7 +459,7 @@ def _loop(C, c_off, blocks, tidx, std, zinv, Z, hold, xref, yref, v0ref, start, 
                 for j in range(LANES):
                     X[0, j] = fmin(fmax(W[17, j] * ke, lo0), hi0)
                     X[1, j] = fmin(fmax(W[10, j] * kde, lo1), hi1)
-                eval_block(P, X, LANES, S, yl, yr, st)
+                eval_block(P, X, lanes, S, yl, yr, st)
                 for j in range(LANES):
                     W[18, j] = (yl[j] + yr[j]) * 0.5
                 bad = 0

@@ -71,7 +71,10 @@ def _pack_controllers(controllers: Sequence[HeadingController]) -> tuple[FloatAr
             parts.append(np.array([-1.0]))  # never referenced by a block
     offsets = np.zeros(len(parts) + 1, dtype=np.int64)
     offsets[1:] = np.cumsum([p.size for p in parts])
-    return np.concatenate(parts) if parts else np.zeros(0), offsets
+    packed = np.concatenate(parts) if parts else np.zeros(0)
+    # read-only like a fuzzy system's own packing: the kernels then share one specialisation
+    packed.setflags(write=False)
+    return packed, offsets
 
 
 def _plant_vector(engine: _Engine) -> FloatArray:

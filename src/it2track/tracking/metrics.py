@@ -36,7 +36,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["METRIC_NAMES", "MetricAccumulator", "integral_errors"]
+__all__ = ["METRIC_NAMES", "METRIC_UNITS", "MetricAccumulator", "integral_errors"]
 
 FloatArray = NDArray[np.float64]
 
@@ -51,6 +51,14 @@ METRIC_NAMES: tuple[str, ...] = (
     "u_tv",
     "sat_time",
 )
+_INTEGRAL_UNITS = ("rad s", "rad s^2", "rad^2 s", "rad^2 s^2")
+#: The unit of every metric (the table above), as plain ASCII text for consoles and CSV headers.
+METRIC_UNITS: dict[str, str] = {
+    **dict(zip(INTEGRAL_NAMES, _INTEGRAL_UNITS, strict=True)),
+    **{f"{n}_meas": u for n, u in zip(INTEGRAL_NAMES, _INTEGRAL_UNITS, strict=True)},
+    "pos_rms": "m", "pos_max": "m", "pos_final": "m",
+    "effort": "V^2 s", "u_tv": "V", "sat_time": "s",
+}  # fmt: skip
 
 
 class _IntegralErrors:

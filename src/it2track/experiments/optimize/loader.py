@@ -1,4 +1,4 @@
-"""Reading an optimisation TOML file (``configs/optimize.toml``) into an
+"""Reading an optimisation TOML file (the packaged config ``optimize``) into an
 :class:`~.config.OptimizeConfig`.
 """
 
@@ -68,7 +68,7 @@ def _settings(t: Table, cls: type, spec: dict[str, type]) -> Any:
 
 
 def load_optimize_config(path: str | Path) -> OptimizeConfig:
-    """Parse an optimisation TOML file (see ``configs/optimize.toml``).
+    """Parse an optimisation TOML file (see the packaged config ``optimize``).
 
     Sections: ``[optimize]`` (``seed``, ``objective``, ``train_seeds``, ``holdout_seeds``,
     ``noise_std``, ``trajectories``, ``bounds``, ``compare``, ``compare_flc``, ``batch_size``),

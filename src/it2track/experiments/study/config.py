@@ -2,7 +2,8 @@
 (how the PD baseline is tuned), and :func:`quick_config`, its seconds-long smoke version.
 
 Validated on construction (a ``ValueError`` naming the field);
-:mod:`~it2track.experiments.study.loader` maps ``configs/paper.toml`` onto them.
+:mod:`~it2track.experiments.study.loader` maps the packaged config ``paper``
+(:mod:`it2track.configs`) onto them.
 """
 
 from __future__ import annotations
@@ -97,7 +98,7 @@ class PDTuning:
 
 @dataclass(frozen=True, kw_only=True)
 class StudyConfig:
-    """Everything the study runs; ``configs/paper.toml`` holds the defaults.
+    """Everything the study runs; the packaged config ``paper`` holds the defaults.
 
     Parameters
     ----------

@@ -1,4 +1,4 @@
-"""Reading a study TOML file (``configs/paper.toml``) into a :class:`~.config.StudyConfig`.
+"""Reading a study TOML file (the packaged config ``paper``) into a :class:`~.config.StudyConfig`.
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ __all__ = ["load_study_config"]
 
 
 def load_study_config(path: str | Path, **overrides: Any) -> StudyConfig:
-    """Read a study TOML file (see ``configs/paper.toml``).
+    """Read a study TOML file (see the packaged config ``paper``, :mod:`it2track.configs`).
 
     Sections: ``[simulation]``, ``[robot]`` (+ ``[robot.motor]``), ``[study]``, ``[pd]`` (or
     ``pd_baseline = false`` in ``[study]``), ``[tuning]`` (or ``tuning = false``),

@@ -317,7 +317,7 @@ def _parse_robots(
 
 
 def load_sweep_config(path: str | Path) -> SweepPlan:
-    """Parse a sweep TOML file (see ``configs/sweep_example.toml``).
+    """Parse a sweep TOML file (see the packaged config ``sweep``, :mod:`it2track.configs`).
 
     Sections: ``[sweep]`` (``seed``, ``seeds``, ``noise_std``, ``trajectories``, ``chunk_size``,
     ``batch_size``), ``[simulation]`` (:class:`~it2track.tracking.LoopConfig` fields),

@@ -54,7 +54,7 @@ from ..plan import figure_keys, figure_plan, paper_figures
 from .claims import _fig_win_rates
 from .integrals import _fig_integral_errors
 from .robustness import _fig_robustness, _fig_sensitivity
-from .style import _RC, FIGURE_DPI, _Palette, _save
+from .style import _DRAFT_RC, _RC, FIGURE_DPI, _Palette, _save
 from .surfaces import _fig_control_surfaces, _fig_dead_zone
 from .sweeps import _fig_fou_sweep, _fig_noise_sweep
 from .timeseries import _fig_fou_comparison, _fig_paper
@@ -126,11 +126,12 @@ def draw_figure(key: str, result: StudyResult,
 
 
 def write_figure(key: str, result: StudyResult, summary: Sequence[Mapping[str, Any]],
-                 out_dir: Path, *, svg: bool = True) -> Path:
+                 out_dir: Path, *, svg: bool = True, draft: bool = False) -> Path:
     """Draw the figure ``key`` and write ``<key>.png`` (and ``<key>.svg``) into ``out_dir``.
 
     A module-level function of picklable arguments, so that figures can be written by worker
-    processes; the files do not depend on the process that writes them.
+    processes; the files do not depend on the process that writes them. ``draft``: a smoke
+    run's PNG (:data:`~.style.DRAFT_DPI`, unhinted text, no palette quantisation).
 
     Returns
     -------
@@ -139,8 +140,9 @@ def write_figure(key: str, result: StudyResult, summary: Sequence[Mapping[str, A
     """
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    with matplotlib.rc_context(_RC):  # type: ignore[arg-type]
-        return _save(draw_figure(key, result, summary), out_dir, key, svg=svg)
+    rc = {**_RC, **_DRAFT_RC} if draft else _RC
+    with matplotlib.rc_context(rc):  # type: ignore[arg-type]
+        return _save(draw_figure(key, result, summary), out_dir, key, svg=svg, draft=draft)
 
 
 def write_figures(

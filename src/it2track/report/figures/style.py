@@ -22,10 +22,13 @@ from matplotlib.figure import Figure
 from ...atomicfile import atomic_open
 from ..identity import _FLC, _IT2, _PD, _T1M, _T1S, INTEGRAL_UNITS, _Ctrl, _order_key
 
-__all__ = ["FIGURE_DPI"]
+__all__ = ["DRAFT_DPI", "FIGURE_DPI"]
 
 #: Resolution of the PNG files, dots per inch.
 FIGURE_DPI = 110
+#: Resolution of the draft PNGs of a smoke run (``reproduce --quick``), written without the
+#: palette quantisation and with unhinted text: about a third less CPU per figure.
+DRAFT_DPI = 80
 
 _RC: dict[str, Any] = {
     "font.size": 9,
@@ -45,6 +48,9 @@ _RC: dict[str, Any] = {
     "figure.facecolor": "white",
     "savefig.facecolor": "white",
 }
+
+#: What a draft changes in :data:`_RC`: FreeType hinting costs more than drawing the glyphs.
+_DRAFT_RC: dict[str, Any] = {"text.hinting": "no_hinting"}
 
 _FLC_COLOR = "#d62728"
 _PD_COLOR = "#7f7f7f"
@@ -112,12 +118,18 @@ class _Palette:
 # ---------------------------------------------------------------------------------------------
 
 
-def _save(fig: Figure, out_dir: Path, stem: str, *, svg: bool = True) -> Path:
+def _save(fig: Figure, out_dir: Path, stem: str, *, svg: bool = True,
+          draft: bool = False) -> Path:
     png = out_dir / f"{stem}.png"
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=FIGURE_DPI, pil_kwargs={"compress_level": 0})
+    if draft:  # straight from matplotlib, fast zlib, no quantisation
+        fig.savefig(buf, format="png", dpi=DRAFT_DPI, pil_kwargs={"compress_level": 1})
+        data = buf.getvalue()
+    else:
+        fig.savefig(buf, format="png", dpi=FIGURE_DPI, pil_kwargs={"compress_level": 0})
+        data = _compact_png(buf.getvalue())
     with atomic_open(png, "wb") as fh:
-        fh.write(_compact_png(buf.getvalue()))
+        fh.write(data)
     if svg:
         # The constrained layout has been computed by the PNG draw; freeze it for the SVG (the
         # layout is in figure fractions, so it does not depend on the dpi).

@@ -1,0 +1,343 @@
+"""The compiled kernels' first run: fill numba's on-disk cache in a background process while the
+numpy engine computes.
+
+numba compiles the kernels (:mod:`it2track.fuzzy._jit`, :mod:`it2track.tracking._jit`) the
+first time they are called and caches them on disk (``cache=True``: ``__pycache__`` beside the
+sources, or ``NUMBA_CACHE_DIR``), so only the first run after installing (or after editing a
+kernel) compiles: half a minute or more of one core. A process that compiles them inline
+computes nothing meanwhile, and every process of a run (figure workers, sweep workers) compiles
+the same kernels again. Here instead:
+
+* :func:`cached` tells, without compiling, whether the cache holds every entry point (the
+  closed loop, the fuzzy batch and the scalar call, with the argument types the engines pass),
+  and loads them if it does;
+* :func:`start` launches one background process (``python -m it2track.tracking.kernel_cache``)
+  that compiles them into the cache, holding an exclusive lock on :func:`lock_path` while it
+  runs (a second command finds the lock and starts none);
+* :func:`deferring` makes this process (and the worker processes it starts, through the
+  environment variable :data:`LOCK_ENV`) use the numpy engine while the lock is held; the
+  compiled engine takes over, loading from the cache, at the first call after it is released.
+
+The numpy engine and the compiled one give the same bits, so which one computed a run never
+shows in its numbers. Only the command line defers (it opts in per command); a library call or
+a test in a cold cache compiles inline, as before. Nothing of this runs on Windows (no
+``fcntl``): there the kernels compile inline.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import json
+import os
+import stat
+import subprocess
+import sys
+import tempfile
+import time
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from ..fuzzy.kernels import LOCK_ENV
+from ..fuzzy.kernels import locked as kernels_locked
+
+try:
+    import fcntl
+except ImportError:  # pragma: no cover - not POSIX
+    fcntl = None  # type: ignore[assignment]
+
+__all__ = ["BACKGROUND_ENV", "LOCK_ENV", "Background", "cached", "compile_all", "compiling",
+           "deferring", "lock_path", "start"]
+
+# LOCK_ENV: set (to the lock file) in the worker processes a deferring command starts: they
+# use the numpy engine while a background compile holds that lock.
+#: ``0`` turns the background compile off (the kernels then compile inline when first called).
+BACKGROUND_ENV = "IT2TRACK_BACKGROUND_COMPILE"
+#: CPU seconds the compile takes when nothing better is known: one core of the 2-core
+#: reference machine, measured by ``benchmarks/readme_figures.py`` ("kernel compile, CPU");
+#: each compile then records its own CPU time on this machine, which later estimates use.
+DEFAULT_CPU_SECONDS = 30.0
+
+
+def lock_path() -> Path | None:
+    """The lock a background compile holds: one per installed package, numba cache and
+    interpreter, in a folder of this user's own under the temporary directory (beside it,
+    ``.json``: how the last compile went). ``None`` if that folder is not this user's own
+    (then nothing runs in the background)."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        numba_version = version("numba")
+    except PackageNotFoundError:
+        numba_version = "-"
+    src = Path(__file__).resolve().parent.parent
+    key = "|".join([str(src), os.environ.get("NUMBA_CACHE_DIR", ""), sys.version,
+                    numba_version])
+    digest = hashlib.sha256(key.encode()).hexdigest()[:16]
+    folder = Path(tempfile.gettempdir()) / f"it2track-{os.getuid()}"
+    try:
+        folder.mkdir(mode=0o700, exist_ok=True)
+        st = folder.lstat()
+    except OSError:
+        return None
+    if not stat.S_ISDIR(st.st_mode) or st.st_uid != os.getuid() or st.st_mode & 0o022:
+        return None  # a link, or someone else's folder: not ours to write in
+    return folder / f"kernels-{digest}.lock"
+
+
+def compiling(path: Path | str | None = None) -> bool:
+    """Whether a background compile holds the lock ``path`` (default: :func:`lock_path`)."""
+    path = path or lock_path()
+    return path is not None and kernels_locked(str(path))
+
+
+def _sample_system() -> Any:
+    """A small two-input IT2 Sugeno system of the kind the kernels serve (its values do not
+    matter: the entry points are compiled for argument types, not values)."""
+    from ..fuzzy import Input, IT2Set, IT2Sugeno, Rule, Triangle
+
+    sets = [IT2Set(Triangle(-1.0, -1.0, 1.0), Triangle(-1.0, -1.0, 0.5), "N"),
+            IT2Set(Triangle(-1.0, 1.0, 1.0), Triangle(-0.5, 1.0, 1.0), "P")]
+    inputs = (Input("e", (-1.0, 1.0), sets), Input("de", (-1.0, 1.0), sets))
+    rules = (Rule(["N", "N"], -1.0), Rule(["N", "P"], 0.0), Rule(["P", "N"], 0.0),
+             Rule(["P", "P"], 1.0))
+    return IT2Sugeno(inputs=inputs, rules=rules)
+
+
+class _Recorder:
+    """Stands in for the compiled loop module: records the loop's arguments, computes
+    nothing."""
+
+    def __init__(self, module: Any) -> None:
+        self.LANES, self.N_METRICS, self.N_FIELDS = module.LANES, module.N_METRICS, \
+            module.N_FIELDS
+        self.args: tuple[Any, ...] | None = None
+
+    def loop(self, *args: Any) -> None:
+        if self.args is None:
+            self.args = args
+
+
+def _entry_calls() -> list[tuple[Any, tuple[Any, ...]]]:
+    """Each compiled entry point with arguments of the types the engines pass it."""
+    import numpy as np
+
+    from ..fuzzy import _jit as fuzzy_jit
+    from ..fuzzy import kernels
+    from . import _jit as loop_jit
+    from . import compiled
+    from .controllers import FuzzyHeadingController
+    from .simulate import LoopConfig, RunTable, _Engine
+    from .trajectories import straight
+
+    system = _sample_system()
+    packed = kernels.pack(system)
+    recorder = _Recorder(loop_jit)
+    engine = _Engine([straight()], LoopConfig(duration=0.02))
+    compiled.run(recorder, engine, [FuzzyHeadingController(fls=system)],
+                 RunTable(0, 0, 0.05, 0), record=False)
+    assert recorder.args is not None
+    x = np.zeros((2, 3))
+    out = np.empty(3)
+    return [
+        (loop_jit.loop, recorder.args),
+        (fuzzy_jit.batch, (packed, x, out, out, np.empty(3, dtype=np.int8), True, 0, 3)),
+        (fuzzy_jit.scalar2, (packed, 0.25, -0.5)),
+    ]
+
+
+def _load_cached(dispatcher: Any, args: tuple[Any, ...]) -> bool:
+    """Load ``dispatcher``'s code for ``args`` from numba's disk cache (what its first call
+    would do); False if the cache does not hold it. Never compiles."""
+    from numba.core.compiler_lock import global_compiler_lock
+
+    sig = tuple(dispatcher.typeof_pyval(a) for a in args)
+    if sig in dispatcher.overloads:
+        return True
+    with global_compiler_lock:
+        cres = dispatcher._cache.load_overload(sig, dispatcher.targetctx)
+        if cres is None:
+            return False
+        dispatcher.add_overload(cres)
+    return True
+
+
+def cached() -> bool | None:
+    """Whether numba's cache holds every kernel entry point for this machine (they are then
+    loaded, as their first call would). ``None`` if numba is not used (missing, or
+    ``IT2TRACK_ENGINE=numpy``) or its cache cannot be inspected (then the kernels compile
+    when first called, as without this module)."""
+    from ..fuzzy import kernels
+
+    try:
+        if kernels.engine() == "numpy":
+            return None
+        import numba  # noqa: F401
+    except (ImportError, ValueError):
+        return None
+    try:
+        from ..fuzzy import _jit as fuzzy_jit
+        from . import _jit as loop_jit
+
+        # No index file: nothing cached (the usual first run), told without starting numba's
+        # compiler (a second or more of a cold process, for nothing).
+        for dispatcher in (loop_jit.loop, fuzzy_jit.batch, fuzzy_jit.scalar2):
+            if not os.path.exists(dispatcher._cache._cache_file._index_path):
+                return False
+        return all(_load_cached(d, a) for d, a in _entry_calls())
+    except Exception:  # numba's internals moved: the first calls will compile, as before
+        return None
+
+
+def compile_all() -> float:
+    """Compile every entry point into numba's cache (in this process); returns the seconds."""
+    started = time.perf_counter()
+    for dispatcher, args in _entry_calls():
+        dispatcher(*args)
+    return time.perf_counter() - started
+
+
+def _status_path(lock: Path) -> Path:
+    return lock.with_suffix(".json")
+
+
+def estimate_seconds(lock: Path | None = None) -> float:
+    """How long a compile takes here, in wall seconds: its CPU time (the last compile's on
+    this machine, recorded beside ``lock``, default :func:`lock_path`; else
+    :data:`DEFAULT_CPU_SECONDS`) stretched by the load (a compile is one busy thread: on ``n``
+    CPUs with load ``a``, it gets about ``n / (a + 1)`` of one)."""
+    cpu = DEFAULT_CPU_SECONDS
+    lock = lock or lock_path()
+    if lock is not None:
+        try:
+            status = json.loads(_status_path(lock).read_text())
+            seconds = float(status["cpu_seconds"])
+            if status.get("ok") and 0.0 < seconds < 3600.0:
+                cpu = seconds
+        except (OSError, ValueError, KeyError, TypeError):
+            pass
+    try:
+        load = os.getloadavg()[0]
+    except OSError:
+        load = 0.0
+    return cpu * max(1.0, (load + 1.0) / (os.cpu_count() or 1))
+
+
+@dataclass
+class Background:
+    """A background compile: its process (``None`` if another command started it), lock,
+    start time and the expected duration."""
+
+    process: subprocess.Popen[bytes] | None
+    lock: Path
+    started: float
+    estimate_s: float
+
+    def running(self) -> bool:
+        """Whether it still holds the lock."""
+        return compiling(self.lock)
+
+    def outcome(self) -> tuple[bool, float] | None:
+        """``(ok, seconds)`` of the finished compile, from its status file (None if unknown
+        or still running)."""
+        if self.running():
+            return None
+        try:
+            status = json.loads(_status_path(self.lock).read_text())
+            return bool(status["ok"]), float(status["seconds"])
+        except (OSError, ValueError, KeyError, TypeError):
+            return None
+
+
+def start() -> Background | None:
+    """Start the background compile unless one is running (then return that one) or the
+    background compile is off (:data:`BACKGROUND_ENV` ``=0``, no ``fcntl``: ``None``).
+
+    The lock is taken here, before the process starts, and handed to it: the caller defers
+    to the numpy engine from the first call on, and a second command sees it at once.
+    """
+    if fcntl is None or os.environ.get(BACKGROUND_ENV, "1").strip() == "0":
+        return None
+    lock = lock_path()
+    if lock is None:
+        return None
+    estimate = estimate_seconds(lock)
+    try:
+        fd = os.open(lock, os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW, 0o600)
+    except OSError:
+        return None
+    try:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:  # another command is compiling them, since the time it wrote
+            try:
+                since = time.time() - float(os.pread(fd, 64, 0).decode() or "nan")
+            except (OSError, ValueError):
+                since = 0.0
+            since = since if 0.0 <= since < 3600.0 else 0.0
+            return Background(None, lock, time.monotonic() - since, estimate)
+        with contextlib.suppress(OSError):  # when it started, for the other commands
+            os.ftruncate(fd, 0)
+            os.pwrite(fd, repr(time.time()).encode(), 0)
+        env = {k: v for k, v in os.environ.items() if k != LOCK_ENV}
+        try:
+            proc = subprocess.Popen(
+                [sys.executable, "-m", "it2track.tracking.kernel_cache", "--lock-fd",
+                 str(fd)],
+                pass_fds=(fd,), stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                stderr=subprocess.DEVNULL, env=env, start_new_session=True)
+        except OSError:
+            return None
+    finally:
+        os.close(fd)  # the child's copy keeps the lock until it exits
+    return Background(proc, lock, time.monotonic(), estimate)
+
+
+@contextlib.contextmanager
+def deferring(lock: Path) -> Iterator[None]:
+    """Within: this process, and the worker processes started meanwhile, use the numpy
+    engine while a background compile holds ``lock``."""
+    from ..fuzzy import kernels
+
+    saved_env = os.environ.get(LOCK_ENV)
+    saved_gate = kernels._defer
+    os.environ[LOCK_ENV] = str(lock)
+    kernels._defer = lambda: compiling(lock)
+    try:
+        yield
+    finally:
+        kernels._defer = saved_gate
+        if saved_env is None:
+            os.environ.pop(LOCK_ENV, None)
+        else:
+            os.environ[LOCK_ENV] = saved_env
+
+
+def _main(argv: list[str]) -> int:
+    """The background process: compile, record the outcome beside the lock, exit (which
+    releases the inherited lock)."""
+    fd = int(argv[argv.index("--lock-fd") + 1]) if "--lock-fd" in argv else None
+    lock = lock_path()
+    started = time.perf_counter()
+    ok = True
+    try:
+        compile_all()
+    except Exception:  # the commands then compile inline, as without this module
+        ok = False
+    status = {"ok": ok, "seconds": round(time.perf_counter() - started, 3),
+              "cpu_seconds": round(time.process_time(), 3)}
+    if lock is not None:
+        with contextlib.suppress(OSError):
+            tmp_fd, tmp = tempfile.mkstemp(dir=lock.parent, suffix=".tmp")
+            with os.fdopen(tmp_fd, "w") as fh:
+                fh.write(json.dumps(status))
+            os.replace(tmp, _status_path(lock))
+    if fd is not None:
+        os.close(fd)
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":  # pragma: no cover - run as the background process
+    sys.exit(_main(sys.argv[1:]))
