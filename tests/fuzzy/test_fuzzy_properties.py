@@ -97,7 +97,7 @@ def test_zero_firing_norms():
     product fires the four rules on Z, P at 0.375**2."""
     for tnorm in (TNorm.BOUNDED_DIFFERENCE, TNorm.NILPOTENT_MINIMUM, TNorm.DRASTIC_PRODUCT):
         lower, upper = paper(0.0, tnorm=tnorm).firing(0.5, 0.5)
-        assert upper.tolist() == [0.0] * 9, tnorm
+        assert upper.tolist() == [0.0] * 9 and lower.tolist() == [0.0] * 9, tnorm
         with pytest.raises(ZeroFiringError, match="no rule"):
             paper(0.0, tnorm=tnorm)(0.5, 0.5)
     _, upper = paper(0.0).firing(0.5, 0.5)
