@@ -151,7 +151,7 @@ case("reproduce-out-empty", ["reproduce", "--quick", "--out", ""], "--out", "emp
 case("reproduce-out-under-a-file", ["reproduce", "--quick", "--out", "binary.csv/results"],
      "--out binary.csv/results", "cannot create")
 case("reproduce-out-holds-a-folder", ["reproduce", "--quick", "--out", "prev"],
-     "metrics.csv exists and is not a regular file", prev_note="")
+     "metrics.csv exists and is a directory, not a regular file", prev_note="")
 case("reproduce-scheduler-no-port", [*REP, "--scheduler", "foo"], "--scheduler", "'foo'")
 # --mcu-grid: at most the benchmark's 61 (its time grows with the square); only with a measurement
 case("reproduce-mcu-grid-62", [*REP, "--mcu-grid", "62"], "--mcu-grid", "62", "2<=x<=61")

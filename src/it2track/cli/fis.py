@@ -32,6 +32,7 @@ from ..fuzzy import (
     UncertainMeanGaussianLower,
     UncertainMeanGaussianUpper,
 )
+from .outdir import check_output_file, write_output_file
 
 __all__ = ["describe", "fis", "surface"]
 
@@ -193,18 +194,33 @@ def show(file: str) -> None:
     click.echo(describe(_load(file)))
 
 
+_FORCE = click.option(
+    "--force", is_flag=True,
+    help="Replace an existing file of that name that it2track cannot prove it wrote.")
+
+
 @fis.command()
 @click.argument("source", type=_FILE)
 @click.argument("target", type=click.Path(dir_okay=False, path_type=str))
-def convert(source: str, target: str) -> None:
-    """Convert SOURCE to TARGET; the formats follow the suffixes (.toml, .t2fis, .fis)."""
-    from ..io import save
+@_FORCE
+def convert(source: str, target: str, force: bool) -> None:
+    """Convert SOURCE to TARGET; the formats follow the suffixes (.toml, .t2fis, .fis).
 
+    TARGET's SHA-256 goes to TARGET.sha256: the proof that lets a later run replace it.
+    """
+    from ..io import dumps, format_of
+
+    try:
+        fmt = format_of(target)
+    except ValueError as exc:
+        raise click.BadParameter(str(exc), param_hint="TARGET") from None
+    check_output_file(target, "TARGET", force=force)
     system = _load(source)
     try:
-        save(system, target)
-    except (ValueError, OSError) as exc:
-        raise click.ClickException(str(exc)) from None
+        text = dumps(system, fmt)
+    except ValueError as exc:
+        raise click.ClickException(f"cannot write TARGET {target}: {exc}") from None
+    write_output_file(target, text.encode("utf-8"), "TARGET")
     click.echo(f"wrote {target}")
 
 
@@ -236,12 +252,18 @@ def _parse_fixed(items: tuple[str, ...]) -> dict[str, float]:
     fixed: dict[str, float] = {}
     for item in items:
         name, sep, value = item.partition("=")
+        if not sep or not name:
+            raise click.BadParameter(f"{item!r}: expected NAME=VALUE", param_hint="--fix")
         try:
             number = float(value)
         except ValueError:
-            number = math.nan
-        if not sep or not name or not math.isfinite(number):
-            raise click.BadParameter(f"{item!r}: expected NAME=VALUE", param_hint="--fix")
+            raise click.BadParameter(f"{item!r}: the value {value!r} of {name} is not a "
+                                     "number", param_hint="--fix") from None
+        if not math.isfinite(number):
+            raise click.BadParameter(f"{item!r}: the value {value!r} of {name} must be a "
+                                     "finite number", param_hint="--fix")
+        if name in fixed:
+            raise click.BadParameter(f"{item!r}: {name} is fixed twice", param_hint="--fix")
         fixed[name] = number
     return fixed
 
@@ -260,11 +282,21 @@ def _parse_fixed(items: tuple[str, ...]) -> dict[str, float]:
               help="Value of an input not on the axes (default: middle of its universe).")
 @click.option("--output", "output", default=None,
               help="Output to plot, for a system with several outputs.")
+@_FORCE
 def surface(file: str, out: str, points: int, style: str, x_input: str | None,
-            y_input: str | None, fix: tuple[str, ...], output: str | None) -> None:
-    """Plot the control surface of FILE and each input's sets (FoUs for IT2) to --out."""
-    from ..report.surface import plot_system
+            y_input: str | None, fix: tuple[str, ...], output: str | None,
+            force: bool) -> None:
+    """Plot the control surface of FILE and each input's sets (FoUs for IT2) to --out
+    (its SHA-256 to OUT.sha256: the proof that lets a later run replace it)."""
+    from ..report.surface import FIGURE_FORMATS, figure_bytes, plot_system
 
+    suffix = Path(out).suffix.lstrip(".").lower() or "png"
+    if suffix not in FIGURE_FORMATS:
+        raise click.BadParameter(
+            f"{out!r}: the suffix must be one of {', '.join('.' + f for f in FIGURE_FORMATS)}",
+            param_hint="--out")
+    fixed = _parse_fixed(fix)
+    check_output_file(out, "--out", force=force)
     system = _load(file)
     if system.n_outputs > 1 or output is not None:
         if output is None:
@@ -284,8 +316,9 @@ def surface(file: str, out: str, points: int, style: str, x_input: str | None,
     elif x_input or y_input:
         raise click.BadParameter("a one-input system has no axes to choose", param_hint="--x")
     try:
-        plot_system(system, out, inputs=inputs, fixed=_parse_fixed(fix), points=points,
-                    style=style)
+        fig = plot_system(system, None, inputs=inputs, fixed=fixed, points=points, style=style)
+        data = figure_bytes(fig, suffix)
     except (ValueError, OSError) as exc:
         raise click.ClickException(str(exc)) from None
+    write_output_file(out, data, "--out")
     click.echo(f"wrote {os.fspath(Path(out))}")

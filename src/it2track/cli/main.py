@@ -7,12 +7,12 @@ kinds, reducers, trajectories); everything below works with dataclasses and arra
 from __future__ import annotations
 
 import json
-from pathlib import Path
 from typing import Any, NoReturn
 
 import click
 
 from .. import __version__
+from .outdir import check_output_file, write_output_file
 
 __all__ = ["main"]
 
@@ -66,11 +66,12 @@ def _fail(message: str) -> NoReturn:
 @click.option("--ts", default=0.01, show_default=True,
               type=click.FloatRange(min=0.0, min_open=True), help="Control period, s.")
 @click.option("--json", "as_json", is_flag=True, help="Print the metrics as one JSON object.")
-@click.option("--trace", type=click.Path(dir_okay=False, writable=True),
-              help="Save the time series to this CSV file.")
+@click.option("--trace", type=click.Path(dir_okay=False),
+              help="Save the time series to this CSV file (and its SHA-256 to FILE.sha256).")
+@click.option("--force", is_flag=True,
+              help="Replace an existing --trace file that it2track cannot prove it wrote.")
 def simulate(**opts: Any) -> None:
     """Simulate one scenario and print its metrics."""
-    from ..atomicfile import atomic_write_text
     from ..experiments.specs import ControllerKind, ControllerSpec
     from ..plant import HeadingNoise
     from ..tracking import LoopConfig, RunTable, get_trajectory
@@ -80,7 +81,9 @@ def simulate(**opts: Any) -> None:
     # Everything that can fail is checked before the simulation starts, each error naming
     # the option(s) it comes from.
     if opts["trace"] is not None:
-        _check_output_file(opts["trace"], "--trace")
+        check_output_file(opts["trace"], "--trace", force=opts["force"])
+    elif opts["force"]:
+        _fail("--force applies only with --trace FILE")
     try:
         if opts["noise_power"] is not None:
             noise = HeadingNoise.from_band_limited_power(opts["noise_power"],
@@ -144,11 +147,7 @@ def simulate(**opts: Any) -> None:
         for k in range(trace.t.size):
             writer.writerow([repr(float(run0["t"][k]))] + [repr(float(run0[n][k]))
                                                            for n in names])
-        try:
-            atomic_write_text(Path(opts["trace"]), buf.getvalue())
-        except (OSError, ValueError) as exc:
-            _fail(f"cannot write --trace {opts['trace']}: "
-                  f"{getattr(exc, 'strerror', None) or exc}")
+        write_output_file(opts["trace"], buf.getvalue().encode("utf-8"), "--trace")
     if opts["as_json"]:
         click.echo(json.dumps(metrics))
         return
@@ -157,22 +156,6 @@ def simulate(**opts: Any) -> None:
     width = max(len(k) for k in metrics)
     for key, value in metrics.items():
         click.echo(f"  {key:<{width}}  {value:.6g}")
-
-
-def _check_output_file(path: str, option: str) -> None:
-    """An output file option must name a file we may create or replace: not empty, in an
-    existing folder, absent or a regular file (never a device, FIFO, folder or link)."""
-    from ..atomicfile import NotRegularFileError, check_replaceable
-
-    if not path:
-        _fail(f"{option} '' is empty: give a file name")
-    try:
-        check_replaceable(path)
-    except NotRegularFileError as exc:
-        _fail(f"{option} {path}: {exc.strerror}")
-    parent = Path(path).parent
-    if not parent.is_dir():
-        _fail(f"{option} {path}: the folder {parent} does not exist")
 
 
 _APPLIES = {

@@ -11,11 +11,14 @@ from __future__ import annotations
 
 import json
 import time
+from collections.abc import Callable
 from concurrent.futures import BrokenExecutor
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import click
+
+from .outdir import check_outputs
 
 if TYPE_CHECKING:
     from ..experiments.executors import Executor
@@ -120,6 +123,9 @@ def _check_out_dir(out_dir: str, files: tuple[str, ...] = ()) -> None:
               help="Results directory (sweep.json, chunks/, results.csv).")
 @click.option("--resume", is_flag=True,
               help="Continue the sweep in OUT (same config), skipping finished chunks.")
+@click.option("--force", is_flag=True,
+              help="Replace an OUT/results.csv that it2track cannot prove it wrote (no "
+              "matching results.csv.sha256).")
 @_WORKERS
 @_SCHEDULER
 @dask_options
@@ -130,6 +136,7 @@ def sweep(
     config_path: str,
     out_dir: str,
     resume: bool,
+    force: bool,
     workers: int,
     scheduler: str | None,
     progress: bool,
@@ -139,12 +146,16 @@ def sweep(
 
     Every finished chunk is saved durably (DIR/chunks/chunk-NNNNNN.csv); kill the command at
     any moment and rerun it with --resume to finish: DIR/results.csv comes out identical to an
-    uninterrupted run's.
+    uninterrupted run's. A results.csv already in DIR is replaced only if its results.csv.sha256
+    matches (it2track wrote it), or with --force.
     """
+    from ..authorship import proven_by_sidecar
     from ..experiments.specs import ConfigError
     from ..experiments.sweep import StoreError, load_sweep_config, run_sweep
 
     _check_out_dir(out_dir)
+    check_outputs([Path(out_dir) / "results.csv"], option=f"--out {out_dir}", force=force,
+                  proof=proven_by_sidecar, sidecars=True)
     try:
         plan = load_sweep_config(config_path)
     except ConfigError as exc:
@@ -160,7 +171,8 @@ def sweep(
     )
     try:
         with executor:
-            summary = run_sweep(plan, out, executor=executor, resume=resume, progress=progress)
+            summary = run_sweep(plan, out, executor=executor, resume=resume,
+                                progress=progress, force=force)
     except (StoreError, ConfigError) as exc:
         raise click.ClickException(str(exc)) from None
     except BrokenExecutor as exc:
@@ -190,30 +202,52 @@ def sweep(
     )
 
 
+#: The files ``optimize`` writes into ``--out``.
+_OPTIMIZE_FILES = ("optimize.json", "optimize.md", "convergence.png")
+
+
+def _optimize_proof(out: Path) -> Callable[[Path], bool]:
+    """Proof of authorship in ``out``: the sealed ``optimize.json`` of a previous run lists the
+    other files with their SHA-256 (and proves itself by its seal)."""
+    from ..authorship import proven_by_digests, read_sealed_json
+
+    old = read_sealed_json(out / "optimize.json")
+    listed = proven_by_digests(old.get("sha256") if old is not None else None)
+    return lambda p: old is not None if p.name == "optimize.json" else listed(p)
+
+
 @click.command("optimize")
 @click.option("--config", "config_path", required=True,
               type=click.Path(exists=True, dir_okay=False), help="Optimisation TOML file.")
 @click.option("--out", "out_dir", required=True, type=click.Path(file_okay=False),
               help="Output directory (optimize.json, optimize.md, convergence.png).")
+@click.option("--force", is_flag=True,
+              help="Replace files in OUT of the names this command writes that it2track cannot "
+              "prove it wrote (not listed with their SHA-256 in OUT's optimize.json).")
 @_WORKERS
 @_SCHEDULER
 @dask_options
 @_PROGRESS
 def optimize(
-    config_path: str, out_dir: str, workers: int, scheduler: str | None, progress: bool,
-    **dask: Any,
+    config_path: str, out_dir: str, force: bool, workers: int, scheduler: str | None,
+    progress: bool, **dask: Any,
 ) -> None:
     """Find the FoU widths minimising the config's objective; verify on held-out seeds.
 
     Symmetric (one width: grid + bounded Brent) and asymmetric (six widths: differential
     evolution with a fixed seed) optima are compared with FoU 0.1/0.2/0.3 and the FLC on
-    disjoint held-out seeds (paired differences with 95 % intervals).
+    disjoint held-out seeds (paired differences with 95 % intervals). Files of those names
+    already in OUT are replaced only if OUT's optimize.json (sealed by the run that wrote it)
+    lists them with their SHA-256, or with --force.
     """
     from ..atomicfile import atomic_write_bytes
+    from ..authorship import seal_json, sha256_bytes, sha256_file
     from ..experiments.optimize import load_optimize_config, run_optimization
     from ..experiments.specs import ConfigError
 
-    _check_out_dir(out_dir, files=("optimize.json", "optimize.md", "convergence.png"))
+    _check_out_dir(out_dir, files=_OPTIMIZE_FILES)
+    check_outputs([Path(out_dir) / name for name in _OPTIMIZE_FILES],
+                  option=f"--out {out_dir}", force=force, proof=_optimize_proof(Path(out_dir)))
     try:
         cfg = load_optimize_config(config_path)
     except ConfigError as exc:
@@ -235,15 +269,25 @@ def optimize(
     data["command"] = {"config": config_path, "workers": workers, "scheduler": scheduler}
     from ..report.optimize_plot import plot_convergence  # matplotlib: only once needed
 
+    # Checked again: a file may have appeared or changed while the optimisation ran.
+    check_outputs([out / name for name in _OPTIMIZE_FILES], option=f"--out {out_dir}",
+                  force=force, proof=_optimize_proof(out))
     try:
         out.mkdir(parents=True, exist_ok=True)
-        atomic_write_bytes(out / "optimize.json", (json.dumps(data, indent=1) + "\n").encode())
-        atomic_write_bytes(out / "optimize.md", result.to_markdown().encode())
+        markdown = result.to_markdown().encode()
+        atomic_write_bytes(out / "optimize.md", markdown)
         refs = {c["name"]: c["train"] for c in result.verdict["controllers"] if not c["optimum"]}
         plot_convergence(result.history, out / "convergence.png", objective=result.objective,
                          references=refs)
+        # optimize.json last, sealed, with the SHA-256 of the other two: the proof that lets
+        # the next run replace them.
+        data["sha256"] = {"optimize.md": sha256_bytes(markdown),
+                          "convergence.png": sha256_file(out / "convergence.png")}
+        atomic_write_bytes(out / "optimize.json",
+                           (json.dumps(seal_json(data), indent=1) + "\n").encode())
     except OSError as exc:
-        raise click.ClickException(f"cannot write the results to {out}: {exc}") from None
+        raise click.ClickException(
+            f"cannot write the results to --out {out}: {exc.strerror or exc}") from None
     click.echo(result.to_markdown())
     click.echo(f"wrote {out / 'optimize.json'}, {out / 'optimize.md'}, "
                f"{out / 'convergence.png'} in {time.perf_counter() - t0:.1f} s")
