@@ -254,8 +254,8 @@ def test_an_unusable_out_is_refused_before_any_simulation(
     assert result.exit_code != 0 and "--out" in result.output
     (tmp_path / "o" / "report.html").mkdir(parents=True)
     result = runner.invoke(main, ["reproduce", "--quick", "--out", str(tmp_path / "o")])
-    assert result.exit_code == 1 and "report.html exists and is a directory, not a regular file" in (
-        result.output)
+    assert result.exit_code == 1
+    assert "report.html exists and is a directory, not a regular file" in result.output
 
     def read_only(*args: object, **kwargs: object) -> str:
         raise PermissionError(13, "Permission denied")
