@@ -155,6 +155,12 @@ def _check_out_dir(out: Path) -> None:
     if not out.exists() and not out.parent.is_dir():
         raise click.BadParameter(f"{out}: parent directory {out.parent} does not exist",
                                  param_hint="--out")
+    from ..atomicfile import check_can_create_in
+
     target = out if out.exists() else out.parent
-    if not os.access(target, os.W_OK | os.X_OK):
-        raise click.BadParameter(f"{target}: not writable", param_hint="--out")
+    try:
+        check_can_create_in(target)
+    except OSError as exc:
+        raise click.BadParameter(f"{target}: cannot write into it: "
+                                 f"{exc.strerror or type(exc).__name__}",
+                                 param_hint="--out") from None

@@ -226,18 +226,28 @@ def convert(source: str, target: str, force: bool) -> None:
 
 @fis.command(name="eval", context_settings={"ignore_unknown_options": True})
 @click.argument("file", type=_FILE)
-@click.argument("values", nargs=-1, type=float, required=True)
-def evaluate(file: str, values: tuple[float, ...]) -> None:
+@click.argument("values", nargs=-1, required=True)
+def evaluate(file: str, values: tuple[str, ...]) -> None:
     """Evaluate FILE at one point: one VALUE per input, in order (negative values are fine:
     ``it2track fis eval heading.toml 0.3 -0.1``)."""
     system = _load(file)
+    names = [inp.name for inp in system.inputs]
     if len(values) != system.n_inputs:
-        names = ", ".join(inp.name for inp in system.inputs)
-        raise click.ClickException(f"{file} takes {system.n_inputs} values ({names})")
-    if not all(math.isfinite(v) for v in values):
-        raise click.ClickException("values must be finite")
+        raise click.ClickException(
+            f"{file} takes {system.n_inputs} VALUES ({', '.join(names)}), got {len(values)}")
+    numbers = []
+    for k, (name, text) in enumerate(zip(names, values, strict=True), start=1):
+        try:
+            number = float(text)
+        except ValueError:
+            number = math.nan
+        if not math.isfinite(number):
+            raise click.BadParameter(
+                f"VALUE {k} ({name}) {text!r} must be a finite number", param_hint="VALUES")
+        numbers.append(number)
     try:
-        yls, yrs = (np.atleast_1d(np.asarray(v, dtype=float)) for v in system.interval(*values))
+        yls, yrs = (np.atleast_1d(np.asarray(v, dtype=float))
+                    for v in system.interval(*numbers))
     except ValueError as exc:
         raise click.ClickException(str(exc)) from None
     several = system.n_outputs > 1

@@ -12,6 +12,7 @@ from typing import Any, NoReturn
 import click
 
 from .. import __version__
+from .options import DURATION_TYPE, FINITE, POSITIVE
 from .outdir import check_output_file, write_output_file
 
 __all__ = ["main"]
@@ -44,27 +45,26 @@ def _fail(message: str) -> NoReturn:
               help="Heading controller (t1-matched: type-1 FLC with the IT2FLC's dead zone).")
 @click.option("--controller-file", type=click.Path(exists=True, dir_okay=False),
               help="Fuzzy controller file (.t2fis/.fis/.toml) instead of --controller.")
-@click.option("--fou", default=0.2, show_default=True, type=float,
+@click.option("--fou", default=0.2, show_default=True, type=FINITE,
               help="FoU width for it2 / t1-matched.")
 @click.option("--reducer", default="exhaustive", show_default=True,
               type=click.Choice(["km", "ekm", "eiasc", "exhaustive", "nie-tan", "wu-mendel"]))
-@click.option("--ke", default=1.0, show_default=True, type=float, help="Error input gain.")
-@click.option("--kde", default=1.0, show_default=True, type=float, help="Error-change gain.")
-@click.option("--kp", default=DEFAULT_PD["kp"], show_default=True, type=float, help="PD gain.")
-@click.option("--kd", default=DEFAULT_PD["kd"], show_default=True, type=float, help="PD gain.")
-@click.option("--noise-std", default=0.05, show_default=True, type=float,
+@click.option("--ke", default=1.0, show_default=True, type=FINITE, help="Error input gain.")
+@click.option("--kde", default=1.0, show_default=True, type=FINITE, help="Error-change gain.")
+@click.option("--kp", default=DEFAULT_PD["kp"], show_default=True, type=FINITE, help="PD gain.")
+@click.option("--kd", default=DEFAULT_PD["kd"], show_default=True, type=FINITE, help="PD gain.")
+@click.option("--noise-std", default=0.05, show_default=True, type=FINITE,
               help="Heading noise standard deviation, rad.")
-@click.option("--noise-power", type=float, default=None,
+@click.option("--noise-power", type=FINITE, default=None,
               help="Simulink band-limited white noise power instead of --noise-std "
               "(sigma = sqrt(P / Ts_noise)).")
-@click.option("--noise-rate", default=100.0, show_default=True,
-              type=click.FloatRange(min=0.0, min_open=True), help="Hz.")
+@click.option("--noise-rate", default=100.0, show_default=True, type=POSITIVE, help="Hz.")
 @click.option("--seed", default=0, show_default=True, type=int, help="Noise realisation index.")
 @click.option("--base-seed", default=0, show_default=True, type=int, help="Base seed.")
-@click.option("--duration", default=10.0, show_default=True,
-              type=click.FloatRange(min=0.0, min_open=True, max=3600.0), help="s.")
-@click.option("--ts", default=0.01, show_default=True,
-              type=click.FloatRange(min=0.0, min_open=True), help="Control period, s.")
+@click.option("--duration", default=10.0, show_default=True, type=DURATION_TYPE,
+              help="s (at most 3600, as in every config).")
+@click.option("--ts", default=0.01, show_default=True, type=POSITIVE,
+              help="Control period, s.")
 @click.option("--json", "as_json", is_flag=True, help="Print the metrics as one JSON object.")
 @click.option("--trace", type=click.Path(dir_okay=False),
               help="Save the time series to this CSV file (and its SHA-256 to FILE.sha256).")

@@ -58,6 +58,7 @@ def check_output_file(path: str, option: str, *, force: bool) -> Path:
     before any work: not empty, in an existing folder that can be written, absent or a regular
     file that it2track wrote (its ``NAME.sha256`` matches) unless ``force`` -- never a
     directory, link, device or FIFO. Written later by :func:`write_output_file`."""
+    from ..atomicfile import check_can_create_in
     from ..authorship import proven_by_sidecar
 
     if not path:
@@ -68,9 +69,11 @@ def check_output_file(path: str, option: str, *, force: bool) -> Path:
         _fail(f"{option} {path}: the folder {parent} does not exist")
     check_outputs([target], option=f"{option} {path}", force=force, proof=proven_by_sidecar,
                   sidecars=True)
-    if not os.access(parent, os.W_OK | os.X_OK):
-        _fail(f"{option} {path}: cannot write into the folder {parent} (read-only or not "
-              "ours); choose another place")
+    try:
+        check_can_create_in(parent)
+    except OSError as exc:
+        _fail(f"{option} {path}: cannot write into the folder {parent}: "
+              f"{exc.strerror or type(exc).__name__}; choose another place")
     return target
 
 

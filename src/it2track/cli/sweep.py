@@ -10,6 +10,7 @@ the cause, not a traceback.
 from __future__ import annotations
 
 import json
+import os
 import time
 from collections.abc import Callable
 from concurrent.futures import BrokenExecutor
@@ -18,6 +19,7 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
+from .options import WORKER_TIMEOUT_TYPE
 from .outdir import check_outputs
 
 if TYPE_CHECKING:
@@ -60,9 +62,9 @@ DASK_OPTIONS = (
                  help="Dask TLS: this client's certificate (PEM)."),
     click.option("--tls-key", type=_FILE, default=None,
                  help="Dask TLS: this client's private key (PEM), if not in --tls-cert."),
-    click.option("--worker-timeout", type=click.FloatRange(min=0, min_open=True), default=60.0,
-                 show_default=True,
-                 help="Dask: seconds to wait for a worker when the scheduler has none."),
+    click.option("--worker-timeout", type=WORKER_TIMEOUT_TYPE, default=60.0, show_default=True,
+                 help="Dask: seconds to wait for a worker when the scheduler has none "
+                 "(at most a week)."),
 )
 
 
@@ -99,16 +101,25 @@ def _executor(workers: int, scheduler: str | None, dask: dict[str, Any]) -> Exec
 def _check_out_dir(out_dir: str, files: tuple[str, ...] = ()) -> None:
     """``--out`` must name a folder that exists or can be created, and the result ``files``
     in it must be absent or regular files -- checked before any work, not after it."""
-    from ..atomicfile import NotRegularFileError, check_replaceable
+    from ..atomicfile import NotRegularFileError, check_can_create_in, check_replaceable
 
     if not out_dir:
         raise click.ClickException("--out '' is empty: give an output folder")
     out = Path(out_dir)
     if out.exists() and not out.is_dir():
         raise click.ClickException(f"--out {out_dir} exists and is not a folder")
+    if os.path.islink(out) and not out.exists():
+        raise click.ClickException(f"--out {out_dir} is a symbolic link to "
+                                   f"{os.readlink(out)!r}, which does not exist")
     parent = next((p for p in (out, *out.parents) if p.exists()), Path("."))
     if not parent.is_dir():
         raise click.ClickException(f"--out {out_dir}: {parent} is not a folder")
+    try:
+        check_can_create_in(parent)
+    except OSError as exc:
+        where = "" if parent == out else f" (in {parent})"
+        raise click.ClickException(f"--out {out_dir}: cannot write into the folder{where}: "
+                                   f"{exc.strerror or type(exc).__name__}") from None
     for name in files:
         try:
             check_replaceable(out / name)

@@ -44,6 +44,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .._limits import ResourceLimitError, check_memory, loop_bytes
+from .._ranges import DURATION, START_HEADING, START_POSITION
 from ..plant import DifferentialDrive, RobotParams, held_sample_index
 from ..plant.drive import MAX_QUADRATURE_NODES, check_stiffness
 from ..plant.noise import MAX_NOISE_STD, NoiseRows
@@ -114,7 +115,7 @@ class LoopConfig:
     Parameters
     ----------
     duration : float
-        Simulated time T, s (default 10).
+        Simulated time T, s (default 10; at most 3600, :data:`it2track._ranges.DURATION`).
     ts : float
         Control period, s (default 0.01); ``T / ts`` must be an integer N.
     robot : RobotParams
@@ -122,7 +123,8 @@ class LoopConfig:
     noise_rate : float
         Rate at which the heading noise is resampled and held, Hz (default 100).
     start_pose : (float, float, float) or "on_path"
-        Initial ``(x, y, theta)``; the robot starts at rest. :data:`ON_PATH` (``"on_path"``)
+        Initial ``(x, y, theta)``, m, m, rad (``|x|, |y| <= 1e6``, ``|theta| <= 2 pi``); the
+        robot starts at rest. :data:`ON_PATH` (``"on_path"``)
         starts every run at its reference point at ``t = 0`` with the reference's tangent
         heading ``atan2(y_d'(0), x_d'(0))``.
     seed : int
@@ -149,6 +151,7 @@ class LoopConfig:
     metric_start: float = 0.0
 
     def __post_init__(self) -> None:
+        DURATION.check(self.duration, "LoopConfig.duration")  # the cap every command shares
         for key in ("duration", "ts", "noise_rate"):
             value = getattr(self, key)
             if (
@@ -182,6 +185,9 @@ class LoopConfig:
             if len(pose) != 3 or not all(math.isfinite(v) for v in pose):
                 raise ValueError(f"LoopConfig.start_pose={self.start_pose!r} must be 3 finite "
                                  f"numbers or {ON_PATH!r}")
+            for k, (name, allowed) in enumerate((("x", START_POSITION), ("y", START_POSITION),
+                                                 ("heading", START_HEADING))):
+                allowed.check(pose[k], f"LoopConfig.start_pose {name}")
             object.__setattr__(self, "start_pose", pose)
         timing = self.desired_heading_pose
         if not isinstance(timing, PoseTiming):
