@@ -161,6 +161,7 @@ def _check_out_dir(out: Path) -> None:
     try:
         check_can_create_in(target)
     except OSError as exc:
-        raise click.BadParameter(f"{target}: cannot write into it: "
+        where = "it" if target == out else f"the folder {target}"
+        raise click.BadParameter(f"{out}: cannot write into {where}: "
                                  f"{exc.strerror or type(exc).__name__}",
                                  param_hint="--out") from None

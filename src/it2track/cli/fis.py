@@ -300,6 +300,10 @@ def surface(file: str, out: str, points: int, style: str, x_input: str | None,
     (its SHA-256 to OUT.sha256: the proof that lets a later run replace it)."""
     from ..report.surface import FIGURE_FORMATS, figure_bytes, plot_system
 
+    for option, given in (("--x", x_input), ("--y", y_input), ("--output", output)):
+        if given == "":
+            raise click.BadParameter("'' is empty: name an input" if option != "--output"
+                                     else "'' is empty: name an output", param_hint=option)
     suffix = Path(out).suffix.lstrip(".").lower() or "png"
     if suffix not in FIGURE_FORMATS:
         raise click.BadParameter(
@@ -318,10 +322,23 @@ def surface(file: str, out: str, points: int, style: str, x_input: str | None,
         except ValueError as exc:
             raise click.BadParameter(str(exc), param_hint="--output") from None
     inputs: Any = None
+    names = [inp.name for inp in system.inputs]
+    for option, given in (("--x", x_input), ("--y", y_input)):
+        if given is not None and given not in names:
+            raise click.BadParameter(
+                f"{given!r}: {file} has no input of that name (its inputs: "
+                f"{', '.join(names)})", param_hint=option)
+    for name in fixed:
+        if name not in names:
+            raise click.BadParameter(
+                f"{name}={fixed[name]!r}: {file} has no input {name!r} (its inputs: "
+                f"{', '.join(names)})", param_hint="--fix")
     if system.n_inputs >= 2:
-        names = [inp.name for inp in system.inputs]
         x = x_input or names[0]
         y = y_input or next(n for n in names if n != x)
+        if x == y:
+            raise click.BadParameter(f"--x and --y are both {x!r}: choose two inputs",
+                                     param_hint="--y")
         inputs = (x, y)
     elif x_input or y_input:
         raise click.BadParameter("a one-input system has no axes to choose", param_hint="--x")

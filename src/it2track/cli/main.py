@@ -7,6 +7,7 @@ kinds, reducers, trajectories); everything below works with dataclasses and arra
 from __future__ import annotations
 
 import json
+import re
 from typing import Any, NoReturn
 
 import click
@@ -114,6 +115,10 @@ def simulate(**opts: Any) -> None:
     except (ValueError, OSError) as exc:
         source = (f"--controller-file {opts['controller_file']}" if opts["controller_file"]
                   else f"--controller {opts['controller']}")
+        field = re.search(r"\b(fou|ke|kde|kp|kd)\b", str(exc))
+        if field is not None and not opts["controller_file"]:
+            value = opts[field[1]]  # the option the message is about, first
+            source = f"--{field[1]} {value:g} ({source})"
         _fail(f"{source}: {exc}")
     try:
         trajectory = get_trajectory(opts["trajectory"])

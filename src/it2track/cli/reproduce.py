@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any
 import click
 
 from .outdir import _discard_staging, _fail, _make_staging, _publish
+from .sweep import check_dask_options as _check_dask_options
 from .sweep import check_scheduler as _check_scheduler
 from .sweep import dask_options as _dask_options
 from .sweep import dask_settings as _dask_settings
@@ -105,6 +106,7 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
 
     started = time.perf_counter()
     ctx = click.get_current_context()
+    _check_dask_options(ctx, scheduler)
     mcu = (not quick) if mcu is None else mcu
     if not mcu and _given(ctx, "mcu_grid"):
         _fail(f"--mcu-grid {mcu_grid} has no effect without the microcontroller measurement "

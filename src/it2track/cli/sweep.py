@@ -25,8 +25,8 @@ from .outdir import check_outputs
 if TYPE_CHECKING:
     from ..experiments.executors import Executor
 
-__all__ = ["DASK_OPTIONS", "check_scheduler", "dask_options", "dask_settings", "optimize",
-           "sweep"]
+__all__ = ["DASK_OPTIONS", "check_dask_options", "check_scheduler", "dask_options",
+           "dask_settings", "optimize", "sweep"]
 
 def check_scheduler(ctx: click.Context, param: click.Parameter, value: str | None) -> str | None:
     """Click callback: a malformed ``--scheduler`` is an error before anything starts."""
@@ -73,6 +73,24 @@ def dask_options(f: Any) -> Any:
     for option in reversed(DASK_OPTIONS):
         f = option(f)
     return f
+
+
+def check_dask_options(ctx: click.Context, scheduler: str | None) -> None:
+    """The Dask options (TLS files, ``--worker-timeout``) given without ``--scheduler`` would be
+    ignored: refuse them before any work, naming each (the policy of ``simulate``'s options
+    that do not apply)."""
+    from click.core import ParameterSource
+
+    if scheduler is not None:
+        return
+    for name in ("tls_ca_file", "tls_cert", "tls_key", "worker_timeout"):
+        if ctx.get_parameter_source(name) in (ParameterSource.COMMANDLINE,
+                                              ParameterSource.ENVIRONMENT):
+            value = ctx.params[name]
+            raise click.UsageError(
+                f"--{name.replace('_', '-')} {value if isinstance(value, str) else f'{value:g}'}"
+                " applies only to a Dask cluster: add --scheduler tls://HOST:PORT (or "
+                "tcp://) or drop it", ctx)
 
 
 def dask_settings(
@@ -164,6 +182,7 @@ def sweep(
     from ..experiments.specs import ConfigError
     from ..experiments.sweep import StoreError, load_sweep_config, run_sweep
 
+    check_dask_options(ctx, scheduler)
     _check_out_dir(out_dir)
     check_outputs([Path(out_dir) / "results.csv"], option=f"--out {out_dir}", force=force,
                   proof=proven_by_sidecar, sidecars=True)
@@ -256,6 +275,7 @@ def optimize(
     from ..experiments.optimize import load_optimize_config, run_optimization
     from ..experiments.specs import ConfigError
 
+    check_dask_options(click.get_current_context(), scheduler)
     _check_out_dir(out_dir, files=_OPTIMIZE_FILES)
     check_outputs([Path(out_dir) / name for name in _OPTIMIZE_FILES],
                   option=f"--out {out_dir}", force=force, proof=_optimize_proof(Path(out_dir)))
