@@ -128,7 +128,7 @@ class LoopConfig:
         starts every run at its reference point at ``t = 0`` with the reference's tangent
         heading ``atan2(y_d'(0), x_d'(0))``.
     seed : int
-        Base seed of the noise realisations (>= 0).
+        Base seed of the noise realisations (0 to 2**63 - 1).
     quadrature_nodes : int
         Nodes per period of the position integral, 1 to 64 (see :class:`DifferentialDrive`).
     desired_heading_pose : PoseTiming or str
@@ -210,8 +210,10 @@ class LoopConfig:
                 f"ts={self.ts!r} in [0, duration={self.duration!r})"
             )
         object.__setattr__(self, "metric_start", start)
-        if isinstance(self.seed, bool) or not isinstance(self.seed, Integral) or self.seed < 0:
-            raise ValueError(f"LoopConfig.seed={self.seed!r} must be an integer >= 0")
+        if (isinstance(self.seed, bool) or not isinstance(self.seed, Integral)
+                or not 0 <= self.seed <= MAX_INDEX):
+            raise ValueError(f"LoopConfig.seed={self.seed!r} must be an integer in "
+                             "[0, 2**63 - 1] (as every seed)")
         object.__setattr__(self, "seed", int(self.seed))
         q = self.quadrature_nodes
         if (isinstance(q, bool) or not isinstance(q, Integral)
