@@ -257,14 +257,22 @@ def test_text_is_utf8_whatever_the_locale(tmp_path: Path) -> None:
 
 
 def test_a_live_process_is_alive_and_left_alone() -> None:
-    child = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])
+    sleeper = ("import signal, time\n"
+               "for s in (signal.SIGHUP, signal.SIGINT, signal.SIGTERM, signal.SIGUSR1):\n"
+               "    signal.signal(s, signal.SIG_DFL)\n"
+               "print('ready', flush=True)\n"
+               "time.sleep(60)\n")
+    child = subprocess.Popen([sys.executable, "-c", sleeper], stdout=subprocess.PIPE)
     try:
+        assert child.stdout is not None and child.stdout.readline() == b"ready\n"
         assert _pid_alive(child.pid) and _pid_alive(os.getpid())
         time.sleep(0.2)
         assert child.poll() is None  # probed with signal 0, not sent a real signal
     finally:
         child.kill()
         child.wait()
+        assert child.stdout is not None
+        child.stdout.close()
     assert not _pid_alive(DEAD_PID)
 
 

@@ -198,3 +198,61 @@ def test_check_may_replace_checks_the_checksum_file_too(tmp_path: Path) -> None:
     side.mkdir()
     with pytest.raises(NotRegularFileError):
         check_may_replace([target], proof=proven_by_sidecar, sidecars=True, force=True)
+
+
+def test_seal_header_refuses_a_text_of_one_line_exactly() -> None:
+    with pytest.raises(ValueError) as info:
+        seal_header("/* only a banner */")
+    assert str(info.value) == "a sealed text needs a first line and the lines below it"
+
+
+def test_a_single_line_without_its_newline_is_no_proof(tmp_path: Path) -> None:
+    """A file that is only a first line carrying the hash of nothing proves nothing: the proof
+    covers "the lines below", so the line must end."""
+    path = tmp_path / "x.c"
+    path.write_text(f"/* sha256 of the lines below: {EMPTY} */")
+    assert not proven_by_header(path)
+    path.write_text(f"/* sha256 of the lines below: {EMPTY} */\n")
+    assert proven_by_header(path)
+
+
+def test_a_first_line_that_is_not_utf8_is_read_all_the_same(tmp_path: Path) -> None:
+    path = tmp_path / "x.c"
+    rest = b"int x;\n"
+    path.write_bytes(b"/* caf\xe9 sha256 of the lines below: " + sha256_bytes(rest).encode()
+                     + b" */\n" + rest)
+    assert proven_by_header(path)
+
+
+def test_a_seal_covers_nan_and_non_ascii_text_as_json_writes_them() -> None:
+    sealed = seal_json({"x": float("nan"), "é": "ü"})
+    assert sealed[SEAL_KEY] == hashlib.sha256('{"x":NaN,"é":"ü"}'.encode()).hexdigest()
+
+
+def test_check_may_replace_defaults_and_messages(tmp_path: Path) -> None:
+    target = tmp_path / "t.csv"
+    (tmp_path / "t.csv.sha256").write_text("notes\n")
+    check_may_replace([target], proof=proven_by_sidecar)  # sidecars are off by default
+    with pytest.raises(UnprovenFileError) as info:
+        check_may_replace([target], proof=proven_by_sidecar, sidecars=True)
+    assert info.value.errno == errno.EEXIST
+    assert info.value.strerror == ("exists and is not a checksum file it2track wrote for "
+                                   "t.csv; move it away, choose another name, or pass --force "
+                                   "to replace it")
+    target.write_text("mine")
+    with pytest.raises(UnprovenFileError) as info:
+        check_may_replace([target], proof=proven_by_sidecar)
+    assert info.value.errno == errno.EEXIST
+    assert info.value.strerror == (
+        "exists and it2track cannot prove it wrote it (no SHA-256 it recorded when writing "
+        "matches the file); move it away, choose another name, or pass --force to replace it")
+
+
+def test_force_still_checks_every_path(tmp_path: Path) -> None:
+    """--force lets a regular file of the user's go, never what follows it in the list."""
+    mine = tmp_path / "mine.csv"
+    mine.write_text("the user's")
+    folder = tmp_path / "folder.csv"
+    folder.mkdir()
+    with pytest.raises(NotRegularFileError):
+        check_may_replace([mine, folder], proof=lambda p: False, force=True)

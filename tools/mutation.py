@@ -14,16 +14,18 @@ function (mutmut's per-function test selection) -- in ``--jobs`` forked workers,
 
 It prints the counts (killed, survived, timeouts, mutants no chosen test reaches), the score
 and every surviving mutant as a diff; survivors recorded as equivalent in
-``tools/mutation_equivalents.toml`` (module, function, the changed text, and why no test can
+``tools/mutation_equivalents.toml`` (module, function, the changed text -- ``change``, a
+substring of the mutated lines, or ``line``, one whole mutated line -- and why no test can
 tell them apart) are listed apart and left out of the score:
 
     score = killed / (killed + survived - equivalent)
 
-where "killed" counts mutants a test failed on (or that hung past mutmut's timeout) and
-"survived" counts mutants every chosen test passed with, including those no chosen test
-reaches. With ``--table`` a complete run (not cut by the budget) writes the module's row into
-the score table of ``docs/guide/mutation.md`` and regenerates the page's list of equivalent
-mutants; the page's numbers come only from here.
+where "killed" counts mutants a test failed on (or that hung past mutmut's timeout, or that
+ended the test process abnormally: mutmut's "suspicious") and "survived" counts mutants every
+chosen test passed with, including those no chosen test reaches. With ``--table`` a
+complete run (not cut by the budget) writes the module's row into the score table of
+``docs/guide/mutation.md`` and regenerates the page's list of equivalent mutants; the page's
+numbers come only from here.
 
 ``--no-jit`` is for the compiled kernels (``fuzzy/_jit.py``, ``tracking/_jit.py``): mutmut
 does not mutate decorated functions, so the copy's ``@njit``/``@_compiled(...)`` decorators are
@@ -34,8 +36,10 @@ numba compiles, checked by the tests that compare them with the numpy engine.
 from __future__ import annotations
 
 import argparse
+import ast
 import contextlib
 import datetime
+import difflib
 import json
 import os
 import re
@@ -58,8 +62,10 @@ EQUIVALENTS = ROOT / "tools" / "mutation_equivalents.toml"
 DEFAULT_TESTS: dict[str, list[str]] = {
     "it2track.atomicfile": ["tests/test_atomicfile.py"],
     "it2track.authorship": ["tests/test_authorship.py"],
-    "it2track.cli.outdir": ["tests/cli/test_reproduce_safety.py",
-                            "tests/cli/test_outputs_authorship.py"],
+    "it2track.cli.outdir": [
+        "tests/cli/test_outdir.py", "tests/cli/test_reproduce_safety.py",
+        "tests/cli/test_reproduce.py::test_publish_replaces_a_previous_run_without_leftovers",
+        "tests/cli/test_reproduce.py::test_publish_never_removes_directories"],
     "it2track.experiments.sweep.store": ["tests/experiments/test_sweep_store.py",
                                          "tests/experiments/test_sweep_checksums.py"],
     "it2track.experiments.sweep.plan": ["tests/experiments/test_sweep_store.py",
@@ -75,8 +81,10 @@ STATUS = {1: "killed", 3: "killed", 0: "survived", 5: "no tests", 33: "no tests"
           2: "interrupted", None: "not checked", 34: "skipped", 35: "suspicious",
           36: "timeout", 37: "caught by type check", -24: "timeout", 24: "timeout",
           152: "timeout", 255: "timeout", -11: "segfault", -9: "segfault"}
-KILLED = {"killed", "timeout", "segfault", "caught by type check"}
-SURVIVED = {"survived", "no tests", "suspicious"}
+#: "suspicious" is an exit status mutmut does not know, e.g. the test process killed by a
+#: signal the mutant sent it: the tests did not pass, so the mutant did not survive.
+KILLED = {"killed", "timeout", "segfault", "caught by type check", "suspicious"}
+SURVIVED = {"survived", "no tests"}
 
 _NAME = re.compile(r"^(?P<module>.+)\.x(?:ǁ(?P<cls>[^ǁ]+)ǁ)?_?(?P<func>.+?)__mutmut_\d+$")
 
@@ -223,20 +231,41 @@ def run_mutmut(work: Path, *, jobs: int, budget: float, no_jit: bool) -> tuple[b
     return finished, time.monotonic() - started
 
 
+def _functions(source: str) -> dict[str, str]:
+    """Name -> source text of every function in ``source`` (methods included)."""
+    tree = ast.parse(source)
+    return {node.name: ast.get_source_segment(source, node) or ""
+            for node in ast.walk(tree) if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef)}
+
+
+def _diff(functions: dict[str, str], name: str, module_path: Path) -> str:
+    """The unified diff of mutant ``name`` against the original function (what ``mutmut
+    show`` prints, without a process per mutant)."""
+    short = name.rsplit(".", 1)[1]  # x_func__mutmut_3 or xǁClassǁmethod__mutmut_3
+    stem = short.rsplit("__mutmut_", 1)[0]
+    orig, mutant = functions.get(f"{stem}__mutmut_orig"), functions.get(short)
+    if orig is None or mutant is None:
+        return f"# {name} (source not found)"
+    real = stem.rsplit("ǁ", 1)[-1].removeprefix("x_")
+    before = orig.replace(f"{stem}__mutmut_orig", real, 1).splitlines(keepends=True)
+    after = mutant.replace(short, real, 1).splitlines(keepends=True)
+    lines = difflib.unified_diff(before, after, f"{module_path}", f"{module_path}", n=3)
+    return f"# {name}\n" + "".join(lines).rstrip()
+
+
 def collect(work: Path, module: str, module_path: Path, tests: list[str],
             equivalents: list[dict[str, str]]) -> Outcome:
-    meta = work / "mutants" / module_path.with_name(module_path.name + ".meta")
+    mutated = work / "mutants" / module_path
+    meta = mutated.with_name(mutated.name + ".meta")
     data = json.loads(meta.read_text(encoding="utf-8")) if meta.is_file() else {}
     codes = data.get("exit_code_by_key", {})
+    functions = _functions(mutated.read_text(encoding="utf-8")) if mutated.is_file() else {}
     outcome = Outcome(module, tests)
-    mutmut = shutil.which("mutmut", path=str(Path(sys.executable).parent)) or "mutmut"
     for name, code in codes.items():
         status = STATUS.get(code, "suspicious")
         mutant = Mutant(name, status)
         if status in SURVIVED:
-            shown = subprocess.run([mutmut, "show", name], cwd=work, capture_output=True,
-                                   text=True, check=False)
-            mutant.diff = shown.stdout.strip()
+            mutant.diff = _diff(functions, name, module_path)
             mutant.equivalent = _equivalent(module, mutant, equivalents)
         outcome.mutants.append(mutant)
     return outcome
@@ -249,9 +278,12 @@ def _changed_lines(diff: str) -> str:
 
 def _equivalent(module: str, mutant: Mutant, equivalents: list[dict[str, str]]) -> str:
     added = _changed_lines(mutant.diff)
+    lines = {line.strip() for line in added.splitlines()}
     for entry in equivalents:
-        if (entry["module"] == module and entry["function"] == mutant.function
-                and entry["change"] in added):
+        if entry["module"] != module or entry["function"] != mutant.function:
+            continue
+        if ("line" in entry and entry["line"] in lines) or (
+                "change" in entry and entry["change"] in added):
             return entry["reason"]
     return ""
 
@@ -261,9 +293,10 @@ def load_equivalents() -> list[dict[str, str]]:
         return []
     entries = tomllib.loads(EQUIVALENTS.read_text(encoding="utf-8")).get("equivalent", [])
     for e in entries:
-        missing = {"module", "function", "change", "reason"} - set(e)
-        if missing:
-            raise SystemExit(f"{EQUIVALENTS}: an entry lacks {sorted(missing)}: {e}")
+        missing = {"module", "function", "reason"} - set(e)
+        if missing or ("change" in e) == ("line" in e):
+            raise SystemExit(f"{EQUIVALENTS}: an entry needs module, function, reason and "
+                             f"either change (a substring) or line (a whole line): {e}")
     return entries
 
 
@@ -320,8 +353,8 @@ def write_table(outcome: Outcome, equivalents: list[dict[str, str]]) -> None:
     text = before + body + after
     before, _, after = _between(text, _EQUIV)
     shown = sorted({r for r in rows})
-    lines = [f"- `{e['module']}`, `{e['function']}`: `{e['change']}` -- {e['reason']}"
-             for e in equivalents if e["module"] in shown]
+    lines = [f"- `{e['module']}`, `{e['function']}`: `{e.get('change') or e['line']}` -- "
+             f"{e['reason']}" for e in equivalents if e["module"] in shown]
     text = before + "\n" + ("\n".join(lines) or "(none)") + "\n" + after
     PAGE.write_text(text, encoding="utf-8")
     print(f"\nwrote the row of {outcome.module} into {PAGE.relative_to(ROOT)}")

@@ -165,9 +165,10 @@ def _remove_stale_staging(out: Path) -> None:
             inner = list(os.scandir(files)) if "files" in names else []
         except OSError:
             continue
+        # (files/ was listed just above: a regular file there raised and is left alone)
         if names - {_OWNER_FILE, "files"} or not all(
             e.is_file(follow_symlinks=False) for e in inner
-        ) or ("files" in names and not files.is_dir()) or files.is_symlink():
+        ) or files.is_symlink():
             click.echo(f"note: left {root} alone (holds more than a run's files)", err=True)
             continue
         try:
