@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+import errno
 import os
 import signal
+import socket
+import stat
 import subprocess
 import sys
 import textwrap
@@ -14,9 +17,13 @@ import pytest
 
 from it2track import atomicfile
 from it2track.atomicfile import (
+    _TEMP_RE,
     NotRegularFileError,
+    _kind,
+    _pid_alive,
     atomic_write_bytes,
     atomic_write_text,
+    check_can_create_in,
     check_replaceable,
     remove_stale_temporaries,
 )
@@ -198,3 +205,145 @@ def test_stale_temporary_cleanup_touches_only_ours_of_dead_writers(tmp_path: Pat
     assert remove_stale_temporaries(tmp_path) == [tmp_path / names["other-target"]]
     left = {p.name for p in tmp_path.iterdir()}
     assert left == {names["live"], names["user"], names["user2"], link.name}
+
+
+@pytest.mark.parametrize(("mode", "words"), [
+    (stat.S_IFDIR, "a directory"), (stat.S_IFLNK, "a symbolic link"),
+    (stat.S_IFCHR, "a character device"), (stat.S_IFBLK, "a block device"),
+    (stat.S_IFIFO, "a FIFO (named pipe)"), (stat.S_IFSOCK, "a socket"),
+    (0, "not a regular file"),
+])
+def test_every_kind_of_file_is_named_in_words(mode: int, words: str) -> None:
+    assert _kind(mode | 0o644) == words
+
+
+def test_the_refusal_names_the_kind_and_is_a_file_exists_error(tmp_path: Path) -> None:
+    sock = socket.socket(socket.AF_UNIX)
+    try:
+        sock.bind(str(tmp_path / "s"))
+        with pytest.raises(NotRegularFileError) as info:
+            check_replaceable(tmp_path / "s")
+    finally:
+        sock.close()
+    assert info.value.errno == errno.EEXIST and info.value.filename == str(tmp_path / "s")
+    assert info.value.strerror == ("exists and is a socket, not a regular file; refusing to "
+                                   "replace it")
+    with pytest.raises(ValueError) as empty:
+        check_replaceable("")
+    assert str(empty.value) == "the output path is empty; give a file name"
+
+
+def test_text_is_written_as_utf8_with_newline_line_ends(tmp_path: Path) -> None:
+    target = tmp_path / "t.txt"
+    assert atomic_write_text(target, "é\nx\r\n") == target
+    assert target.read_bytes() == b"\xc3\xa9\nx\r\n"
+    assert atomic_write_text(str(target), "") == target and target.read_bytes() == b""
+
+
+def test_text_is_utf8_whatever_the_locale(tmp_path: Path) -> None:
+    """In the C locale (no coercion, no UTF-8 mode) open()'s default encoding is ASCII: the
+    encoding must be given, not inherited. (Also called in this process, so that a mutation
+    tool that selects the tests calling a function selects this one for atomic_write_text.)"""
+    atomic_write_text(tmp_path / "here.txt", "é")
+    target = tmp_path / "é.txt"
+    env = {**os.environ, "LC_ALL": "C", "LANG": "C", "PYTHONCOERCECLOCALE": "0",
+           "PYTHONUTF8": "0", "PYTHONPATH": os.pathsep.join(sys.path)}
+    code = ("import sys; from it2track.atomicfile import atomic_write_text; "
+            "atomic_write_text(sys.argv[1], '\\u00e9')")
+    proc = subprocess.run([sys.executable, "-c", code, str(target)], env=env,
+                          capture_output=True, text=True, check=False)
+    assert proc.returncode == 0, proc.stderr
+    assert target.read_bytes() == b"\xc3\xa9"
+
+
+def test_a_live_process_is_alive_and_left_alone() -> None:
+    sleeper = ("import signal, time\n"
+               "for s in (signal.SIGHUP, signal.SIGINT, signal.SIGTERM, signal.SIGUSR1):\n"
+               "    signal.signal(s, signal.SIG_DFL)\n"
+               "print('ready', flush=True)\n"
+               "time.sleep(60)\n")
+    child = subprocess.Popen([sys.executable, "-c", sleeper], stdout=subprocess.PIPE)
+    try:
+        assert child.stdout is not None and child.stdout.readline() == b"ready\n"
+        assert _pid_alive(child.pid) and _pid_alive(os.getpid())
+        time.sleep(0.2)
+        assert child.poll() is None  # probed with signal 0, not sent a real signal
+    finally:
+        child.kill()
+        child.wait()
+        assert child.stdout is not None
+        child.stdout.close()
+    assert not _pid_alive(DEAD_PID)
+
+
+def test_pid_alive_when_the_probe_is_refused_or_fails(monkeypatch: pytest.MonkeyPatch) -> None:
+    def refuse(pid: int, sig: int) -> None:
+        raise PermissionError(errno.EPERM, "not yours")
+
+    def fail(pid: int, sig: int) -> None:
+        raise OSError(errno.EINVAL, "bad pid")
+
+    monkeypatch.setattr(os, "kill", refuse)
+    assert _pid_alive(DEAD_PID) is True  # exists, someone else's
+    monkeypatch.setattr(os, "kill", fail)
+    assert _pid_alive(DEAD_PID) is False
+
+
+def test_cleanup_goes_on_past_entries_it_keeps(tmp_path: Path,
+                                             monkeypatch: pytest.MonkeyPatch) -> None:
+    """Whatever order the folder lists them in: a kept entry (a user's file, a link, a live
+    writer's temporary) never stops the cleanup of the dead writers' ones after it."""
+    live = tmp_path / f".a.csv.it2track-{os.getpid()}-0123456789ab.tmp"
+    link = tmp_path / f".a.csv.it2track-{DEAD_PID}-00000000000a.tmp"
+    dead = tmp_path / f".a.csv.it2track-{DEAD_PID}-00000000000b.tmp"
+    user = tmp_path / ".a.csv.tmp"
+    for path in (live, dead, user):
+        path.write_text("x")
+    link.symlink_to(user)
+    real = os.scandir
+    order = [user.name, link.name, live.name, dead.name]
+
+    def ordered(path: os.PathLike[str]) -> list[os.DirEntry[str]]:
+        return sorted(real(path), key=lambda e: order.index(e.name))
+
+    monkeypatch.setattr(os, "scandir", ordered)
+    assert remove_stale_temporaries(tmp_path) == [dead]
+    assert live.exists() and user.exists() and link.is_symlink()
+
+
+def test_cleanup_of_a_temporary_removed_meanwhile_is_no_error(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    dead = tmp_path / f".a.csv.it2track-{DEAD_PID}-0123456789ab.tmp"
+    dead.write_text("x")
+
+    def gone(path: object) -> None:
+        raise FileNotFoundError(errno.ENOENT, "removed by another cleanup", str(path))
+
+    monkeypatch.setattr(os, "unlink", gone)
+    assert remove_stale_temporaries(tmp_path) == []
+
+
+def test_check_can_create_in(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    opened: list[tuple[str, int, int]] = []
+    real_open = os.open
+
+    def spy(path: str, flags: int, mode: int = 0o777) -> int:
+        opened.append((os.fspath(path), flags, mode))
+        return real_open(path, flags, mode)
+
+    monkeypatch.setattr(os, "open", spy)
+    check_can_create_in(tmp_path)
+    monkeypatch.undo()
+    assert list(tmp_path.iterdir()) == []  # the probe is gone
+    ((probe, flags, mode),) = opened
+    assert Path(probe).parent == tmp_path and mode == 0o600
+    m = _TEMP_RE.match(Path(probe).name)
+    assert m is not None and m["target"] == "probe" and int(m["pid"]) == os.getpid()
+    want = os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | os.O_CLOEXEC
+    assert flags == want
+    missing = tmp_path / "missing"
+    with pytest.raises(OSError) as info:
+        check_can_create_in(missing)
+    assert info.value.errno == errno.ENOENT and info.value.filename == str(missing)
+    assert info.value.strerror == os.strerror(errno.ENOENT)

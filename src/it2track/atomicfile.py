@@ -36,6 +36,7 @@ __all__ = [
     "atomic_open",
     "atomic_write_bytes",
     "atomic_write_text",
+    "check_can_create_in",
     "check_replaceable",
     "remove_stale_temporaries",
     "temporary_name",
@@ -105,6 +106,24 @@ def temporary_name(target: str | os.PathLike[str]) -> Path:
     """A fresh temporary sibling of ``target`` in this package's recognisable form."""
     t = Path(target)
     return t.with_name(f".{t.name}.it2track-{os.getpid()}-{secrets.token_hex(6)}.tmp")
+
+
+def check_can_create_in(directory: str | os.PathLike[str]) -> None:
+    """Raise ``OSError`` unless a file can be created in ``directory`` right now.
+
+    Creates one of this module's temporaries there (``O_EXCL | O_NOFOLLOW``) and removes it: a
+    read-only filesystem, a folder without write permission, one where even root may not
+    create files (``/sys``), a missing folder are all found before any work, with the
+    folder as the error's ``filename`` (never the temporary's name).
+    """
+    tmp = temporary_name(Path(directory) / "probe")
+    flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | _O_NOFOLLOW | _O_CLOEXEC
+    try:
+        fd = os.open(tmp, flags, 0o600)
+    except OSError as exc:
+        raise OSError(exc.errno, exc.strerror, os.fspath(directory)) from None
+    os.close(fd)
+    os.unlink(tmp)
 
 
 @contextlib.contextmanager

@@ -39,6 +39,14 @@ def test_every_output_exists_and_parses(quick_run):
         assert (out / name).is_file(), f"manifest lists missing {name}"
     pngs = sorted(out.glob("*.png"))
     assert pngs and not list(out.glob("*.svg")), "--quick writes PNG figures only"
+    # Every file the run wrote was among those checked in --out before it started.
+    from it2track.experiments.study import StudyConfig, quick_config
+    from it2track.report.plan import possible_figure_keys
+
+    checked = {"metrics.csv", "summary.csv", "claims.md", "report.html", "manifest.json",
+               "robustness.csv", "sensitivity.csv",
+               *(f"{k}.png" for k in possible_figure_keys(quick_config(StudyConfig())))}
+    assert set(manifest["files"]) <= checked, set(manifest["files"]) - checked
     with (out / "metrics.csv").open() as fh:
         rows = list(csv.DictReader(fh))
     assert set(METRIC_NAMES) <= set(rows[0])
@@ -105,6 +113,7 @@ def test_bad_config_is_reported_without_output(tmp_path):
 def test_publish_replaces_a_previous_run_without_leftovers(tmp_path):
     import hashlib
 
+    from it2track.authorship import seal_json
     from it2track.cli.outdir import _publish
 
     def sha(text):
@@ -115,9 +124,9 @@ def test_publish_replaces_a_previous_run_without_leftovers(tmp_path):
     (out / "old_figure.png").write_text("old")  # the previous run's, unchanged: removed
     (out / "users_notes.txt").write_text("keep me")  # not ours: never touched
     (out / "metrics.csv").write_text("old")
-    (out / "manifest.json").write_text(json.dumps({
+    (out / "manifest.json").write_text(json.dumps(seal_json({
         "files": ["old_figure.png", "metrics.csv", "manifest.json"],
-        "sha256": {"old_figure.png": sha("old"), "metrics.csv": sha("old")}}))
+        "sha256": {"old_figure.png": sha("old"), "metrics.csv": sha("old")}})))
     staging = tmp_path / "staging"
     staging.mkdir()
     (staging / "metrics.csv").write_text("new")
@@ -197,8 +206,9 @@ def test_publish_never_removes_directories(tmp_path):
     staging.mkdir()
     (staging / "metrics.csv").write_text("new")
     (staging / "manifest.json").write_text(json.dumps({"files": ["metrics.csv"]}))
-    with pytest.raises(ClickException, match=r"metrics\.csv exists and is not a regular file"):
-        _publish(staging, out)
+    with pytest.raises(ClickException,
+                       match=r"metrics\.csv exists and is a directory, not a regular file"):
+        _publish(staging, out, force=True)
     assert (out / "metrics.csv" / "inside.txt").read_text() == "the user's"
     assert (out / "old_dir").is_dir() and (out / "manifest.json").is_file()
 
@@ -283,5 +293,6 @@ def test_a_folder_in_the_way_of_any_result_is_refused_before_simulating(tmp_path
     result = CliRunner().invoke(main, ["reproduce", "--quick", "--no-progress", "--out",
                                        str(tmp_path)])
     assert result.exit_code != 0
-    assert f"{tmp_path / name} exists and is not a regular file" in result.output, result.output
+    assert f"{tmp_path / name} exists and is a directory, not a regular file" in result.output, (
+        result.output)
     assert "nothing was simulated" in result.output

@@ -18,6 +18,7 @@ import pytest
 from click import ClickException
 from click.testing import CliRunner
 
+from it2track.authorship import SEAL_KEY, seal_json
 from it2track.cli import outdir as cli_main
 from it2track.cli.main import main
 from it2track.cli.outdir import _discard_staging, _make_staging, _publish
@@ -39,18 +40,20 @@ def _staging(tmp_path: Path, files: dict[str, str]) -> Path:
 
 
 def test_a_foreign_manifest_deletes_nothing(tmp_path: Path) -> None:
+    """Even sealed (anyone can compute a seal), a manifest naming folders, paths outside --out
+    and files whose bytes are not the listed ones makes nothing disappear."""
     out = tmp_path / "out"
     (out / "folder").mkdir(parents=True)
     (out / "folder" / "data.txt").write_text("the user's data")
     (out / "notes.txt").write_text("the user's notes")
     (out / "edited.png").write_text("edited by the user")
     (tmp_path / "outside.txt").write_text("outside --out")
-    (out / "manifest.json").write_text(json.dumps({
+    (out / "manifest.json").write_text(json.dumps(seal_json({
         "files": ["notes.txt", "folder", "edited.png", "../outside.txt", "/etc/hostname",
                   ".", "..", "", 7, "manifest.json"],
         "sha256": {"folder": "0" * 64, "edited.png": _sha(b"what we wrote"),
                    "../outside.txt": _sha(b"outside --out")},
-    }))
+    })))
     _publish(_staging(tmp_path, {"metrics.csv": "new"}), out)
     assert (out / "folder" / "data.txt").read_text() == "the user's data"
     assert (out / "notes.txt").read_text() == "the user's notes"
@@ -59,20 +62,54 @@ def test_a_foreign_manifest_deletes_nothing(tmp_path: Path) -> None:
     assert (out / "metrics.csv").read_text() == "new"
 
 
-def test_a_manifest_that_is_not_json_or_not_ours_is_replaced_without_deleting(
+def test_a_manifest_that_is_not_ours_is_refused_and_with_force_deletes_nothing(
     tmp_path: Path,
 ) -> None:
-    contents = ("not json", "[1, 2]", json.dumps({"files": "notes.txt"}),
-                json.dumps({"files": ["notes.txt"], "sha256": ["notes.txt"]}))
+    """A manifest.json without a valid seal (the user's own, one edited by hand, one of an
+    older it2track, not JSON) is a file this program cannot prove it wrote: the publish
+    stops, naming it; with --force it is replaced, and still nothing it lists is deleted."""
+    listed = {"files": ["notes.txt"], "sha256": {"notes.txt": _sha(b"keep")}}
+    edited = seal_json(listed)
+    edited["files"] = ["notes.txt", "claims.md"]
+    contents = ("not json", "[1, 2]", json.dumps({"files": "notes.txt"}), json.dumps(listed),
+                json.dumps(edited), json.dumps({**listed, SEAL_KEY: "0" * 64}))
     for k, content in enumerate(contents):
         case = tmp_path / f"case{k}"
         out = case / "out"
         out.mkdir(parents=True)
         (out / "notes.txt").write_text("keep")
         (out / "manifest.json").write_text(content)
-        _publish(_staging(case, {"claims.md": "x"}), out)
+        staged = _staging(case, {"claims.md": "x"})
+        with pytest.raises(ClickException, match=r"manifest\.json exists and it2track cannot "
+                           r"prove it wrote it.*--force"):
+            _publish(staged, out)
+        assert (out / "manifest.json").read_text() == content
+        assert not (out / "claims.md").exists()
+        _publish(staged, out, force=True)
         assert (out / "notes.txt").read_text() == "keep"
         assert json.loads((out / "manifest.json").read_text())["sha256"]["claims.md"]
+
+
+def test_a_users_file_of_a_result_name_is_refused_before_any_work(tmp_path: Path) -> None:
+    """The issue's cases: the user's own claims.md, or own manifest.json, in --out (no previous
+    run): refused by _make_staging -- before any simulation -- naming the file; a file the
+    previous run wrote and nobody changed is replaced; an edited one is refused."""
+    for name in ("claims.md", "manifest.json", "fou_comparison.png"):
+        out = tmp_path / name / "out"
+        out.mkdir(parents=True)
+        (out / name).write_text("the user's")
+        with pytest.raises(ClickException, match=rf"--out {out}: {out / name} exists and "
+                           "it2track cannot prove it wrote it"):
+            _make_staging(str(out), ["fou_comparison.png"])
+        assert sorted(p.name for p in out.iterdir()) == [name]  # no staging folder either
+        _discard_staging(_make_staging(str(out), ["fou_comparison.png"], force=True))
+    out = tmp_path / "ours"
+    out.mkdir()
+    _publish(_staging(tmp_path, {"claims.md": "ours", "metrics.csv": "ours"}), out)
+    _discard_staging(_make_staging(str(out)))  # all proven by the sealed manifest
+    (out / "claims.md").write_text("ours, edited")
+    with pytest.raises(ClickException, match=r"claims\.md exists and it2track cannot prove"):
+        _make_staging(str(out))
 
 
 def test_two_runs_in_a_row_remove_only_the_first_runs_unchanged_files(tmp_path: Path) -> None:
@@ -217,8 +254,8 @@ def test_an_unusable_out_is_refused_before_any_simulation(
     assert result.exit_code != 0 and "--out" in result.output
     (tmp_path / "o" / "report.html").mkdir(parents=True)
     result = runner.invoke(main, ["reproduce", "--quick", "--out", str(tmp_path / "o")])
-    assert result.exit_code == 1 and "report.html exists and is not a regular file" in (
-        result.output)
+    assert result.exit_code == 1
+    assert "report.html exists and is a directory, not a regular file" in result.output
 
     def read_only(*args: object, **kwargs: object) -> str:
         raise PermissionError(13, "Permission denied")

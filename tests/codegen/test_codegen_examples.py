@@ -14,6 +14,7 @@ from pathlib import Path
 from codegen_helpers import skip_without
 
 import it2track
+from it2track.authorship import seal_header
 from it2track.codegen import RealType, generate_c
 
 SKETCH = Path(__file__).resolve().parents[2] / "examples" / "arduino_it2flc"
@@ -58,7 +59,7 @@ int main(void) { setup(); for (;;) { loop(); } }
 def test_example_controller_is_current():
     code = generate_c(it2track.heading_fls(0.2), real=RealType.FLOAT, prefix="it2flc")
     for name, text in code.files().items():
-        assert (SKETCH / name).read_text() == text, (
+        assert (SKETCH / name).read_text() == seal_header(text), (
             f"examples/arduino_it2flc/{name} is stale: regenerate it with\n"
             "  it2track export c --paper 0.2 --real float --prefix it2flc "
             "--out examples/arduino_it2flc")

@@ -93,7 +93,7 @@ def test_bad_real_type():
 def test_write_c_checks_before_writing(tmp_path):
     code = generate_c(it2track.heading_fls(0.2))
     (tmp_path / "it2.h").write_text("mine")
-    with pytest.raises(FileExistsError, match="not written by it2track"):
+    with pytest.raises(FileExistsError, match="cannot prove it wrote it"):
         write_c(code, tmp_path)
     assert not (tmp_path / "it2.c").exists()
     with pytest.raises(FileNotFoundError):

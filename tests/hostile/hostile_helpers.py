@@ -56,3 +56,22 @@ def assert_clean_error(exc: BaseException, expected: type[BaseException], *needl
     message = str(exc)
     for needle in needles:
         assert needle in message, f"{needle!r} not in {message!r}"
+
+
+def unwritable_folder(root: Path) -> Path | None:
+    """A folder in which this process cannot create files: ``root/read-only`` (mode 0555) for
+    an ordinary user; for root, whom modes do not stop, a kernel folder (``/sys/kernel``)
+    where nobody may create files; None if there is none (the case is skipped)."""
+    folder = root / "read-only"
+    if not folder.exists():
+        folder.mkdir()
+        folder.chmod(0o555)
+    for candidate in (folder, Path("/sys/kernel")):
+        probe = candidate / ".it2track-hostile-probe"
+        try:
+            fd = os.open(probe, os.O_WRONLY | os.O_CREAT | os.O_EXCL)
+        except OSError:
+            return candidate
+        os.close(fd)
+        os.unlink(probe)
+    return None

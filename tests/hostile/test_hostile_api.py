@@ -25,6 +25,7 @@ from it2track.experiments.executors import (
     make_executor,
 )
 from it2track.experiments.specs import ControllerKind, ControllerSpec
+from it2track.fuzzy import Input, Triangle
 from it2track.io import FisFormatError, load, loads, save
 from it2track.paper import dead_zone_matched_fls, heading_fls_widths
 from it2track.plant import (
@@ -176,12 +177,26 @@ def _cases() -> list[Case]:
     add("rhs-shape", lambda p: continuous_rhs(np.zeros(6), np.zeros(2), RobotParams()),
         ValueError, "state", "(..., 7)")
     # -- closed loop: sizes, seeds, noise levels ----------------------------------------------
-    add("loop-duration-1e9", lambda p: LoopConfig(duration=1e9), ResourceLimitError,
-        "duration=1000000000.0", "ts=0.01", "GiB")
+    add("loop-duration-1e9", lambda p: LoopConfig(duration=1e9), ValueError,
+        "duration=1000000000.0", "0 < x <= 3600 s")
+    add("loop-duration-3601", lambda p: LoopConfig(duration=3601, ts=1.0), ValueError,
+        "duration=3601", "0 < x <= 3600 s")
+    add("loop-duration-nan", lambda p: LoopConfig(duration=float("nan")), ValueError,
+        "duration=nan", "finite")
+    add("loop-heading-1e308", lambda p: LoopConfig(start_pose=(0.0, 0.0, 1e308)), ValueError,
+        "start_pose heading=1e+308", "radians")
+    add("loop-heading-degrees", lambda p: LoopConfig(start_pose=(0.0, 0.0, 90.0)), ValueError,
+        "start_pose heading=90.0", "6.283185307")
+    add("loop-x-1e308", lambda p: LoopConfig(start_pose=(1e308, 0.0, 0.0)), ValueError,
+        "start_pose x=1e+308", "1000000 m")
+    add("loop-y-minus-1e7", lambda p: LoopConfig(start_pose=(0.0, -1e7, 0.0)), ValueError,
+        "start_pose y=-10000000.0", "-1000000 <= x")
+    add("input-universe-overflows", lambda p: Input("e", (-1e308, 1e308), [("a", Triangle(
+        -1.0, 0.0, 1.0))]), ValueError, "input 'e'", "(-1e+308, 1e+308)", "finite width")
     add("loop-ts-1e-7", lambda p: LoopConfig(ts=1e-7), ResourceLimitError, "ts=1e-07",
         "memory")
-    add("loop-inf-steps", lambda p: LoopConfig(duration=1e300, ts=1e-300),
-        ResourceLimitError, "duration=1e+300", "ts=1e-300", "control periods")
+    add("loop-inf-steps", lambda p: LoopConfig(duration=3600.0, ts=1e-300),
+        ResourceLimitError, "duration=3600.0", "ts=1e-300", "control periods")
     add("loop-noise-rate-1e15", lambda p: LoopConfig(noise_rate=1e15), ResourceLimitError,
         "noise_rate=1000000000000000.0", "noise samples")
     add("loop-million-nodes", lambda p: LoopConfig(quadrature_nodes=1_000_000), ValueError,

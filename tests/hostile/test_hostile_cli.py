@@ -15,12 +15,13 @@ import stat
 import subprocess
 import sys
 import textwrap
+from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
-from hostile_helpers import BINARY, make_device_link, make_fifo, snapshot
+from hostile_helpers import BINARY, make_device_link, make_fifo, snapshot, unwritable_folder
 
 import it2track
 
@@ -54,14 +55,35 @@ class Case:
     args: tuple[str, ...]
     needles: tuple[str, ...]
     files: tuple[tuple[str, str], ...] = ()  # extra (name, text) written before the run
+    setup: Callable[[Path], None] | None = None  # anything else to plant
 
 
 CASES: dict[str, Case] = {}
 
 
-def case(name: str, args: str | list[str], *needles: str, **files: str) -> None:
+def case(name: str, args: str | list[str], *needles: str,
+         setup: Callable[[Path], None] | None = None, **files: str) -> None:
     argv = args.split() if isinstance(args, str) else args
-    CASES[name] = Case(tuple(argv), needles, tuple(files.items()))
+    CASES[name] = Case(tuple(argv), needles, tuple(files.items()), setup)
+
+
+def plant(*entries: tuple[str, str | bytes]) -> Callable[[Path], None]:
+    """Setup: files (relative path, content) of the user's, planted before the run."""
+    def setup(folder: Path) -> None:
+        for rel, content in entries:
+            path = folder / rel
+            path.parent.mkdir(parents=True, exist_ok=True)
+            if isinstance(content, bytes):
+                path.write_bytes(content)
+            else:
+                path.write_text(content)
+    return setup
+
+
+def dangling(rel: str) -> Callable[[Path], None]:
+    def setup(folder: Path) -> None:
+        (folder / rel).symlink_to(folder / "no-such-target")
+    return setup
 
 
 def sweep_with(old: str, new: str) -> str:
@@ -128,7 +150,8 @@ case("sweep-scheduler-no-port", ["sweep", "--config", "sweep.toml", *OUT, "--sch
 case("sweep-tls-without-tls", ["sweep", "--config", "sweep.toml", *OUT, "--scheduler",
                                "tcp://127.0.0.1:1", "--tls-cert", "sweep.toml"], "tls://")
 case("sweep-duration-1e9", ["sweep", "--config", "bad.toml", *OUT], "bad.toml",
-     "duration=1000000000.0", "GiB", bad=sweep_with("duration = 0.5", "duration = 1e9"))
+     "duration=1000000000.0", "0 < x <= 3600 s",
+     bad=sweep_with("duration = 0.5", "duration = 1e9"))
 case("sweep-noise-1e308", ["sweep", "--config", "bad.toml", *OUT], "noise_std", "1e+308",
      bad=sweep_with("noise_std = 0.1", "noise_std = [0.1, 1e308]"))
 case("sweep-seed-22-digits", ["sweep", "--config", "bad.toml", *OUT], "seeds",
@@ -159,7 +182,7 @@ case("reproduce-out-empty", ["reproduce", "--quick", "--out", ""], "--out", "emp
 case("reproduce-out-under-a-file", ["reproduce", "--quick", "--out", "binary.csv/results"],
      "--out binary.csv/results", "cannot create")
 case("reproduce-out-holds-a-folder", ["reproduce", "--quick", "--out", "prev"],
-     "metrics.csv exists and is not a regular file", prev_note="")
+     "metrics.csv exists and is a directory, not a regular file", prev_note="")
 case("reproduce-scheduler-no-port", [*REP, "--scheduler", "foo"], "--scheduler", "'foo'")
 # --mcu-grid: at most the benchmark's 61 (its time grows with the square); only with a measurement
 case("reproduce-mcu-grid-62", [*REP, "--mcu-grid", "62"], "--mcu-grid", "62", "2<=x<=61")
@@ -193,6 +216,95 @@ case("surface-points", "surface good.toml --out s.png --points 100000", "points=
      "GiB")
 case("surface-out-empty", ["surface", "good.toml", "--out", ""], "empty")
 case("surface-fifo", "surface fifo.t2fis --out s.png", "fifo.t2fis", "FIFO")
+# -- issue 19: files of the user's are never replaced (each refused before any work) -----------
+REFUSED = "exists and it2track cannot prove it wrote it"
+case("reproduce-users-claims", "reproduce --quick --no-progress --out D", "--out D",
+     "D/claims.md", REFUSED, "--force", setup=plant(("D/claims.md", "my claims")))
+case("reproduce-users-manifest", "reproduce --quick --no-progress --out D", "D/manifest.json",
+     REFUSED, setup=plant(("D/manifest.json", '{"mine": true}')))
+case("reproduce-users-figure", "reproduce --quick --no-progress --out D",
+     "D/fou_comparison.png", REFUSED, setup=plant(("D/fou_comparison.png", BINARY)))
+case("sweep-users-results", "sweep --config sweep.toml --out D --no-progress", "--out D",
+     "D/results.csv", REFUSED, setup=plant(("D/results.csv", "run,mine\n")))
+case("sweep-users-results-checksum", "sweep --config sweep.toml --out D --no-progress",
+     "D/results.csv.sha256", "not a checksum file",
+     setup=plant(("D/results.csv.sha256", "my notes\n")))
+case("optimize-users-markdown", ["optimize", "--config", "opt.toml", *OUT],
+     "out/optimize.md", REFUSED, opt=textwrap.dedent(OPTIMIZE),
+     setup=plant(("out/optimize.md", "# my notes")))
+case("export-edited-with-banner", "export c --paper 0.2 --out C", "C/it2.c", REFUSED,
+     setup=plant(("C/it2.c", "/* Generated by it2track 0.1.0 (it2track export c); do not "
+                  "edit. */\n/* my edits */\n")))
+case("sim-trace-existing", [*SIM, "--trace", "t.csv"], "--trace t.csv", REFUSED,
+     setup=plant(("t.csv", "t,x\n0,0\n")))
+case("sim-trace-checksum-foreign", [*SIM, "--trace", "t.csv"], "t.csv.sha256",
+     "not a checksum file", setup=plant(("t.csv.sha256", "mine\n")))
+case("fis-convert-existing", "fis convert good.toml mine.fis", "TARGET mine.fis", REFUSED,
+     setup=plant(("mine.fis", "[System]\nName='mine'\n")))
+case("surface-existing", "surface good.toml --points 5 --out mine.png", "--out mine.png",
+     REFUSED, setup=plant(("mine.png", BINARY)))
+# -- issue 19: every value checked the same way, messages naming the option and the target --
+case("sweep-worker-timeout-nan", "sweep --config sweep.toml --out D --worker-timeout nan",
+     "--worker-timeout", "'nan'", "0 < x <= 604800 s")
+case("optimize-worker-timeout-inf", ["optimize", "--config", "opt.toml", *OUT,
+                                     "--worker-timeout", "inf"], "--worker-timeout", "'inf'",
+     opt=textwrap.dedent(OPTIMIZE))
+case("reproduce-worker-timeout-1e308", [*REP, "--worker-timeout", "1e308"], "--worker-timeout",
+     "'1e308'", "604800")
+case("sweep-heading-1e308", ["sweep", "--config", "bad.toml", *OUT], "bad.toml",
+     "start_pose heading=1e+308", "radians",
+     bad=sweep_with("duration = 0.5", "duration = 0.5\nstart_pose = [0.0, 0.0, 1e308]"))
+case("sweep-duration-3601", ["sweep", "--config", "bad.toml", *OUT], "bad.toml",
+     "duration=3601", "0 < x <= 3600 s",
+     bad=sweep_with("duration = 0.5", "duration = 3601\nts = 1.0\nnoise_rate = 1.0"))
+case("sim-duration-3601", "simulate --duration 3601", "--duration", "'3601'", "0 < x <= 3600 s")
+case("sim-duration-nan", "simulate --duration nan", "--duration", "'nan'")
+case("sim-noise-rate-nan", [*SIM, "--noise-rate", "nan"], "--noise-rate", "'nan'")
+case("sim-ts-inf", [*SIM, "--ts", "inf"], "--ts", "'inf'")
+case("sim-fou-nan", [*SIM, "--fou", "nan"], "--fou", "'nan'")
+case("fis-convert-read-only", "fis convert good.toml {RO}/x.fis", "TARGET", "x.fis",
+     "cannot write into the folder")
+case("surface-read-only", "surface good.toml --points 5 --out {RO}/x.png", "--out", "x.png",
+     "cannot write into the folder")
+case("sim-trace-read-only", [*SIM, "--trace", "{RO}/t.csv"], "--trace", "t.csv",
+     "cannot write into the folder")
+case("sweep-out-read-only", ["sweep", "--config", "sweep.toml", "--out", "{RO}/o",
+                             "--no-progress"], "--out", "cannot write into the folder")
+case("fis-eval-nan", "fis eval good.toml nan 0", "VALUES", "VALUE 1 (e)", "'nan'")
+case("fis-eval-minus-inf", "fis eval good.toml 0 -inf", "VALUES", "VALUE 2 (de)", "'-inf'")
+case("export-out-dangling", "export c --paper 0.2 --out C", "--out", "C: is a symbolic link to",
+     "does not exist", setup=dangling("C"))
+case("sweep-out-dangling", "sweep --config sweep.toml --out D --no-progress", "--out D",
+     "symbolic link", "does not exist", setup=dangling("D"))
+case("surface-fix-nan", "surface good.toml --points 5 --out s.png --fix e=nan", "--fix",
+     "'e=nan'", "the value 'nan' of e must be a finite number")
+case("reproduce-pd-kp-negative", [*REP, "--config", "study.toml"], "study.toml", "[pd]",
+     "kp=-1.0", study="[pd]\nkp = -1.0\nkd = 0.1\n")
+case("fcl-range-1e308", "fis show wide.fcl", "wide.fcl:", "input 'e'", "(-1e+308, 1e+308)",
+     "finite width", setup=plant(("wide.fcl", """FUNCTION_BLOCK t
+VAR_INPUT
+ e : REAL;
+END_VAR
+VAR_OUTPUT
+ u : REAL;
+END_VAR
+FUZZIFY e
+ RANGE := (-1e308 .. 1e308);
+ TERM low := (-1, 1) (0, 0);
+ TERM high := (0, 0) (1, 1);
+END_FUZZIFY
+DEFUZZIFY u
+ RANGE := (-1 .. 1);
+ TERM a := -1;
+ TERM b := 1;
+ METHOD : COGS;
+END_DEFUZZIFY
+RULEBLOCK r
+ RULE 1 : IF e IS low THEN u IS a;
+ RULE 2 : IF e IS high THEN u IS b;
+END_RULEBLOCK
+END_FUNCTION_BLOCK
+""")))
 
 
 def _prepare(folder: Path, c: Case) -> None:
@@ -218,6 +330,8 @@ def _prepare(folder: Path, c: Case) -> None:
     for name, text in c.files:
         suffix = ".txt" if name.endswith("note") else ".toml"
         (folder / (name + suffix)).write_text(text)
+    if c.setup is not None:
+        c.setup(folder)
 
 
 @dataclass(frozen=True)
@@ -227,10 +341,15 @@ class Outcome:
     stderr: str
     before: dict[str, tuple[str, bytes | None]]
     after: dict[str, tuple[str, bytes | None]]
+    skipped: bool = False
 
 
 def _run(folder: Path, c: Case) -> Outcome:
     before = snapshot(folder)
+    ro = unwritable_folder(folder.parent)
+    if ro is None and "{RO}" in " ".join(c.args):
+        return Outcome(None, "", "", before, before, skipped=True)
+    c = Case(tuple(a.replace("{RO}", str(ro)) for a in c.args), c.needles)
     env = {**os.environ, "IT2TRACK_MEMORY_LIMIT": "4G", "MPLBACKEND": "Agg",
            "COLUMNS": "200"}
     try:
@@ -259,6 +378,8 @@ def outcomes(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Outcome]:
 @pytest.mark.parametrize("name", list(CASES))
 def test_bad_command_line_is_a_clear_error(outcomes: dict[str, Outcome], name: str) -> None:
     c, o = CASES[name], outcomes[name]
+    if o.skipped:
+        pytest.skip("no folder here refuses writes to this user")
     shown = f"exit {o.returncode}\nstdout: {o.stdout}\nstderr: {o.stderr}"
     assert o.returncode is not None, f"hang (killed after {TIMEOUT} s)\n{shown}"
     assert o.returncode in (1, 2), shown

@@ -74,7 +74,11 @@ for _loader in ("sweep", "optimize", "study"):
     case(f"{_loader}-unknown-section", _loader, ("", "[surprise]\nx = 1"), "surprise")
     case(f"{_loader}-duration-1e9", _loader, ("", "[simulation]\nduration = 1e9")
          if _loader == "study" else ("duration = 1.0", "duration = 1e9"),
-         "duration=1000000000.0", "GiB")
+         "duration=1000000000.0", "0 < x <= 3600 s")
+    # one cap for every command: simulate --duration 3601 is refused, so is a config's
+    case(f"{_loader}-duration-3601", _loader, ("", "[simulation]\nduration = 3601\nts = 1.0")
+         if _loader == "study" else ("duration = 1.0", "duration = 3601\nts = 1.0"),
+         "duration=3601", "0 < x <= 3600 s")
     case(f"{_loader}-ts-1e-9", _loader, ("", "[simulation]\nts = 1e-9")
          if _loader == "study" else ("duration = 1.0", "duration = 1.0\nts = 1e-9"),
          "ts=1e-09", "memory")

@@ -61,7 +61,7 @@ def test_convert_and_eval(tmp_path) -> None:
     assert result.exit_code == 0, result.output
     assert "u = 4\n" in result.output and "[yl, yr] = [3.130434783, 4.869565217]" in result.output
     result = runner.invoke(fis, ["eval", str(dst), "0.5"])
-    assert result.exit_code == 1 and "takes 2 values (e, de)" in result.output
+    assert result.exit_code == 1 and "takes 2 VALUES (e, de), got 1" in result.output
     bad = runner.invoke(fis, ["convert", str(DATA / "two_inputs_interval.t2fis"),
                               str(tmp_path / "x.fis")])
     assert bad.exit_code == 1 and "interval consequents" in bad.output
@@ -91,7 +91,11 @@ def test_surface_options_and_errors(tmp_path) -> None:
     assert one.exit_code == 0, one.output
     assert out.read_bytes().startswith(PNG)
     bad = runner.invoke(surface, [str(DATA / "tipper.fis"), "--out", str(out), "--x", "nope"])
-    assert bad.exit_code == 1 and "must name two different inputs" in bad.output
+    assert bad.exit_code == 2 and "--x" in bad.output
+    assert "'nope': " in bad.output and "has no input of that name" in bad.output
+    bad = runner.invoke(surface, [str(DATA / "tipper.fis"), "--out", str(out), "--x", "food",
+                                  "--y", "food"])
+    assert bad.exit_code == 2 and "--x and --y are both 'food'" in bad.output
     bad = runner.invoke(surface, [str(DATA / "tipper.fis"), "--out", str(out), "--fix", "x"])
     assert bad.exit_code == 2 and "NAME=VALUE" in bad.output
     missing = runner.invoke(surface, [str(tmp_path / "none.fis"), "--out", str(out)])

@@ -46,8 +46,9 @@ def export() -> None:
               help="Prefix of the file names and of every C name, so that several "
               "controllers link into one program.")
 @click.option("--force", is_flag=True,
-              help="Replace existing regular files of the target names that it2track did not "
-              "write.")
+              help="Replace existing regular files of the target names that it2track cannot "
+              "prove it wrote (the SHA-256 in a generated file's first line no longer matches, "
+              "or there is none).")
 def c_command(system: Path | None, fou: float | None, out_text: str, real: str,
               reducer: str | None, prefix: str, force: bool) -> None:
     """Generate C99 for the controller in SYSTEM (.t2fis, .fis or .toml) or --paper FOU.
@@ -154,11 +155,21 @@ def _check_system_file(path: Path) -> None:
 
 
 def _check_out_dir(out: Path) -> None:
+    if os.path.islink(out) and not out.exists():
+        raise click.BadParameter(f"{out}: is a symbolic link to {os.readlink(out)!r}, which "
+                                 "does not exist", param_hint="--out")
     if out.exists() and not out.is_dir():
         raise click.BadParameter(f"{out}: exists and is not a directory", param_hint="--out")
     if not out.exists() and not out.parent.is_dir():
         raise click.BadParameter(f"{out}: parent directory {out.parent} does not exist",
                                  param_hint="--out")
+    from ..atomicfile import check_can_create_in
+
     target = out if out.exists() else out.parent
-    if not os.access(target, os.W_OK | os.X_OK):
-        raise click.BadParameter(f"{target}: not writable", param_hint="--out")
+    try:
+        check_can_create_in(target)
+    except OSError as exc:
+        where = "it" if target == out else f"the folder {target}"
+        raise click.BadParameter(f"{out}: cannot write into {where}: "
+                                 f"{exc.strerror or type(exc).__name__}",
+                                 param_hint="--out") from None

@@ -33,6 +33,7 @@ from ..fuzzy import (
     UncertainMeanGaussianLower,
     UncertainMeanGaussianUpper,
 )
+from .outdir import check_output_file, write_output_file
 
 __all__ = ["describe", "fis", "surface"]
 
@@ -194,38 +195,63 @@ def show(file: str) -> None:
     click.echo(describe(_load(file)))
 
 
+_FORCE = click.option(
+    "--force", is_flag=True,
+    help="Replace an existing file of that name that it2track cannot prove it wrote.")
+
+
 @fis.command()
 @click.argument("source", type=_FILE)
 @click.argument("target", type=click.Path(dir_okay=False, path_type=str))
 @click.option("--block", metavar="NAME", default=None,
               help="The FUNCTION_BLOCK of an FCL SOURCE to read (default: the first).")
-def convert(source: str, target: str, block: str | None) -> None:
+@_FORCE
+def convert(source: str, target: str, block: str | None, force: bool) -> None:
     """Convert SOURCE to TARGET; the formats follow the suffixes (.toml, .t2fis, .fis, .fll,
-    .fml; .fcl is read only)."""
-    from ..io import save
+    .fml; .fcl is read only).
 
+    TARGET's SHA-256 goes to TARGET.sha256: the proof that lets a later run replace it.
+    """
+    from ..io import dumps, format_of
+
+    try:
+        fmt = format_of(target)
+    except ValueError as exc:
+        raise click.BadParameter(str(exc), param_hint="TARGET") from None
+    check_output_file(target, "TARGET", force=force)
     system = _load(source, block)
     try:
-        save(system, target)
-    except (ValueError, OSError) as exc:
-        raise click.ClickException(str(exc)) from None
+        text = dumps(system, fmt)
+    except ValueError as exc:
+        raise click.ClickException(f"cannot write TARGET {target}: {exc}") from None
+    write_output_file(target, text.encode("utf-8"), "TARGET")
     click.echo(f"wrote {target}")
 
 
 @fis.command(name="eval", context_settings={"ignore_unknown_options": True})
 @click.argument("file", type=_FILE)
-@click.argument("values", nargs=-1, type=float, required=True)
-def evaluate(file: str, values: tuple[float, ...]) -> None:
+@click.argument("values", nargs=-1, required=True)
+def evaluate(file: str, values: tuple[str, ...]) -> None:
     """Evaluate FILE at one point: one VALUE per input, in order (negative values are fine:
     ``it2track fis eval heading.toml 0.3 -0.1``)."""
     system = _load(file)
+    names = [inp.name for inp in system.inputs]
     if len(values) != system.n_inputs:
-        names = ", ".join(inp.name for inp in system.inputs)
-        raise click.ClickException(f"{file} takes {system.n_inputs} values ({names})")
-    if not all(math.isfinite(v) for v in values):
-        raise click.ClickException("values must be finite")
+        raise click.ClickException(
+            f"{file} takes {system.n_inputs} VALUES ({', '.join(names)}), got {len(values)}")
+    numbers = []
+    for k, (name, text) in enumerate(zip(names, values, strict=True), start=1):
+        try:
+            number = float(text)
+        except ValueError:
+            number = math.nan
+        if not math.isfinite(number):
+            raise click.BadParameter(
+                f"VALUE {k} ({name}) {text!r} must be a finite number", param_hint="VALUES")
+        numbers.append(number)
     try:
-        yls, yrs = (np.atleast_1d(np.asarray(v, dtype=float)) for v in system.interval(*values))
+        yls, yrs = (np.atleast_1d(np.asarray(v, dtype=float))
+                    for v in system.interval(*numbers))
     except ValueError as exc:
         raise click.ClickException(str(exc)) from None
     several = system.n_outputs > 1
@@ -240,12 +266,18 @@ def _parse_fixed(items: tuple[str, ...]) -> dict[str, float]:
     fixed: dict[str, float] = {}
     for item in items:
         name, sep, value = item.partition("=")
+        if not sep or not name:
+            raise click.BadParameter(f"{item!r}: expected NAME=VALUE", param_hint="--fix")
         try:
             number = float(value)
         except ValueError:
-            number = math.nan
-        if not sep or not name or not math.isfinite(number):
-            raise click.BadParameter(f"{item!r}: expected NAME=VALUE", param_hint="--fix")
+            raise click.BadParameter(f"{item!r}: the value {value!r} of {name} is not a "
+                                     "number", param_hint="--fix") from None
+        if not math.isfinite(number):
+            raise click.BadParameter(f"{item!r}: the value {value!r} of {name} must be a "
+                                     "finite number", param_hint="--fix")
+        if name in fixed:
+            raise click.BadParameter(f"{item!r}: {name} is fixed twice", param_hint="--fix")
         fixed[name] = number
     return fixed
 
@@ -264,11 +296,25 @@ def _parse_fixed(items: tuple[str, ...]) -> dict[str, float]:
               help="Value of an input not on the axes (default: middle of its universe).")
 @click.option("--output", "output", default=None,
               help="Output to plot, for a system with several outputs.")
+@_FORCE
 def surface(file: str, out: str, points: int, style: str, x_input: str | None,
-            y_input: str | None, fix: tuple[str, ...], output: str | None) -> None:
-    """Plot the control surface of FILE and each input's sets (FoUs for IT2) to --out."""
-    from ..report.surface import plot_system
+            y_input: str | None, fix: tuple[str, ...], output: str | None,
+            force: bool) -> None:
+    """Plot the control surface of FILE and each input's sets (FoUs for IT2) to --out
+    (its SHA-256 to OUT.sha256: the proof that lets a later run replace it)."""
+    from ..report.surface import FIGURE_FORMATS, figure_bytes, plot_system
 
+    for option, given in (("--x", x_input), ("--y", y_input), ("--output", output)):
+        if given == "":
+            raise click.BadParameter("'' is empty: name an input" if option != "--output"
+                                     else "'' is empty: name an output", param_hint=option)
+    suffix = Path(out).suffix.lstrip(".").lower() or "png"
+    if suffix not in FIGURE_FORMATS:
+        raise click.BadParameter(
+            f"{out!r}: the suffix must be one of {', '.join('.' + f for f in FIGURE_FORMATS)}",
+            param_hint="--out")
+    fixed = _parse_fixed(fix)
+    check_output_file(out, "--out", force=force)
     system = _load(file)
     if system.n_outputs > 1 or output is not None:
         if output is None:
@@ -280,16 +326,30 @@ def surface(file: str, out: str, points: int, style: str, x_input: str | None,
         except ValueError as exc:
             raise click.BadParameter(str(exc), param_hint="--output") from None
     inputs: Any = None
+    names = [inp.name for inp in system.inputs]
+    for option, given in (("--x", x_input), ("--y", y_input)):
+        if given is not None and given not in names:
+            raise click.BadParameter(
+                f"{given!r}: {file} has no input of that name (its inputs: "
+                f"{', '.join(names)})", param_hint=option)
+    for name in fixed:
+        if name not in names:
+            raise click.BadParameter(
+                f"{name}={fixed[name]!r}: {file} has no input {name!r} (its inputs: "
+                f"{', '.join(names)})", param_hint="--fix")
     if system.n_inputs >= 2:
-        names = [inp.name for inp in system.inputs]
         x = x_input or names[0]
         y = y_input or next(n for n in names if n != x)
+        if x == y:
+            raise click.BadParameter(f"--x and --y are both {x!r}: choose two inputs",
+                                     param_hint="--y")
         inputs = (x, y)
     elif x_input or y_input:
         raise click.BadParameter("a one-input system has no axes to choose", param_hint="--x")
     try:
-        plot_system(system, out, inputs=inputs, fixed=_parse_fixed(fix), points=points,
-                    style=style)
+        fig = plot_system(system, None, inputs=inputs, fixed=fixed, points=points, style=style)
+        data = figure_bytes(fig, suffix)
     except (ValueError, OSError) as exc:
         raise click.ClickException(str(exc)) from None
+    write_output_file(out, data, "--out")
     click.echo(f"wrote {os.fspath(Path(out))}")

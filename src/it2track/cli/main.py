@@ -7,12 +7,14 @@ kinds, reducers, trajectories); everything below works with dataclasses and arra
 from __future__ import annotations
 
 import json
-from pathlib import Path
+import re
 from typing import Any, NoReturn
 
 import click
 
 from .. import __version__
+from .options import DURATION_TYPE, FINITE, POSITIVE
+from .outdir import check_output_file, write_output_file
 
 __all__ = ["main"]
 
@@ -45,7 +47,7 @@ def _fail(message: str) -> NoReturn:
 @click.option("--friction", default=None,
               help="Tyre-ground friction of --plant mujoco: dry | wet | icy (mu 0.8, 0.5, 0.1) "
               "or a friction coefficient (default dry; docs/guide/mujoco.md).")
-@click.option("--step", "step", type=float, default=None,
+@click.option("--step", "step", type=FINITE, default=None,
               help="Step reference for a single-input --plant (its first output follows it).")
 @click.option("--controller", "controller", default="it2", show_default=True,
               type=click.Choice(["flc", "it2", "t1-matched", "pd"]),
@@ -53,37 +55,37 @@ def _fail(message: str) -> NoReturn:
 @click.option("--controller-file", type=click.Path(exists=True, dir_okay=False),
               help="Fuzzy controller file (.toml/.t2fis/.fis/.fll/.fml/.fcl) instead of "
                    "--controller.")
-@click.option("--fou", default=0.2, show_default=True, type=float,
+@click.option("--fou", default=0.2, show_default=True, type=FINITE,
               help="FoU width for it2 / t1-matched.")
 @click.option("--reducer", default="exhaustive", show_default=True,
               type=click.Choice(["km", "ekm", "eiasc", "exhaustive", "nie-tan", "wu-mendel"]))
-@click.option("--ke", default=1.0, show_default=True, type=float, help="Error input gain.")
-@click.option("--kde", default=1.0, show_default=True, type=float, help="Error-change gain.")
-@click.option("--kp", default=DEFAULT_PD["kp"], show_default=True, type=float, help="PD gain.")
-@click.option("--kd", default=DEFAULT_PD["kd"], show_default=True, type=float, help="PD gain.")
-@click.option("--noise-std", default=0.05, show_default=True, type=float,
+@click.option("--ke", default=1.0, show_default=True, type=FINITE, help="Error input gain.")
+@click.option("--kde", default=1.0, show_default=True, type=FINITE, help="Error-change gain.")
+@click.option("--kp", default=DEFAULT_PD["kp"], show_default=True, type=FINITE, help="PD gain.")
+@click.option("--kd", default=DEFAULT_PD["kd"], show_default=True, type=FINITE, help="PD gain.")
+@click.option("--noise-std", default=0.05, show_default=True, type=FINITE,
               help="Heading noise standard deviation, rad.")
-@click.option("--noise-power", type=float, default=None,
+@click.option("--noise-power", type=FINITE, default=None,
               help="Simulink band-limited white noise power instead of --noise-std "
               "(sigma = sqrt(P / Ts_noise)).")
-@click.option("--noise-rate", default=100.0, show_default=True,
-              type=click.FloatRange(min=0.0, min_open=True), help="Hz.")
+@click.option("--noise-rate", default=100.0, show_default=True, type=POSITIVE, help="Hz.")
 @click.option("--seed", default=0, show_default=True, type=int, help="Noise realisation index.")
 @click.option("--base-seed", default=0, show_default=True, type=int, help="Base seed.")
-@click.option("--duration", default=10.0, show_default=True,
-              type=click.FloatRange(min=0.0, min_open=True, max=3600.0), help="s.")
-@click.option("--ts", default=0.01, show_default=True,
-              type=click.FloatRange(min=0.0, min_open=True), help="Control period, s.")
+@click.option("--duration", default=10.0, show_default=True, type=DURATION_TYPE,
+              help="s (at most 3600, as in every config).")
+@click.option("--ts", default=0.01, show_default=True, type=POSITIVE,
+              help="Control period, s.")
 @click.option("--json", "as_json", is_flag=True, help="Print the metrics as one JSON object.")
-@click.option("--trace", type=click.Path(dir_okay=False, writable=True),
-              help="Save the time series to this CSV file.")
+@click.option("--trace", type=click.Path(dir_okay=False),
+              help="Save the time series to this CSV file (and its SHA-256 to FILE.sha256).")
+@click.option("--force", is_flag=True,
+              help="Replace an existing --trace file that it2track cannot prove it wrote.")
 def simulate(**opts: Any) -> None:
     """Simulate one scenario and print its metrics.
 
     The robot follows --trajectory; a single-input --plant (a motor, a tank...) follows a --step
     reference instead, its measured output noisy by --noise-std.
     """
-    from ..atomicfile import atomic_write_text
     from ..experiments.specs import ControllerKind, ControllerSpec
     from ..plant import HeadingNoise
     from ..tracking import LoopConfig, RunTable, StepReference, check_task, get_trajectory
@@ -95,7 +97,9 @@ def simulate(**opts: Any) -> None:
     # Everything that can fail is checked before the simulation starts, each error naming
     # the option(s) it comes from.
     if opts["trace"] is not None:
-        _check_output_file(opts["trace"], "--trace")
+        check_output_file(opts["trace"], "--trace", force=opts["force"])
+    elif opts["force"]:
+        _fail("--force applies only with --trace FILE")
     try:
         if opts["noise_power"] is not None:
             noise = HeadingNoise.from_band_limited_power(opts["noise_power"],
@@ -126,6 +130,10 @@ def simulate(**opts: Any) -> None:
     except (ValueError, OSError) as exc:
         source = (f"--controller-file {opts['controller_file']}" if opts["controller_file"]
                   else f"--controller {opts['controller']}")
+        field = re.search(r"\b(fou|ke|kde|kp|kd)\b", str(exc))
+        if field is not None and not opts["controller_file"]:
+            value = opts[field[1]]  # the option the message is about, first
+            source = f"--{field[1]} {value:g} ({source})"
         _fail(f"{source}: {exc}")
     plant = _plant_option(opts["plant"], opts["friction"])
     target: Any
@@ -175,11 +183,7 @@ def simulate(**opts: Any) -> None:
         for k in range(trace.t.size):
             writer.writerow([repr(float(run0["t"][k]))] + [repr(float(run0[n][k]))
                                                            for n in names])
-        try:
-            atomic_write_text(Path(opts["trace"]), buf.getvalue())
-        except (OSError, ValueError) as exc:
-            _fail(f"cannot write --trace {opts['trace']}: "
-                  f"{getattr(exc, 'strerror', None) or exc}")
+        write_output_file(opts["trace"], buf.getvalue().encode("utf-8"), "--trace")
     if opts["as_json"]:
         click.echo(json.dumps(metrics))
         return
@@ -227,22 +231,6 @@ def _surface(friction: str) -> str | float:
     except ValueError:
         _fail(f"--friction {friction!r} must be one of {', '.join(SURFACES)} or a friction "
               "coefficient")
-
-
-def _check_output_file(path: str, option: str) -> None:
-    """An output file option must name a file we may create or replace: not empty, in an
-    existing folder, absent or a regular file (never a device, FIFO, folder or link)."""
-    from ..atomicfile import NotRegularFileError, check_replaceable
-
-    if not path:
-        _fail(f"{option} '' is empty: give a file name")
-    try:
-        check_replaceable(path)
-    except NotRegularFileError as exc:
-        _fail(f"{option} {path}: {exc.strerror}")
-    parent = Path(path).parent
-    if not parent.is_dir():
-        _fail(f"{option} {path}: the folder {parent} does not exist")
 
 
 _APPLIES = {

@@ -1,26 +1,92 @@
-"""The output folder of ``it2track reproduce``: a staging folder per run, and publishing a
-finished run into ``--out`` without ever losing a file of the user's.
-
-Moved verbatim from :mod:`it2track.cli.main` (the hardening of issue 10).
+"""Where the commands write: the rule of authorship for every output (a file is replaced only
+if it2track can prove it wrote it, or with ``--force``; see :mod:`it2track.authorship`) as
+command-line errors naming the option and the file, and the output folder of ``it2track
+reproduce`` (a staging folder per run, published into ``--out`` without ever losing a file of
+the user's).
 """
 
 from __future__ import annotations
 
 import json
+import os
 import shutil
 import tempfile
 import time
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from pathlib import Path
 from typing import Any, NoReturn
 
 import click
 
-__all__ = ["_discard_staging", "_make_staging", "_publish"]
+__all__ = [
+    "_discard_staging",
+    "_make_staging",
+    "_publish",
+    "check_output_file",
+    "check_outputs",
+    "write_output_file",
+]
 
 
 def _fail(message: str) -> NoReturn:
     raise click.ClickException(message)
+
+
+def check_outputs(
+    paths: Iterable[str | os.PathLike[str]],
+    *,
+    option: str,
+    force: bool,
+    proof: Callable[[Path], bool],
+    sidecars: bool = False,
+    outcome: str = "nothing was done",
+) -> None:
+    """:func:`it2track.authorship.check_may_replace` as a command-line error: ``option`` (the
+    option and value the user gave, e.g. ``"--out results"``), the file and why, and
+    ``outcome``."""
+    from ..atomicfile import NotRegularFileError
+    from ..authorship import UnprovenFileError, check_may_replace
+
+    try:
+        check_may_replace(paths, proof=proof, force=force, sidecars=sidecars)
+    except (NotRegularFileError, UnprovenFileError) as exc:
+        _fail(f"{option}: {exc.filename} {exc.strerror}; {outcome}")
+
+
+def check_output_file(path: str, option: str, *, force: bool) -> Path:
+    """An output file named by ``option`` (``--trace``, ``--out``, a TARGET argument), checked
+    before any work: not empty, in an existing folder that can be written, absent or a regular
+    file that it2track wrote (its ``NAME.sha256`` matches) unless ``force`` -- never a
+    directory, link, device or FIFO. Written later by :func:`write_output_file`."""
+    from ..atomicfile import check_can_create_in
+    from ..authorship import proven_by_sidecar
+
+    if not path:
+        _fail(f"{option} '' is empty: give a file name")
+    target = Path(path)
+    parent = target.parent
+    if not parent.is_dir():
+        _fail(f"{option} {path}: the folder {parent} does not exist")
+    check_outputs([target], option=f"{option} {path}", force=force, proof=proven_by_sidecar,
+                  sidecars=True)
+    try:
+        check_can_create_in(parent)
+    except OSError as exc:
+        _fail(f"{option} {path}: cannot write into the folder {parent}: "
+              f"{exc.strerror or type(exc).__name__}; choose another place")
+    return target
+
+
+def write_output_file(path: str | os.PathLike[str], data: bytes, option: str) -> None:
+    """Write an output checked by :func:`check_output_file`, with its ``NAME.sha256`` (the
+    proof the next run needs); an error names ``option`` and the file, never a temporary."""
+    from ..authorship import write_with_sidecar
+
+    try:
+        write_with_sidecar(path, data)
+    except OSError as exc:
+        _fail(f"cannot write {option} {os.fspath(path)}: "
+              f"{exc.strerror or exc.__class__.__name__}")
 
 
 #: Results every run writes (the others vary with the config; ``_make_staging`` takes them):
@@ -99,9 +165,10 @@ def _remove_stale_staging(out: Path) -> None:
             inner = list(os.scandir(files)) if "files" in names else []
         except OSError:
             continue
+        # (files/ was listed just above: a regular file there raised and is left alone)
         if names - {_OWNER_FILE, "files"} or not all(
             e.is_file(follow_symlinks=False) for e in inner
-        ) or ("files" in names and not files.is_dir()) or files.is_symlink():
+        ) or files.is_symlink():
             click.echo(f"note: left {root} alone (holds more than a run's files)", err=True)
             continue
         try:
@@ -115,19 +182,36 @@ def _remove_stale_staging(out: Path) -> None:
             click.echo(f"note: could not remove the stale {root}: {exc.strerror}", err=True)
 
 
-def _make_staging(out_dir: str, also: Iterable[str] = ()) -> Path:
+def _previous_run(out: Path) -> Callable[[Path], bool]:
+    """Proof of authorship for the files in ``out``: listed with their SHA-256 in the sealed
+    ``manifest.json`` of a previous run (:func:`it2track.authorship.read_sealed_json`), the
+    manifest itself by its seal."""
+    from ..authorship import proven_by_digests, read_sealed_json
+
+    old = read_sealed_json(out / "manifest.json")
+    listed = proven_by_digests(old.get("sha256") if old is not None else None)
+
+    def proof(path: Path) -> bool:
+        if path.name == "manifest.json":
+            return old is not None
+        return listed(path)
+
+    return proof
+
+
+def _make_staging(out_dir: str, also: Iterable[str] = (), *, force: bool = False) -> Path:
     """Create ``out_dir`` and a fresh staging folder in it; returns the folder results go to.
 
     Checked before any simulation: an empty ``--out``, a folder that cannot be created or
-    written (read-only, a file in the way), a result name taken by something that is not a
-    regular file (the fixed names and ``also``: the other files this run will write). Stale
+    written (read-only, a file in the way), and every file this run may write (the fixed names
+    and ``also``): absent, or a regular file the previous run's sealed ``manifest.json`` proves
+    it2track wrote (or any regular file with ``force``); never a folder, link or device. Stale
     staging folders of killed runs are removed (see :func:`_remove_stale_staging`). The
     staging root holds ``owner.json`` (this process's identity, the proof a later run needs
     to remove it) and ``files/``, which is returned.
     """
     import os
     import socket
-    import stat
 
     if not out_dir:
         _fail("--out '' is empty: give an output folder")
@@ -137,15 +221,9 @@ def _make_staging(out_dir: str, also: Iterable[str] = ()) -> Path:
     except OSError as exc:
         _fail(f"cannot create the output folder --out {out_dir}: "
               f"{exc.strerror or exc}; nothing was simulated")
-    for name in (*_FIXED_OUTPUTS, *also):
-        try:
-            mode = os.lstat(out / name).st_mode
-        except OSError:
-            continue
-        if not stat.S_ISREG(mode):
-            _fail(f"{out / name} exists and is not a regular file; it2track never replaces "
-                  "what it did not write: move it away or choose another --out "
-                  "(nothing was simulated)")
+    check_outputs([out / name for name in dict.fromkeys((*_FIXED_OUTPUTS, *also))],
+                  option=f"--out {out_dir}", force=force, proof=_previous_run(out),
+                  outcome="nothing was simulated")
     _remove_stale_staging(out)
     try:
         root = Path(tempfile.mkdtemp(prefix=_STAGING_PREFIX, dir=out))
@@ -195,60 +273,45 @@ def _discard_staging(staging: Path) -> None:
         signal.signal(signal.SIGTERM, _RESTORE_SIGTERM.pop())
 
 
-def _sha256_file(path: Path) -> str:
-    import hashlib
-
-    h = hashlib.sha256()
-    with open(path, "rb") as fh:
-        while block := fh.read(1 << 20):
-            h.update(block)
-    return h.hexdigest()
-
-
-def _publish(staging: Path, out: Path) -> None:
+def _publish(staging: Path, out: Path, *, force: bool = False) -> None:
     """Move a finished run from ``staging`` into ``out``, never losing a file of the user's.
 
     Only two kinds of file in ``out`` are ever replaced or removed:
 
-    - files this run is about to write (same names; only if they are regular files: a folder,
-      link or device in the way stops the publish before anything moves);
-    - files a previous run wrote and listed in its ``manifest.json`` *with their SHA-256*, and
-      that still have exactly those bytes (e.g. figures of a trajectory no longer studied).
-      Anything else -- a name the old manifest lists without a digest or with another one
-      (a file edited since, a manifest this program did not write), a folder, a link, a path
+    - files of the names this run writes that the previous run's sealed ``manifest.json``
+      proves it2track wrote (their SHA-256 matches; the manifest itself by its seal), or any
+      regular file of those names with ``force`` -- checked again here, as before the run: a
+      file that appeared or changed meanwhile stops the publish before anything moves;
+    - files that manifest lists *with their SHA-256* and that still have exactly those bytes
+      but that this run does not write (e.g. figures of a trajectory no longer studied).
+      Anything else -- a name without a digest or with another one (a file edited since), a
+      manifest this program did not write or that was edited, a folder, a link, a path
       outside ``out`` -- is kept (and named on stderr).
 
     The new manifest records the SHA-256 of every file of this run, as that proof for the
-    next run. The old manifest goes before anything else moves and the new one comes last:
-    an interrupted publish leaves no manifest rather than one that describes a mix of runs.
+    next run, and is sealed (:func:`it2track.authorship.seal_json`). The old manifest goes
+    before anything else moves and the new one comes last: an interrupted publish leaves no
+    manifest rather than one that describes a mix of runs.
     """
     import os
     import stat
 
+    from ..authorship import read_sealed_json, seal_json, sha256_file
     from ..report import outputs
 
     new = sorted(p.name for p in staging.iterdir())
-    for name in new:
-        try:
-            mode = os.lstat(out / name).st_mode
-        except FileNotFoundError:
-            continue
-        if not stat.S_ISREG(mode):
-            _fail(f"{out / name} exists and is not a regular file; it2track never replaces "
-                  "what it did not write: move it away and rerun (nothing was published)")
+    check_outputs([out / name for name in new], option=f"--out {out}", force=force,
+                  proof=_previous_run(out), outcome="nothing was published")
     staged_manifest = staging / "manifest.json"
     manifest = json.loads(staged_manifest.read_text(encoding="utf-8"))
-    manifest["sha256"] = {n: _sha256_file(staging / n) for n in new if n != "manifest.json"}
-    outputs.write_json(staged_manifest, manifest)
+    manifest["sha256"] = {n: sha256_file(staging / n) for n in new if n != "manifest.json"}
+    outputs.write_json(staged_manifest, seal_json(manifest))
 
     old_path = out / "manifest.json"
     stale: dict[str, str] = {}
-    try:
-        old = json.loads(old_path.read_text(encoding="utf-8")) if old_path.is_file() else {}
-    except (OSError, ValueError):
-        old = {}
-    listed = old.get("files", []) if isinstance(old, dict) else []
-    digests = old.get("sha256", {}) if isinstance(old, dict) else {}
+    old = read_sealed_json(old_path) or {}
+    listed = old.get("files", [])
+    digests = old.get("sha256", {})
     if not isinstance(digests, dict):
         digests = {}
     kept: list[str] = []
@@ -263,7 +326,7 @@ def _publish(staging: Path, out: Path) -> None:
         digest = digests.get(name)
         try:
             ours = (isinstance(digest, str) and stat.S_ISREG(os.lstat(target).st_mode)
-                    and _sha256_file(target) == digest)
+                    and sha256_file(target) == digest)
         except OSError:
             ours = False
         if ours:

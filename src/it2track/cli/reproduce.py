@@ -19,6 +19,7 @@ import click
 from .config import ConfigFile
 from .kernels import kernel_stage
 from .outdir import _discard_staging, _fail, _make_staging, _publish
+from .sweep import check_dask_options as _check_dask_options
 from .sweep import check_scheduler as _check_scheduler
 from .sweep import dask_options as _dask_options
 from .sweep import dask_settings as _dask_settings
@@ -70,15 +71,20 @@ def _quick(config: Any) -> Any:
               f"2 to {MAX_MCU_GRID} (the benchmark's grid); the time grows with its square: "
               "~3 s at 21. Refused with --no-mcu, and with --quick unless --mcu is given.")
 @click.option("--no-progress", is_flag=True, help="No progress bar or stage messages.")
+@click.option("--force", is_flag=True,
+              help="Replace files in OUT of the names this run writes that it2track cannot "
+              "prove it wrote (not listed with their SHA-256 in OUT's manifest.json).")
 def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
               sweep_seeds: int | None, quick: bool, workers: int, scheduler: str | None,
               svg: bool | None, mcu: bool | None, mcu_grid: int, no_progress: bool,
-              **dask: Any) -> None:
+              force: bool, **dask: Any) -> None:
     """Regenerate every result of the paper, with statistics and verdicts on its claims.
 
     Writes figures (PNG, and SVG unless --quick or --no-svg), metrics.csv, summary.csv,
     robustness.csv, sensitivity.csv, claims.md, mcu_costs.csv, report.html and manifest.json
-    into OUT. Files appear only when complete.
+    into OUT. Files appear only when complete. A file of those names already in OUT is
+    replaced only if OUT's manifest.json (sealed by the run that wrote it) lists it with its
+    SHA-256, or with --force; otherwise nothing runs.
     Figures are drawn by worker processes while the study runs; the microcontroller costs are
     measured by another process meanwhile.
     """
@@ -98,11 +104,13 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
     from ..report import outputs
     from ..report.html import write_html
     from ..report.mcu_job import TABLE_NAME, McuJob, McuStatus, write_cost_csv
+    from ..report.plan import possible_figure_keys
     from ..report.render import FigureError, FigureRenderer, default_figure_workers
     from ..tracking import METRIC_NAMES
 
     started = time.perf_counter()
     ctx = click.get_current_context()
+    _check_dask_options(ctx, scheduler)
     mcu = (not quick) if mcu is None else mcu
     if not mcu and _given(ctx, "mcu_grid"):
         _fail(f"--mcu-grid {mcu_grid} has no effect without the microcontroller measurement "
@@ -137,7 +145,9 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
             also.append("sensitivity.csv")
     if mcu:
         also += ["mcu_costs.csv", "mcu_costs.png", *(["mcu_costs.svg"] if svg else [])]
-    staging = _make_staging(out_dir, also)
+    also += [f"{key}.{ext}" for key in possible_figure_keys(config)
+             for ext in ("png", *(["svg"] if svg else []))]
+    staging = _make_staging(out_dir, also, force=force)
     skipped = "--quick" if quick and not _given(ctx, "mcu") else "--no-mcu"
     mcu_job = McuJob.skipped(f"skipped with {skipped}", fou=config.main_fou, grid=mcu_grid)
     try:
@@ -222,7 +232,7 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
         manifest["stage_s"] = stages.record()
         manifest["files"] = sorted([*(p.name for p in staging.iterdir()), "manifest.json"])
         outputs.write_json(staging / "manifest.json", manifest)
-        _publish(staging, out)
+        _publish(staging, out, force=force)
     finally:
         try:
             mcu_job.cancel()

@@ -10,7 +10,9 @@ the cause, not a traceback.
 from __future__ import annotations
 
 import json
+import os
 import time
+from collections.abc import Callable
 from concurrent.futures import BrokenExecutor
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -19,12 +21,14 @@ import click
 
 from .config import ConfigFile
 from .kernels import kernel_stage
+from .options import WORKER_TIMEOUT_TYPE
+from .outdir import check_outputs
 
 if TYPE_CHECKING:
     from ..experiments.executors import Executor
 
-__all__ = ["DASK_OPTIONS", "check_scheduler", "dask_options", "dask_settings", "optimize",
-           "sweep"]
+__all__ = ["DASK_OPTIONS", "check_dask_options", "check_scheduler", "dask_options",
+           "dask_settings", "optimize", "sweep"]
 
 def check_scheduler(ctx: click.Context, param: click.Parameter, value: str | None) -> str | None:
     """Click callback: a malformed ``--scheduler`` is an error before anything starts."""
@@ -60,9 +64,9 @@ DASK_OPTIONS = (
                  help="Dask TLS: this client's certificate (PEM)."),
     click.option("--tls-key", type=_FILE, default=None,
                  help="Dask TLS: this client's private key (PEM), if not in --tls-cert."),
-    click.option("--worker-timeout", type=click.FloatRange(min=0, min_open=True), default=60.0,
-                 show_default=True,
-                 help="Dask: seconds to wait for a worker when the scheduler has none."),
+    click.option("--worker-timeout", type=WORKER_TIMEOUT_TYPE, default=60.0, show_default=True,
+                 help="Dask: seconds to wait for a worker when the scheduler has none "
+                 "(at most a week)."),
 )
 
 
@@ -71,6 +75,24 @@ def dask_options(f: Any) -> Any:
     for option in reversed(DASK_OPTIONS):
         f = option(f)
     return f
+
+
+def check_dask_options(ctx: click.Context, scheduler: str | None) -> None:
+    """The Dask options (TLS files, ``--worker-timeout``) given without ``--scheduler`` would be
+    ignored: refuse them before any work, naming each (the policy of ``simulate``'s options
+    that do not apply)."""
+    from click.core import ParameterSource
+
+    if scheduler is not None:
+        return
+    for name in ("tls_ca_file", "tls_cert", "tls_key", "worker_timeout"):
+        if ctx.get_parameter_source(name) in (ParameterSource.COMMANDLINE,
+                                              ParameterSource.ENVIRONMENT):
+            value = ctx.params[name]
+            raise click.UsageError(
+                f"--{name.replace('_', '-')} {value if isinstance(value, str) else f'{value:g}'}"
+                " applies only to a Dask cluster: add --scheduler tls://HOST:PORT (or "
+                "tcp://) or drop it", ctx)
 
 
 def dask_settings(
@@ -99,16 +121,25 @@ def _executor(workers: int, scheduler: str | None, dask: dict[str, Any]) -> Exec
 def _check_out_dir(out_dir: str, files: tuple[str, ...] = ()) -> None:
     """``--out`` must name a folder that exists or can be created, and the result ``files``
     in it must be absent or regular files -- checked before any work, not after it."""
-    from ..atomicfile import NotRegularFileError, check_replaceable
+    from ..atomicfile import NotRegularFileError, check_can_create_in, check_replaceable
 
     if not out_dir:
         raise click.ClickException("--out '' is empty: give an output folder")
     out = Path(out_dir)
     if out.exists() and not out.is_dir():
         raise click.ClickException(f"--out {out_dir} exists and is not a folder")
+    if os.path.islink(out) and not out.exists():
+        raise click.ClickException(f"--out {out_dir} is a symbolic link to "
+                                   f"{os.readlink(out)!r}, which does not exist")
     parent = next((p for p in (out, *out.parents) if p.exists()), Path("."))
     if not parent.is_dir():
         raise click.ClickException(f"--out {out_dir}: {parent} is not a folder")
+    try:
+        check_can_create_in(parent)
+    except OSError as exc:
+        where = "" if parent == out else f" (in {parent})"
+        raise click.ClickException(f"--out {out_dir}: cannot write into the folder{where}: "
+                                   f"{exc.strerror or type(exc).__name__}") from None
     for name in files:
         try:
             check_replaceable(out / name)
@@ -123,6 +154,9 @@ def _check_out_dir(out_dir: str, files: tuple[str, ...] = ()) -> None:
               help="Results directory (sweep.json, chunks/, results.csv).")
 @click.option("--resume", is_flag=True,
               help="Continue the sweep in OUT (same config), skipping finished chunks.")
+@click.option("--force", is_flag=True,
+              help="Replace an OUT/results.csv that it2track cannot prove it wrote (no "
+              "matching results.csv.sha256).")
 @_WORKERS
 @_SCHEDULER
 @dask_options
@@ -133,6 +167,7 @@ def sweep(
     config_path: str,
     out_dir: str,
     resume: bool,
+    force: bool,
     workers: int,
     scheduler: str | None,
     progress: bool,
@@ -142,12 +177,17 @@ def sweep(
 
     Every finished chunk is saved durably (DIR/chunks/chunk-NNNNNN.csv); kill the command at
     any moment and rerun it with --resume to finish: DIR/results.csv comes out identical to an
-    uninterrupted run's.
+    uninterrupted run's. A results.csv already in DIR is replaced only if its results.csv.sha256
+    matches (it2track wrote it), or with --force.
     """
+    from ..authorship import proven_by_sidecar
     from ..experiments.specs import ConfigError
     from ..experiments.sweep import StoreError, load_sweep_config, run_sweep
 
+    check_dask_options(ctx, scheduler)
     _check_out_dir(out_dir)
+    check_outputs([Path(out_dir) / "results.csv"], option=f"--out {out_dir}", force=force,
+                  proof=proven_by_sidecar, sidecars=True)
     try:
         plan = load_sweep_config(config_path)
     except ConfigError as exc:
@@ -163,7 +203,8 @@ def sweep(
     )
     try:
         with kernel_stage(progress=progress), executor:
-            summary = run_sweep(plan, out, executor=executor, resume=resume, progress=progress)
+            summary = run_sweep(plan, out, executor=executor, resume=resume,
+                                progress=progress, force=force)
     except (StoreError, ConfigError) as exc:
         raise click.ClickException(str(exc)) from None
     except BrokenExecutor as exc:
@@ -193,31 +234,54 @@ def sweep(
     )
 
 
+#: The files ``optimize`` writes into ``--out``.
+_OPTIMIZE_FILES = ("optimize.json", "optimize.md", "convergence.png")
+
+
+def _optimize_proof(out: Path) -> Callable[[Path], bool]:
+    """Proof of authorship in ``out``: the sealed ``optimize.json`` of a previous run lists the
+    other files with their SHA-256 (and proves itself by its seal)."""
+    from ..authorship import proven_by_digests, read_sealed_json
+
+    old = read_sealed_json(out / "optimize.json")
+    listed = proven_by_digests(old.get("sha256") if old is not None else None)
+    return lambda p: old is not None if p.name == "optimize.json" else listed(p)
+
+
 @click.command("optimize")
 @click.option("--config", "config_path", required=True, type=ConfigFile(),
               help="Optimisation TOML file, or the name of a packaged config (optimize: the "
               "paper's controller).")
 @click.option("--out", "out_dir", required=True, type=click.Path(file_okay=False),
               help="Output directory (optimize.json, optimize.md, convergence.png).")
+@click.option("--force", is_flag=True,
+              help="Replace files in OUT of the names this command writes that it2track cannot "
+              "prove it wrote (not listed with their SHA-256 in OUT's optimize.json).")
 @_WORKERS
 @_SCHEDULER
 @dask_options
 @_PROGRESS
 def optimize(
-    config_path: str, out_dir: str, workers: int, scheduler: str | None, progress: bool,
-    **dask: Any,
+    config_path: str, out_dir: str, force: bool, workers: int, scheduler: str | None,
+    progress: bool, **dask: Any,
 ) -> None:
     """Find the FoU widths minimising the config's objective; verify on held-out seeds.
 
     Symmetric (one width: grid + bounded Brent) and asymmetric (six widths: differential
     evolution with a fixed seed) optima are compared with FoU 0.1/0.2/0.3 and the FLC on
-    disjoint held-out seeds (paired differences with 95 % intervals).
+    disjoint held-out seeds (paired differences with 95 % intervals). Files of those names
+    already in OUT are replaced only if OUT's optimize.json (sealed by the run that wrote it)
+    lists them with their SHA-256, or with --force.
     """
     from ..atomicfile import atomic_write_bytes
+    from ..authorship import seal_json, sha256_bytes, sha256_file
     from ..experiments.optimize import load_optimize_config, run_optimization
     from ..experiments.specs import ConfigError
 
-    _check_out_dir(out_dir, files=("optimize.json", "optimize.md", "convergence.png"))
+    check_dask_options(click.get_current_context(), scheduler)
+    _check_out_dir(out_dir, files=_OPTIMIZE_FILES)
+    check_outputs([Path(out_dir) / name for name in _OPTIMIZE_FILES],
+                  option=f"--out {out_dir}", force=force, proof=_optimize_proof(Path(out_dir)))
     try:
         cfg = load_optimize_config(config_path)
     except ConfigError as exc:
@@ -240,15 +304,25 @@ def optimize(
     data["command"] = {"config": config_path, "workers": workers, "scheduler": scheduler}
     from ..report.optimize_plot import plot_convergence  # matplotlib: only once needed
 
+    # Checked again: a file may have appeared or changed while the optimisation ran.
+    check_outputs([out / name for name in _OPTIMIZE_FILES], option=f"--out {out_dir}",
+                  force=force, proof=_optimize_proof(out))
     try:
         out.mkdir(parents=True, exist_ok=True)
-        atomic_write_bytes(out / "optimize.json", (json.dumps(data, indent=1) + "\n").encode())
-        atomic_write_bytes(out / "optimize.md", result.to_markdown().encode())
+        markdown = result.to_markdown().encode()
+        atomic_write_bytes(out / "optimize.md", markdown)
         refs = {c["name"]: c["train"] for c in result.verdict["controllers"] if not c["optimum"]}
         plot_convergence(result.history, out / "convergence.png", objective=result.objective,
                          references=refs)
+        # optimize.json last, sealed, with the SHA-256 of the other two: the proof that lets
+        # the next run replace them.
+        data["sha256"] = {"optimize.md": sha256_bytes(markdown),
+                          "convergence.png": sha256_file(out / "convergence.png")}
+        atomic_write_bytes(out / "optimize.json",
+                           (json.dumps(seal_json(data), indent=1) + "\n").encode())
     except OSError as exc:
-        raise click.ClickException(f"cannot write the results to {out}: {exc}") from None
+        raise click.ClickException(
+            f"cannot write the results to --out {out}: {exc.strerror or exc}") from None
     click.echo(result.to_markdown())
     click.echo(f"wrote {out / 'optimize.json'}, {out / 'optimize.md'}, "
                f"{out / 'convergence.png'} in {time.perf_counter() - t0:.1f} s")

@@ -51,9 +51,11 @@ class Input:
     ) -> None:
         kind = type(self).__name__.lower()
         lo, hi = (float(v) for v in universe)
-        if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
+        if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi
+                and math.isfinite(hi - lo)):  # a width that overflows makes every grid NaN
             raise ValueError(
-                f"{kind} {name!r}: universe={tuple(universe)!r} must be finite, lo < hi"
+                f"{kind} {name!r}: universe={tuple(universe)!r} must be finite, lo < hi, "
+                "with a finite width hi - lo"
             )
         converted = []
         for s in sets:

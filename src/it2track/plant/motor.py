@@ -25,6 +25,11 @@ from numpy.typing import ArrayLike, NDArray
 __all__ = ["MotorParams"]
 
 
+#: Largest value of any motor parameter in SI units (ohm, H, kg m^2, N m s, N m/A, V): far
+#: beyond any motor, far below where the discretisation's products overflow.
+MAX_MOTOR_PARAMETER = 1e12
+
+
 def _check_positive_finite(obj: object) -> None:
     """Coerce every dataclass field of ``obj`` to ``float``; require finite and > 0.
 
@@ -40,6 +45,9 @@ def _check_positive_finite(obj: object) -> None:
         value = float(value)
         if not (math.isfinite(value) and value > 0.0):
             raise ValueError(f"{f.name} must be finite and > 0, got {value!r}")
+        if value > MAX_MOTOR_PARAMETER:
+            raise ValueError(f"{f.name} must be at most {MAX_MOTOR_PARAMETER:g} (SI units), "
+                             f"got {value!r}")
         object.__setattr__(obj, f.name, value)
 
 
@@ -65,7 +73,7 @@ class MotorParams:
     Raises
     ------
     ValueError
-        If any field is not a finite real number > 0; the message names the field
+        If any field is not a finite real number in (0, 1e12]; the message names the field
         and the offending value.
 
     Examples

@@ -9,10 +9,10 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
-from ..experiments.study import StudyResult
+from ..experiments.study import StudyConfig, StudyResult
 from .identity import _Summary, slug
 
-__all__ = ["figure_keys", "figure_plan"]
+__all__ = ["figure_keys", "figure_plan", "possible_figure_keys"]
 
 #: Figure key -> does the data hold what the figure shows (for the keys that are not per
 #: trajectory), in report order after the per-trajectory ``paper_<trajectory>`` figures.
@@ -45,6 +45,19 @@ def figure_keys(result: StudyResult) -> list[str]:
     empty = _Summary([])
     return [*paper_figures(result), *(k for k, ok in _AVAILABLE.items()
                                       if k not in _FROM_RESULT or ok(result, empty))]
+
+
+def possible_figure_keys(config: StudyConfig) -> list[str]:
+    """Every key a study of ``config`` may draw, known before it runs: a superset of what
+    :func:`figure_plan` gives for its result (the names ``reproduce`` checks in ``--out``
+    before any work)."""
+    keys = [f"paper_{slug(t)}" for t in config.trajectories]
+    keys += [k for k in _AVAILABLE if k not in _FROM_RESULT]
+    if config.robustness is not None:
+        keys.append("robustness")
+        if config.robustness.sensitivity is not None:
+            keys.append("sensitivity")
+    return keys
 
 
 def figure_plan(result: StudyResult, summary: Sequence[Mapping[str, Any]]) -> list[str]:

@@ -12,6 +12,7 @@ This is the only module that imports matplotlib for fuzzy systems.
 from __future__ import annotations
 
 import dataclasses
+import io
 import os
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -21,6 +22,7 @@ import matplotlib.colors as mcolors
 import mpl_toolkits.mplot3d  # noqa: F401  (registers the "3d" projection)
 import numpy as np
 from matplotlib.axes import Axes
+from matplotlib.backend_bases import FigureCanvasBase
 from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 from numpy.typing import NDArray
@@ -29,7 +31,8 @@ from .._limits import check_memory, fuzzy_batch_bytes
 from ..atomicfile import atomic_open
 from ..fuzzy import AnySystem, ZeroFiringError
 
-__all__ = ["plot_control_surface", "plot_footprints", "plot_system", "surface_grid"]
+__all__ = ["FIGURE_FORMATS", "figure_bytes", "plot_control_surface", "plot_footprints",
+           "plot_system", "surface_grid"]
 
 FuzzySystem = AnySystem  # Sugeno, TSK or Mamdani (one output: see select_output)
 PathLike = str | os.PathLike[str]
@@ -43,10 +46,23 @@ def _drawing_errstate() -> np.errstate:
     return np.errstate(over="ignore", invalid="ignore", divide="ignore")
 
 
+#: File formats a figure can be saved in (the suffix of the path; none means PNG).
+FIGURE_FORMATS: tuple[str, ...] = tuple(sorted(FigureCanvasBase.get_supported_filetypes()))
+
+
 def _save(fig: Figure, path: PathLike) -> None:
     suffix = Path(path).suffix.lstrip(".").lower() or "png"
     with atomic_open(path, "wb") as fh, _drawing_errstate():
         fig.savefig(fh, format=suffix)
+
+
+def figure_bytes(fig: Figure, fmt: str = "png") -> bytes:
+    """The bytes of ``fig`` saved in format ``fmt`` (one of :data:`FIGURE_FORMATS`), for a
+    caller that writes the file itself."""
+    buf = io.BytesIO()
+    with _drawing_errstate():
+        fig.savefig(buf, format=fmt)
+    return buf.getvalue()
 
 
 def _evaluate(system: FuzzySystem, args: Sequence[NDArray[np.float64]]) -> NDArray[np.float64]:

@@ -13,6 +13,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .._limits import ResourceLimitError, check_memory, loop_bytes
+from .._ranges import DURATION, START_HEADING, START_POSITION
 from ..plant import RobotParams
 from ..plant.base import PlantSpec
 from ..plant.drive import MAX_QUADRATURE_NODES, check_stiffness
@@ -38,7 +39,7 @@ class LoopConfig:
     Parameters
     ----------
     duration : float
-        Simulated time T, s (default 10).
+        Simulated time T, s (default 10; at most 3600, :data:`it2track._ranges.DURATION`).
     ts : float
         Control period, s (default 0.01); ``T / ts`` must be an integer N.
     robot : RobotParams
@@ -46,11 +47,12 @@ class LoopConfig:
     noise_rate : float
         Rate at which the heading noise is resampled and held, Hz (default 100).
     start_pose : (float, float, float) or "on_path"
-        Initial ``(x, y, theta)``; the robot starts at rest. :data:`ON_PATH` (``"on_path"``)
+        Initial ``(x, y, theta)``, m, m, rad (``|x|, |y| <= 1e6``, ``|theta| <= 2 pi``); the
+        robot starts at rest. :data:`ON_PATH` (``"on_path"``)
         starts every run at its reference point at ``t = 0`` with the reference's tangent
         heading ``atan2(y_d'(0), x_d'(0))``.
     seed : int
-        Base seed of the noise realisations (>= 0).
+        Base seed of the noise realisations (0 to 2**63 - 1).
     quadrature_nodes : int
         Nodes per period of the position integral, 1 to 64 (see :class:`DifferentialDrive`).
     desired_heading_pose : PoseTiming or str
@@ -79,6 +81,7 @@ class LoopConfig:
     plant: PlantSpec | None = None
 
     def __post_init__(self) -> None:
+        DURATION.check(self.duration, "LoopConfig.duration")  # the cap every command shares
         for key in ("duration", "ts", "noise_rate"):
             value = getattr(self, key)
             if (
@@ -112,6 +115,9 @@ class LoopConfig:
             if len(pose) != 3 or not all(math.isfinite(v) for v in pose):
                 raise ValueError(f"LoopConfig.start_pose={self.start_pose!r} must be 3 finite "
                                  f"numbers or {ON_PATH!r}")
+            for k, (name, allowed) in enumerate((("x", START_POSITION), ("y", START_POSITION),
+                                                 ("heading", START_HEADING))):
+                allowed.check(pose[k], f"LoopConfig.start_pose {name}")
             object.__setattr__(self, "start_pose", pose)
         timing = self.desired_heading_pose
         if not isinstance(timing, PoseTiming):
@@ -134,8 +140,10 @@ class LoopConfig:
                 f"ts={self.ts!r} in [0, duration={self.duration!r})"
             )
         object.__setattr__(self, "metric_start", start)
-        if isinstance(self.seed, bool) or not isinstance(self.seed, Integral) or self.seed < 0:
-            raise ValueError(f"LoopConfig.seed={self.seed!r} must be an integer >= 0")
+        if (isinstance(self.seed, bool) or not isinstance(self.seed, Integral)
+                or not 0 <= self.seed <= 2**63 - 1):
+            raise ValueError(f"LoopConfig.seed={self.seed!r} must be an integer in "
+                             "[0, 2**63 - 1] (as every seed)")
         object.__setattr__(self, "seed", int(self.seed))
         q = self.quadrature_nodes
         if (isinstance(q, bool) or not isinstance(q, Integral)

@@ -176,6 +176,11 @@ class Objective:
         return " + ".join(n if w == 1.0 else f"{w:g} {n}" for n, w in self.weights)
 
 
+#: Most iterations (generations) of either search: each is a batch of simulations, so more
+#: would run for days.
+MAX_ITERATIONS = 10_000
+
+
 @dataclass(frozen=True, kw_only=True)
 class SymmetricSettings:
     """Grid + bounded-Brent search of one width."""
@@ -189,8 +194,10 @@ class SymmetricSettings:
             raise ValueError(f"symmetric grid={self.grid!r} must be an integer >= 3")
         if not (math.isfinite(self.xatol) and self.xatol > 0):
             raise ValueError(f"symmetric xatol={self.xatol!r} must be > 0")
-        if isinstance(self.maxiter, bool) or not isinstance(self.maxiter, int) or self.maxiter < 1:
-            raise ValueError(f"symmetric maxiter={self.maxiter!r} must be an integer >= 1")
+        if (isinstance(self.maxiter, bool) or not isinstance(self.maxiter, int)
+                or not 1 <= self.maxiter <= MAX_ITERATIONS):
+            raise ValueError(f"symmetric maxiter={self.maxiter!r} must be an integer in "
+                             f"[1, {MAX_ITERATIONS}]")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -211,8 +218,13 @@ class AsymmetricSettings:
             v = getattr(self, key)
             if isinstance(v, bool) or not isinstance(v, int) or v < 1:
                 raise ValueError(f"asymmetric {key}={v!r} must be an integer >= 1")
-        if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
-            raise ValueError(f"asymmetric seed={self.seed!r} must be an integer >= 0")
+        if self.maxiter > MAX_ITERATIONS:
+            raise ValueError(f"asymmetric maxiter={self.maxiter!r} must be at most "
+                             f"{MAX_ITERATIONS}")
+        if (isinstance(self.seed, bool) or not isinstance(self.seed, int)
+                or not 0 <= self.seed <= 2**63 - 1):
+            raise ValueError(f"asymmetric seed={self.seed!r} must be an integer in "
+                             "[0, 2**63 - 1] (as every seed)")
         if not (math.isfinite(self.tol) and self.tol >= 0):
             raise ValueError(f"asymmetric tol={self.tol!r} must be >= 0")
         m = tuple(float(v) for v in self.mutation)

@@ -94,6 +94,12 @@ class PDTuning:
                 raise bad("effort_limit", "is used only with match_effort = false")
         if self.kd is not None and self.kp is None:
             raise bad("kd", "given without kp (give both to skip tuning)")
+        if self.kp is not None:  # the PD the study will run: checked now, as every PD is
+            try:
+                ControllerSpec(kind=ControllerKind.PD, kp=self.kp,
+                               kd=0.0 if self.kd is None else self.kd, tf=self.tf)
+            except ValueError as exc:
+                raise ValueError(f"pd {str(exc).removeprefix('controller ')}") from None
 
 
 @dataclass(frozen=True, kw_only=True)

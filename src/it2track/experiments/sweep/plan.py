@@ -215,18 +215,10 @@ class SweepPlan:
         """The header line of the chunk files and ``results.csv``."""
         return ",".join(_csv_cell(c) for c in self.columns) + "\n"
 
-    def rows_csv(self, chunk: ChunkSpec, metrics: Mapping[str, FloatArray]) -> str:
-        """CSV text (no header) of ``chunk``'s rows; floats by ``repr`` (exact round-trip).
-
-        Built column by column (the text cells of a controller are formatted once), the
-        same bytes ``csv.writer`` would write, several times faster.
-        """
-        missing = [m for m in METRIC_NAMES if m not in metrics]
-        if missing:
-            raise ValueError(f"chunk {chunk.id}: metrics {missing} missing from the result")
-        values = [np.asarray(metrics[m], dtype=np.float64) for m in METRIC_NAMES]
-        if any(v.shape != (chunk.size,) for v in values):
-            raise ValueError(f"chunk {chunk.id}: expected {chunk.size} values per metric")
+    def row_keys(self, chunk: ChunkSpec) -> list[str]:
+        """The identifying cells of ``chunk``'s rows as CSV text, one string per run: run id,
+        group, plant columns, controller columns, trajectory, noise level and seed (every
+        column before the metrics). What a resume checks a stored chunk's rows against."""
         shape = (
             len(self.controllers), len(self.trajectory_refs), len(self.noise_std),
             len(self.seeds),
@@ -245,15 +237,24 @@ class SweepPlan:
         traj = [_csv_cell(r.name) for r in self.trajectory_refs]
         noise = [_fmt(float(v)) for v in self.noise_std]
         seeds = [str(v) for v in self.seeds]
-        columns = [
-            [str(base + i) for i in local.tolist()],
-            [group_text] * chunk.size,
-            [ctrl_text[i] for i in c],
-            [traj[i] for i in t],
-            [noise[i] for i in n],
-            [seeds[i] for i in s],
-            *([repr(x) for x in v.tolist()] for v in values),
+        return [
+            f"{base + i},{group_text},{ctrl_text[ci]},{traj[ti]},{noise[ni]},{seeds[si]}"
+            for i, ci, ti, ni, si in zip(local.tolist(), c, t, n, s, strict=True)
         ]
+
+    def rows_csv(self, chunk: ChunkSpec, metrics: Mapping[str, FloatArray]) -> str:
+        """CSV text (no header) of ``chunk``'s rows; floats by ``repr`` (exact round-trip).
+
+        Built column by column (the text cells of a controller are formatted once), the
+        same bytes ``csv.writer`` would write, several times faster.
+        """
+        missing = [m for m in METRIC_NAMES if m not in metrics]
+        if missing:
+            raise ValueError(f"chunk {chunk.id}: metrics {missing} missing from the result")
+        values = [np.asarray(metrics[m], dtype=np.float64) for m in METRIC_NAMES]
+        if any(v.shape != (chunk.size,) for v in values):
+            raise ValueError(f"chunk {chunk.id}: expected {chunk.size} values per metric")
+        columns = [self.row_keys(chunk), *([repr(x) for x in v.tolist()] for v in values)]
         return "".join(",".join(row) + "\n" for row in zip(*columns, strict=True))
 
 

@@ -17,7 +17,15 @@ from ...atomicfile import remove_stale_temporaries
 from ..executors import Executor, InProcessExecutor, peak_rss_bytes
 from .chunks import simulate_grid_chunk
 from .plan import SweepPlan
-from .store import _assemble, _chunk_digest, _locked, _prepare_store, _write_chunk, chunk_path
+from .store import (
+    _assemble,
+    _check_results,
+    _chunk_digest,
+    _locked,
+    _prepare_store,
+    _write_chunk,
+    chunk_path,
+)
 
 __all__ = ["SweepSummary", "run_sweep"]
 
@@ -50,6 +58,7 @@ def run_sweep(
     resume: bool = False,
     progress: bool = True,
     max_pending: int | None = None,
+    force: bool = False,
 ) -> SweepSummary:
     """Run (or resume) ``plan`` into the store ``out``; see the module docstring.
 
@@ -65,28 +74,36 @@ def run_sweep(
         an existing sweep in ``out`` is an error.
     progress : bool
         Show a tqdm bar with ETA on stderr.
+    max_pending : int, optional
+        Most chunks submitted to the executor and not yet collected (default: its own).
+    force : bool
+        Replace a ``results.csv`` in ``out`` that it2track cannot prove it wrote (no matching
+        ``results.csv.sha256``); without it such a file stops the sweep before any work.
 
     Raises
     ------
     StoreError
-        If ``out`` holds another sweep, a different configuration, or is locked.
+        If ``out`` holds another sweep, a different configuration, a ``results.csv`` of
+        someone else's (without ``force``), or is locked.
     """
     executor = executor or InProcessExecutor()
     out = Path(out)
+    if out.is_dir():
+        _check_results(out, force=force)  # before anything is created in a user's folder
     (out / "chunks").mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     with _locked(out):
-        _prepare_store(plan, out, resume=resume)
+        _prepare_store(plan, out, resume=resume, force=force)
         header_line = plan.header_csv()
         chunks = plan.chunks()
         # Temporaries a killed run of ours left (our naming, dead writer); nothing else.
-        remove_stale_temporaries(out, ("sweep.json", "results.csv"))
+        remove_stale_temporaries(out, ("sweep.json", "results.csv", "results.csv.sha256"))
         names = {chunk_path(out, c.id).name for c in chunks}
         remove_stale_temporaries(out / "chunks", names | {n + ".sha256" for n in names})
         digests: dict[int, str] = {}
         todo = []
         for c in chunks:
-            digest = _chunk_digest(chunk_path(out, c.id), header_line, c.size)
+            digest = _chunk_digest(chunk_path(out, c.id), header_line, plan.row_keys(c))
             if digest is None:
                 todo.append(c)
             else:
@@ -115,7 +132,7 @@ def run_sweep(
                 bar.update(chunk.size)
         finally:
             bar.close()
-        _assemble(plan, out, header_line, digests)
+        _assemble(plan, out, header_line, digests, force=force)
     return SweepSummary(
         out=out,
         n_runs=plan.n_runs,

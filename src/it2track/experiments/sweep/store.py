@@ -7,13 +7,16 @@ Layout (directory ``DIR``)::
     DIR/chunks/chunk-000042.csv          one CSV per finished chunk (header + its rows)
     DIR/chunks/chunk-000042.csv.sha256   its SHA-256 (``sha256sum -c`` format)
     DIR/results.csv                      all rows in run order, assembled when every chunk is done
+    DIR/results.csv.sha256               its SHA-256: the proof that lets a resume replace it
     DIR/.lock                            advisory lock held while a process works on DIR
 
 Every file is written to a temporary name (:mod:`it2track.atomicfile`), flushed, ``fsync``-ed
 and renamed (then the directory is ``fsync``-ed), so a chunk file exists only if it is complete:
 killing the process at any moment loses at most the chunks being computed. ``resume`` checks the
 configuration hash and skips the chunks on disk whose bytes still hash to their stored SHA-256
-(an edited, torn or unverifiable chunk is computed again); temporaries are removed only if they
+and whose rows are the runs of the chunk's place in the plan (an edited, torn, unverifiable or
+misplaced chunk is computed again); ``results.csv`` is replaced only if it still matches its
+``.sha256`` (never a file of the user's, unless ``force``); temporaries are removed only if they
 carry this package's temporary naming and their writer is dead, never a user's ``.*.tmp``. The
 hash covers everything that determines the numbers and the chunk
 layout -- including the it2track version and the bytes (not the paths) of controller and
@@ -37,12 +40,19 @@ import hashlib
 import json
 import os
 import stat
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
 from ... import __version__
-from ...atomicfile import atomic_open, atomic_write_bytes
+from ...atomicfile import NotRegularFileError, atomic_open, atomic_write_bytes
+from ...authorship import (
+    UnprovenFileError,
+    check_may_replace,
+    proven_by_sidecar,
+    sidecar_line,
+    sidecar_path,
+)
 from .plan import STORE_FORMAT, SweepPlan, _hash_json
 
 __all__ = ["StoreError", "chunk_path", "digest_path", "read_results"]
@@ -106,12 +116,15 @@ def _read_regular(path: Path) -> bytes | None:
         return None
 
 
-def _chunk_digest(path: Path, header: str, size: int) -> str | None:
-    """The SHA-256 of ``path`` if it is a complete, unaltered chunk, else None.
+def _chunk_digest(path: Path, header: str, keys: Sequence[str]) -> str | None:
+    """The SHA-256 of ``path`` if it is a complete, unaltered chunk of its place in the plan,
+    else None.
 
-    Complete: our header and ``size`` rows; unaltered: its bytes hash to the digest stored in
-    its ``.sha256`` file when it was written. A missing, torn or edited chunk (or checksum
-    file) gives None: the chunk is computed again.
+    Complete: our header and one row per run; unaltered: its bytes hash to the digest stored
+    in its ``.sha256`` file when it was written; in its place: row ``i`` starts with
+    ``keys[i]``, the run id and the identifying columns the plan gives that run (a copy of
+    another chunk, even with a matching checksum file, is not this chunk). A missing, torn,
+    edited or misplaced chunk (or checksum file) gives None: the chunk is computed again.
     """
     data = _read_regular(path)
     stored = _read_regular(digest_path(path))
@@ -120,10 +133,12 @@ def _chunk_digest(path: Path, header: str, size: int) -> str | None:
     digest = hashlib.sha256(data).hexdigest()
     if stored != _digest_line(path, digest):
         return None
-    if not (
-        data.startswith(header.encode("utf-8"))
-        and data.endswith(b"\n")
-        and data.count(b"\n") == size + 1
+    head = header.encode("utf-8")
+    if not (data.startswith(head) and data.endswith(b"\n")):
+        return None
+    rows = data[len(head):-1].split(b"\n")
+    if len(rows) != len(keys) or not all(
+        row.startswith(key.encode("utf-8") + b",") for row, key in zip(rows, keys, strict=True)
     ):
         return None
     return digest
@@ -165,7 +180,18 @@ def _changed_files(meta: Mapping[str, Any], plan: SweepPlan) -> list[str]:
     return out
 
 
-def _prepare_store(plan: SweepPlan, out: Path, *, resume: bool) -> None:
+def _check_results(out: Path, *, force: bool) -> None:
+    """``results.csv`` may be (re)written: absent, or a regular file whose ``.sha256`` beside it
+    (written with it) still matches, or ``force`` -- never a file of the user's."""
+    try:
+        check_may_replace([out / "results.csv"], proof=proven_by_sidecar, force=force,
+                          sidecars=True)
+    except (NotRegularFileError, UnprovenFileError) as exc:
+        raise StoreError(f"{exc.filename} {exc.strerror}") from None
+
+
+def _prepare_store(plan: SweepPlan, out: Path, *, resume: bool, force: bool = False) -> None:
+    _check_results(out, force=force)
     meta_path = out / "sweep.json"
     normalised = plan.normalised()
     digest = _hash_json(normalised)
@@ -221,14 +247,21 @@ def _prepare_store(plan: SweepPlan, out: Path, *, resume: bool) -> None:
     atomic_write_bytes(meta_path, text.encode("utf-8"))
 
 
-def _assemble(plan: SweepPlan, out: Path, header: str, digests: Mapping[int, str]) -> None:
-    """``results.csv``: the header, then every chunk's rows in run order (streamed).
+def _assemble(plan: SweepPlan, out: Path, header: str, digests: Mapping[int, str], *,
+              force: bool = False) -> None:
+    """``results.csv``: the header, then every chunk's rows in run order (streamed), and its
+    SHA-256 in ``results.csv.sha256`` (the proof a later resume needs to replace it).
 
     Each chunk is hashed while it is copied and must still have the digest it had when it was
-    verified or written (``digests``): a chunk changed meanwhile stops the assembly.
+    verified or written (``digests``): a chunk changed meanwhile stops the assembly. The rule
+    of :func:`_check_results` is checked again first (a file may have appeared meanwhile).
     """
-    with atomic_open(out / "results.csv", "wb") as dst:
+    _check_results(out, force=force)
+    target = out / "results.csv"
+    whole = hashlib.sha256()
+    with atomic_open(target, "wb") as dst:
         dst.write(header.encode("utf-8"))
+        whole.update(header.encode("utf-8"))
         for chunk in plan.chunks():
             path = chunk_path(out, chunk.id)
             h = hashlib.sha256()
@@ -237,6 +270,7 @@ def _assemble(plan: SweepPlan, out: Path, header: str, digests: Mapping[int, str
                 h.update(first)
                 while block := src.read(1 << 20):
                     h.update(block)
+                    whole.update(block)
                     dst.write(block)
             if h.hexdigest() != digests[chunk.id]:
                 raise StoreError(
@@ -244,6 +278,9 @@ def _assemble(plan: SweepPlan, out: Path, header: str, digests: Mapping[int, str
                     f"{digests[chunk.id][:12]} expected, {h.hexdigest()[:12]} found); "
                     "rerun with --resume to recompute it"
                 )
+        # The proof first, then the rename (when the block ends): a crash between the two
+        # leaves a results.csv that does not match it, never a proof of bytes not ours.
+        atomic_write_bytes(sidecar_path(target), sidecar_line(target, whole.hexdigest()))
 
 
 def read_results(path: str | Path) -> tuple[list[str], list[list[str]]]:
