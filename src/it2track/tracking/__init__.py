@@ -17,6 +17,7 @@ from .simulate import (
     simulate_metrics,
     wrap_angle,
 )
+from .surface_table import SurfaceTableController
 from .trajectories import (
     PAPER_TRAJECTORIES,
     FunctionTrajectory,
@@ -42,6 +43,7 @@ __all__ = [
     "PDHeadingController",
     "PoseTiming",
     "RunTable",
+    "SurfaceTableController",
     "Trace",
     "Trajectory",
     "WaypointTrajectory",
