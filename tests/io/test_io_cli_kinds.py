@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
+import numpy as np
 import pytest
 from click.testing import CliRunner
 
@@ -67,3 +69,25 @@ def test_surface_of_a_mamdani_file(tmp_path: Path) -> None:
     result = CliRunner().invoke(surface, [str(DATA / "tipper_mamdani.fis"), "--out", str(out)])
     assert result.exit_code == 0, result.output
     assert out.read_bytes().startswith(PNG)
+
+
+def test_surface_survives_spurious_blas_flags_in_3d_drawing(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # OpenBLAS can leave overflow flags in matplotlib's 3-D projection (np.dot of finite
+    # arrays), which numpy 2 reports as a RuntimeWarning: the suite's warnings-as-errors made
+    # `surface` fail depending on test order. Raise such a flag there on purpose.
+    import mpl_toolkits.mplot3d.proj3d as proj3d
+
+    original = proj3d._proj_transform_vec
+
+    def flagging(vec: Any, M: Any) -> Any:
+        np.multiply(np.float64(1e308), 10.0)  # sets the overflow flag, warns if not ignored
+        return original(vec, M)
+
+    monkeypatch.setattr(proj3d, "_proj_transform_vec", flagging)
+    out = tmp_path / "s.png"
+    result = CliRunner().invoke(surface, [str(DATA / "rule_language.fis"), "--out", str(out),
+                                          "--output", "v"])
+    assert result.exit_code == 0, result.output
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

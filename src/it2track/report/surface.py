@@ -35,9 +35,17 @@ FuzzySystem = AnySystem  # Sugeno, TSK or Mamdani (one output: see select_output
 PathLike = str | os.PathLike[str]
 
 
+#: Floating-point flags ignored while matplotlib draws. Its 3-D projection multiplies finite
+#: 4 x N arrays with ``np.dot``; OpenBLAS kernels on some CPUs leave spurious overflow/invalid
+#: flags that numpy 2 reports as RuntimeWarnings (numpy issues 28687, 29820), depending on what
+#: ran before in the process. Our own values are computed (and checked) outside this scope.
+def _drawing_errstate() -> np.errstate:
+    return np.errstate(over="ignore", invalid="ignore", divide="ignore")
+
+
 def _save(fig: Figure, path: PathLike) -> None:
     suffix = Path(path).suffix.lstrip(".").lower() or "png"
-    with atomic_open(path, "wb") as fh:
+    with atomic_open(path, "wb") as fh, _drawing_errstate():
         fig.savefig(fh, format=suffix)
 
 
@@ -159,8 +167,9 @@ def plot_control_surface(
         gx, gy, u = surface_grid(system, inputs=inputs, fixed=fixed, points=points)
         names = list(inputs) if inputs is not None else [i.name for i in system.inputs[:2]]
         if style == "3d":
-            ax.plot_surface(gx, gy, np.ma.masked_invalid(u), cmap=cmap, linewidth=0,
-                            antialiased=True)
+            with _drawing_errstate():
+                ax.plot_surface(gx, gy, np.ma.masked_invalid(u), cmap=cmap, linewidth=0,
+                                antialiased=True)
             ax.set_zlabel("u")
             for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
                 axis.set_major_locator(MaxNLocator(5))
