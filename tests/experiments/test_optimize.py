@@ -24,6 +24,7 @@ from it2track.experiments.optimize import (
     load_optimize_config,
     run_optimization,
 )
+from it2track.experiments.optimize import search as optimize_search
 from it2track.experiments.specs import ConfigError, ControllerKind, ControllerSpec
 from it2track.report.optimize_plot import plot_convergence
 from it2track.tracking import METRIC_NAMES, LoopConfig, get_trajectory
@@ -212,16 +213,16 @@ def test_ties_count_half_and_optima_on_a_bound_are_flagged(tmp_path: Path) -> No
 
 
 def test_bound_side_and_advice() -> None:
-    assert optimize_module._bound_side(0.205, (0.2, 1.2)) == "lower"  # within 1 % of the range
-    assert optimize_module._bound_side(0.215, (0.2, 1.2)) is None
-    assert optimize_module._bound_side(1.195, (0.2, 1.2)) == "upper"
+    assert optimize_search._bound_side(0.205, (0.2, 1.2)) == "lower"  # within 1 % of the range
+    assert optimize_search._bound_side(0.215, (0.2, 1.2)) is None
+    assert optimize_search._bound_side(1.195, (0.2, 1.2)) == "upper"
     sym = {"width": 1.2, "bound": "upper"}
     asym = {"widths": {"e.N": 0.7, "e.Z": 0.2}, "bound": {"e.N": None, "e.Z": "lower"}}
-    warnings = optimize_module._bound_warnings((0.2, 1.2), sym, asym)
+    warnings = optimize_search._bound_warnings((0.2, 1.2), sym, asym)
     assert len(warnings) == 2
     assert "upper bound 1.2" in warnings[0] and "widen bounds" in warnings[0]
     assert "width e.Z = 0.2 lies on the lower bound 0.2" in warnings[1]
-    assert optimize_module._bound_warnings((0.2, 1.2), {"width": 0.5, "bound": None}, None) == []
+    assert optimize_search._bound_warnings((0.2, 1.2), {"width": 0.5, "bound": None}, None) == []
 
 
 def test_differential_evolution_on_scipy_without_rng_keyword(
@@ -331,7 +332,7 @@ def test_example_config_parses() -> None:
 
 def test_de_progress_bar_ends_at_the_real_count(tmp_path: Path, capsys) -> None:
     """Differential evolution that converges early: the bar ends at 100 %, count evaluated."""
-    from it2track.experiments.optimize import _optimise_asymmetric
+    from it2track.experiments.optimize.search import _optimise_asymmetric
 
     text = TINY.replace("maxiter = 2\nseed = 4", "maxiter = 60\ntol = 1.0\nseed = 4")
     cfg = load_optimize_config(write(tmp_path, text))

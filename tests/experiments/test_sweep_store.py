@@ -19,7 +19,6 @@ from click.testing import CliRunner
 
 from it2track import heading_fls, save
 from it2track.cli.sweep import sweep as sweep_command
-from it2track.experiments import sweep as sweep_module
 from it2track.experiments.sweep import (
     StoreError,
     digest_path,
@@ -27,6 +26,9 @@ from it2track.experiments.sweep import (
     read_results,
     run_sweep,
 )
+from it2track.experiments.sweep import chunks as sweep_chunks
+from it2track.experiments.sweep import plan as sweep_plan
+from it2track.experiments.sweep import store as sweep_store
 from it2track.tracking import METRIC_NAMES, RunTable, simulate_metrics
 
 SMALL = """
@@ -302,7 +304,8 @@ def test_store_of_another_it2track_version_is_refused(
     )))  # fmt: skip
     out = tmp_path / "out"
     run_sweep(plan, out, progress=False)
-    monkeypatch.setattr(sweep_module, "__version__", "99.0")
+    for module in (sweep_plan, sweep_store):  # the plan hashes it, the store checks it
+        monkeypatch.setattr(module, "__version__", "99.0")
     assert plan.normalised()["it2track_version"] == "99.0"  # part of the hash, too
     with pytest.raises(StoreError, match=r"started by it2track 0\.1\.0, this is it2track 99"):
         run_sweep(plan, out, resume=True, progress=False)
@@ -314,7 +317,7 @@ def test_cli_sweep_reports_a_failing_run_without_traceback(
     def broken(*args: object, **kwargs: object) -> None:
         raise ValueError("trajectory too short for the loop")
 
-    monkeypatch.setattr(sweep_module, "simulate_metrics", broken)
+    monkeypatch.setattr(sweep_chunks, "simulate_metrics", broken)
     config = write(tmp_path, SMALL)
     out = tmp_path / "out"
     result = CliRunner().invoke(sweep_command, ["--config", str(config), "--out", str(out),
@@ -343,7 +346,7 @@ import os
 import time
 from pathlib import Path
 
-from it2track.experiments import sweep as _sweep
+from it2track.experiments.sweep import runner as _sweep
 
 _real = _sweep.simulate_grid_chunk
 

@@ -159,7 +159,7 @@ def _grid(values: Sequence[float], key: str, *, positive: bool) -> tuple[float, 
 class FuzzyTuning:
     """How the fuzzy controllers are tuned (beside the untuned paper controllers).
 
-    The same procedure as the PD's (:class:`~it2track.experiments.study.PDTuning`): every
+    The same procedure as the PD's (:class:`~it2track.experiments.study.config.PDTuning`): every
     candidate ``(ke, kde, gain)`` of the grid is simulated on the PD's tuning realisations
     (seed indices ``1_000_000 + i``, ``i < pd.seeds``) at the study's noise level over the
     study's trajectories, and the candidate with the smallest mean ISE whose mean control

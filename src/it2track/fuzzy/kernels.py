@@ -97,11 +97,19 @@ def load_jit() -> Any:
     return _jit
 
 
+def _compiled_as(system: Any) -> str | None:
+    """``"it2"`` or ``"t1"`` if ``system`` is exactly an ``IT2Sugeno`` or a ``T1Sugeno``, else
+    None. Each of the two classes names itself in its own ``_compiled_as``; this reads the
+    class's own namespace, so a subclass (which may change the behaviour) gets None, and this
+    module needs no import of :mod:`.sugeno` (which imports it, through :mod:`.system`)."""
+    kind: str | None = vars(type(system)).get("_compiled_as")
+    return kind
+
+
 def supported(system: Any) -> str | None:
     """``None`` if the kernels implement ``system``, else why not (for messages and tests)."""
-    from .sugeno import IT2Sugeno, T1Sugeno
-
-    if type(system) not in (IT2Sugeno, T1Sugeno):
+    kind = _compiled_as(system)
+    if kind is None:
         return f"{type(system).__name__} is not IT2Sugeno or T1Sugeno"
     t = system.tables
     extra = set(t.features) - _FEATURES
@@ -112,7 +120,7 @@ def supported(system: Any) -> str | None:
         return f"membership kinds {sorted(k.name for k in kinds - _KINDS)} are not compiled"
     if system.tnorm not in (TNorm.PRODUCT, TNorm.MINIMUM):
         return f"t-norm {system.tnorm!r} is not compiled"
-    if type(system) is IT2Sugeno:
+    if kind == "it2":
         red = system.reducer
         kernel = red._approx if red._approx is not None else red._left
         if kernel not in _REDUCERS:
@@ -128,13 +136,11 @@ def pack(system: Any) -> FloatArray:
     (``(R, n_inputs)``, rules sorted by ``y_lo``), the sorted consequents, the order of
     ``y_hi``, and the Wu-Mendel and Nie-Tan constants. Integers are stored exactly (< 2^53).
     """
-    from .sugeno import IT2Sugeno
-
     t = system.tables
     r = t.n_rules
     y_lo, y_hi, ohi = t.y_lo_s, t.y_hi_s, t.order_hi_s
     y_hs = y_hi[ohi]
-    if type(system) is IT2Sugeno:
+    if _compiled_as(system) == "it2":
         red = system.reducer
         kernel = red._approx if red._approx is not None else red._left
         code = _REDUCERS[kernel]

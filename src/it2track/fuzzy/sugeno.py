@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -78,6 +79,8 @@ class IT2Sugeno(_SystemBase):
     """
 
     reducer: TypeReducer = EXHAUSTIVE
+    #: How :mod:`.kernels` compiles this class (this class only: not inherited, see there).
+    _compiled_as: ClassVar[str] = "it2"
 
     def __post_init__(self) -> None:
         super().__post_init__()
@@ -184,6 +187,9 @@ class T1Sugeno(_SystemBase):
     >>> float(fls(0.25))  # (0.75 * 1.5 + 0.25 * 0) / (0.75 + 0.25)
     1.125
     """
+
+    #: How :mod:`.kernels` compiles this class (this class only: not inherited, see there).
+    _compiled_as: ClassVar[str] = "t1"
 
     def __post_init__(self) -> None:
         super().__post_init__()

@@ -94,8 +94,8 @@ def run(
     numbers are then meaningless and the caller re-runs it with numpy). ``noise``: rows drawn
     beforehand for the noisy runs' seeds (else drawn here; runs with sigma = 0 draw none).
     """
+    from .loopdefs import TRACE_FIELDS, PoseTiming, noise_rows
     from .metrics import METRIC_NAMES
-    from .simulate import TRACE_FIELDS, PoseTiming, noise_rows
 
     cfg = engine.config
     n = len(runs)

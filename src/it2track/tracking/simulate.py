@@ -33,7 +33,6 @@ keeps only the metrics (``dict`` of ``(B,)`` arrays), so memory stays flat as ``
 from __future__ import annotations
 
 import dataclasses
-import enum
 import functools
 import math
 from collections.abc import Callable, Sequence
@@ -51,6 +50,7 @@ from ..plant.noise import MAX_NOISE_STD, NoiseRows
 from . import compiled as _compiled
 from .controllers import HeadingController
 from .libm import atan2
+from .loopdefs import TRACE_FIELDS, PoseTiming, noise_rows
 from .metrics import MetricAccumulator
 from .trajectories import Trajectory
 
@@ -107,18 +107,6 @@ def _wrap_inplace(a: FloatArray) -> FloatArray:
 ON_PATH = "on_path"
 
 
-class PoseTiming(enum.Enum):
-    """Which pose the desired heading ``theta_d`` at instant ``k`` is computed from.
-
-    ``CURRENT`` (default): the pose at ``t_k``, i.e. the one the previous period produced
-    (DESIGN.md sec. 5). ``PREVIOUS``: the pose at ``t_(k-1)`` (one more period of delay), the
-    paper's eqs. 20-21 read literally (``y_d(k) - y(k - 1)``); at ``k = 0`` the start pose.
-    """
-
-    CURRENT = "current"
-    PREVIOUS = "previous"
-
-
 @dataclass(frozen=True, kw_only=True)
 class LoopConfig:
     """Physics and timing shared by every run of a batch.
@@ -142,7 +130,7 @@ class LoopConfig:
     quadrature_nodes : int
         Nodes per period of the position integral, 1 to 64 (see :class:`DifferentialDrive`).
     desired_heading_pose : PoseTiming or str
-        Pose ``theta_d`` is computed from (see :class:`PoseTiming`; default ``"current"``).
+        Pose ``theta_d`` is computed from (see :class:`.PoseTiming`; default ``"current"``).
     metric_start : float
         Start of the window of the heading-error integrals (IAE ... ITSE and their ``_meas``
         forms), s: they integrate over ``[metric_start, duration]`` (ITAE/ITSE still weight
@@ -447,21 +435,6 @@ def run_grid(
     return RunTable(c, t, s, z)
 
 
-#: Time-series fields of a :class:`Trace`, each an array of shape ``(B, N+1)``.
-TRACE_FIELDS: tuple[str, ...] = (
-    "x", "y", "theta",          # pose at t_k (theta unwrapped), m, m, rad
-    "x_ref", "y_ref",           # reference point at t_k, m
-    "theta_d",                  # desired heading atan2(...), rad
-    "theta_meas",               # measured heading theta + noise, rad
-    "e_true", "e_meas",         # wrapped heading errors (true / measured), rad
-    "de",                       # change of the measured error, rad
-    "u",                        # controller output, V
-    "v_right", "v_left",        # wheel voltages applied (saturated), V
-    "omega_right", "omega_left",  # wheel speeds at t_k, rad/s
-    "v", "omega",               # body translational (m/s) and rotational (rad/s) speed
-)  # fmt: skip
-
-
 @dataclass(frozen=True)
 class Trace:
     """Time series of a batch of runs.
@@ -473,7 +446,7 @@ class Trace:
     runs : RunTable
         The runs, in the order of the first axis below.
     series : dict of str -> ndarray, shape (B, N+1)
-        One array per name in :data:`TRACE_FIELDS` (axis 0: run, axis 1: time).
+        One array per name in :data:`.TRACE_FIELDS` (axis 0: run, axis 1: time).
     metrics : dict of str -> ndarray, shape (B,)
         The metrics of :mod:`it2track.tracking.metrics`.
     """
@@ -541,17 +514,6 @@ def _check_inputs(
 #: seed index of a noisy run drawn once per call: 8 kB per seed at 1001 samples, so 64 MiB is
 #: ~8000 seeds). Beyond it every chunk draws its own seeds' rows.
 NOISE_TABLE_BYTES = 64 << 20
-
-
-def noise_rows(
-    seed: int, n_noise: int, seeds: IntArray, std: FloatArray, table: NoiseRows | None = None
-) -> tuple[FloatArray, IntArray]:
-    """Standard-noise rows for runs with seed indices ``seeds`` and noise levels ``std``:
-    ``(rows, index)``, run ``r``'s row ``rows[index[r]]`` (zeros where ``std[r] == 0``, which
-    draws nothing). ``table``: rows drawn beforehand for these seeds (else drawn here)."""
-    if table is None:
-        table = NoiseRows(seed, seeds[std > 0.0], n_noise)
-    return table.lookup(seeds, std)
 
 
 @functools.lru_cache(maxsize=32)

@@ -152,7 +152,7 @@ def write_figures(
     Parameters
     ----------
     result : StudyResult
-        From :func:`it2track.experiments.study.run_study`.
+        From :func:`it2track.experiments.study.runner.run_study`.
     summary : list of dict
         From :func:`it2track.experiments.analysis.summarise` ``(result.rows)``.
     out_dir : Path
