@@ -73,23 +73,27 @@ def run(design, base=0):
     return sim, out
 
 
-def test_extends_only_unsettled_units_to_the_cap_in_batches():
+def test_extends_only_the_cells_behind_unsettled_levels_to_the_cap_in_batches():
     design = SequentialDesign(first=20, batch=20, cap=60, resamples=300)
     sim, out = run(design)
-    # Round 0: every unit at 20 seeds (one run at sigma 0).
+    # Round 0: every cell at 20 seeds (one run at sigma 0), every controller.
     first = sim.calls[0]
     assert {(b.start, b.stop) for b in first if b.cells[0][2] > 0} == {(0, 20)}
     assert {(b.start, b.stop) for b in first if b.cells[0][2] == 0} == {(0, 1)}
-    # Sigma 0.1 settles at once (clear effects); 0.05 is extended in batches of 20 to 60.
-    assert out.n[("straight", 0.1)] == out.n[("curved", 0.1)] == 20
-    assert out.n[("curved", 0.05)] == 60
+    assert {c for b in first for c, _, _ in b.cells} == set(CTRL)
+    # Sigma 0.1 settles at once (clear effects); C1 at 0.05 on the curved path (a tiny
+    # effect) is extended in batches of 20 to the cap of 60, for C1's controllers there.
+    for c in CTRL:
+        assert out.n[(c, "straight", 0.1)] == out.n[(c, "curved", 0.1)] == 20
+    assert out.n[("IT2FLC FoU 0.2", "curved", 0.05)] == out.n[("FLC", "curved", 0.05)] == 60
+    assert out.n[("PD", "curved", 0.05)] == 20  # compared by no claim: never extended
     assert [r["round"] for r in out.rounds] == [1, 2]
     for r in out.rounds:
-        for _p, s, a, b in r["units"]:
-            assert s == 0.05 and b - a == 20
+        for _p, s, a, b, ctrls in r["units"]:
+            assert s == 0.05 and b - a == 20 and "PD" not in ctrls
     for batches in sim.calls[1:]:
-        for b in batches:
-            assert {c for c, _, _ in b.cells} == set(CTRL)  # every controller, same seeds
+        for b in batches:  # one seed range per batch, shared by its controllers
+            assert b.stop - b.start == 20
     c1 = next(c for c in out.claims if c.id == "C1")
     assert c1.level_status[0.1] == "holds" and c1.replication[("all", 0.1)] >= 0.95
     assert c1.settled("all", 0.1)
@@ -106,10 +110,25 @@ def test_a_cap_equal_to_the_first_round_never_extends():
     assert set(out.n.values()) == {1, 20}
 
 
+def test_a_pair_is_judged_on_the_seeds_both_have():
+    # C1's pair on the curved path at 0.05 has 60 seeds, C2's IT2FLC 0.1 only as many as C2
+    # asked for: every cell's n is the pair's common count.
+    design = SequentialDesign(first=20, batch=20, cap=60, resamples=300)
+    _, out = run(design)
+    for claim in out.claims:
+        d = next(x for x in CLAIMS if x.id == claim.id)
+        for e in claim.evidence:
+            if e["sigma"] == 0.0:
+                continue
+            a, b = e["comparison"].split(" - ")
+            key = (e["trajectory"], e["sigma"])
+            assert e["n"] == min(out.n[(a, *key)], out.n[(b, *key)]), (d.id, e)
+
+
 def test_verdict_rows_cover_every_level_and_path_with_its_n():
     design = SequentialDesign(first=20, batch=20, cap=60, resamples=300)
     _, out = run(design)
-    rows = verdict_rows(CLAIMS, out.claims, lambda d, p, s: out.n_of(d, p, s, TRAJ))
+    rows = verdict_rows(CLAIMS, out.claims)
     assert all(list(r) == list(VERDICT_COLUMNS) for r in rows)
     keys = {(r["claim"], r["path"], r["sigma"]) for r in rows}
     assert keys == {(c, p, s) for c in ("C1", "C2") for p in ("all", *TRAJ) for s in LEVELS}
@@ -121,8 +140,9 @@ def test_verdict_rows_cover_every_level_and_path_with_its_n():
         claim = next(c for c in out.claims if c.id == r["claim"])
         assert r["replication"] == claim.replication[(r["path"], r["sigma"])]
         assert r["settled"] == (r["replication"] >= 0.95)
-        expect_n = (min(out.n[(p, r["sigma"])] for p in TRAJ) if r["path"] == "all"
-                    else out.n[(r["path"], r["sigma"])])
+        claim = next(d for d in CLAIMS if d.id == r["claim"])
+        paths = TRAJ if r["path"] == "all" else (r["path"],)
+        expect_n = min(out.n[(c, p, r["sigma"])] for c in claim.controllers for p in paths)
         assert r["n"] == expect_n
         cells = 4 * (1 if r["claim"] == "C1" else 2) * (len(TRAJ) if r["path"] == "all" else 1)
         assert r["cells"] == cells
@@ -162,8 +182,9 @@ def test_first_round_rows_are_checked_and_reused():
     out = settle(again, claims=CLAIMS, controllers=CTRL, trajectories=TRAJ, levels=LEVELS,
                  design=design, rows=rows)
     assert again.calls == [] and len(out.rows["seed"]) == len(rows["seed"])
-    short = {k: v[rows["seed"] < 19] for k, v in rows.items()}
-    with pytest.raises(ValueError, match="have 19 realisations, not 20"):
+    short = {k: v[(rows["seed"] < 19) | (rows["controller"] != "PD")] for k, v in rows.items()}
+    with pytest.raises(ValueError, match="'PD' on 'straight' at sigma 0.05 have 19 "
+                                         "realisations, not 20"):
         settle(again, claims=CLAIMS, controllers=CTRL, trajectories=TRAJ, levels=LEVELS,
                design=design, rows=short)
 

@@ -154,21 +154,49 @@ class CellData:
 
 def group_index(rows: Rows, keys: Sequence[str]) -> dict[tuple[Any, ...], np.ndarray]:
     """Row indices of each distinct combination of ``keys`` (in first-seen order), each sorted
-    by seed so that groups sharing seeds align for paired comparisons. A noise-free group
-    (``noise_std == 0``) keeps only its lowest seed: every seed is the same run."""
-    groups: dict[tuple[Any, ...], list[int]] = {}
-    cols = [rows[k] for k in keys]
-    for i in range(len(rows["seed"])):
-        groups.setdefault(tuple(c[i] for c in cols), []).append(i)
-    seed = rows["seed"]
-    sigma = rows["noise_std"]
+    by seed so that groups sharing seeds align for paired comparisons (rows of one seed keep
+    their order). A noise-free group (``noise_std == 0``) keeps only its lowest seed: every
+    seed is the same run."""
+    n = len(rows["seed"])
+    if n == 0:
+        return {}
+    codes = []
+    uniques = []
+    for k in keys:
+        u, inv = np.unique(np.asarray(rows[k]), return_inverse=True)
+        uniques.append(u)
+        codes.append(inv.reshape(-1))
+    combined = np.zeros(n, dtype=np.int64)
+    for inv, u in zip(codes, uniques, strict=True):
+        combined = combined * len(u) + inv
+    seed = np.asarray(rows["seed"])
+    order = np.lexsort((np.arange(n), seed, combined))
+    sorted_key = combined[order]
+    starts = np.flatnonzero(np.r_[True, sorted_key[1:] != sorted_key[:-1]])
+    ends = np.r_[starts[1:], n]
+    first_row = np.minimum.reduceat(order, starts)
+    sigma = np.asarray(rows["noise_std"])
+    cols = [np.asarray(rows[k]) for k in keys]
     out = {}
-    for key, idx in groups.items():
-        ordered = sorted(idx, key=lambda j: seed[j])
-        if sigma[ordered[0]] == 0.0:
-            ordered = ordered[:1]
-        out[key] = np.asarray(ordered, dtype=np.intp)
+    for g in np.argsort(first_row, kind="stable"):
+        idx = order[starts[g]:ends[g]].astype(np.intp)
+        if sigma[idx[0]] == 0.0:
+            idx = idx[:1]
+        i0 = int(first_row[g])
+        out[tuple(c[i0] for c in cols)] = idx
     return out
+
+
+def _common(seed: np.ndarray, groups: Sequence[np.ndarray]) -> list[np.ndarray]:
+    """Each group's rows restricted to the seeds every group has (groups are sorted by seed,
+    one row per seed): compared controllers are paired on their common realisations."""
+    seeds = [np.asarray(seed)[g] for g in groups]
+    if all(np.array_equal(seeds[0], x) for x in seeds[1:]):
+        return list(groups)
+    common = seeds[0]
+    for x in seeds[1:]:
+        common = np.intersect1d(common, x)
+    return [g[np.isin(x, common)] for g, x in zip(groups, seeds, strict=True)]
 
 
 def it2_label(w: float) -> str:
@@ -265,11 +293,14 @@ def claim_cells(rows: Rows, claim: ClaimDef, *, experiment: str,
     """The cells of ``claim`` at every noise level of ``experiment``'s rows (ordered level,
     trajectory, metric, pair as the evidence tables list them).
 
+    Compared controllers are paired on the seeds they share (a controller may have more
+    realisations than another: seeds by need, :mod:`.sequential`).
+
     Raises
     ------
     ValueError
-        If a compared pair lacks rows at some level and path, or its controllers saw different
-        seeds (a paired comparison needs common random numbers).
+        If a compared pair lacks rows at some level and path, or shares no seed there (a
+        paired comparison needs common random numbers).
     """
     if groups is None:
         groups = group_index(rows, ("experiment", "trajectory", "controller", "noise_std"))
@@ -286,10 +317,10 @@ def claim_cells(rows: Rows, claim: ClaimDef, *, experiment: str,
             have = [(label, idx) for label, idx in found if idx is not None]
             if not have:
                 raise ValueError(f"no {traj}-line {metric} at sigma {sigma:g}")
-            n = min(idx.size for _, idx in have)
-            if any(idx.size != n for _, idx in have):
-                raise ValueError(f"{claim.id}: candidates saw different numbers of seeds at "
-                                 f"sigma {sigma:g}")
+            have = list(zip([lb for lb, _ in have],
+                            _common(rows["seed"], [idx for _, idx in have]), strict=True))
+            if not have[0][1].size:
+                raise ValueError(f"{claim.id}: the candidates share no seed at sigma {sigma:g}")
             cells.append(CellData(
                 sigma=sigma, trajectory=traj, metric=metric,
                 comparison=f"smallest mean of {len(have)} vs band", kind=BAND,
@@ -302,8 +333,9 @@ def claim_cells(rows: Rows, claim: ClaimDef, *, experiment: str,
                 for a, b in claim.pairs:
                     ia = groups.get((experiment, traj, a, sigma))
                     ib = groups.get((experiment, traj, b, sigma))
-                    if (ia is None or ib is None
-                            or not np.array_equal(rows["seed"][ia], rows["seed"][ib])):
+                    if ia is not None and ib is not None:
+                        ia, ib = _common(rows["seed"], [ia, ib])
+                    if ia is None or ib is None or not ia.size:
                         raise ValueError(
                             f"no paired data for {a!r} vs {b!r} on {traj!r} at sigma "
                             f"{sigma:g}")

@@ -137,25 +137,37 @@ def cell_statistics(cells: Sequence[CellData], resampler: Resampler | None) -> _
         ss = w @ (xc * xc).T - n * m * m
         var = np.maximum(ss, 0.0) / (n - 1) if n > 1 else np.zeros_like(ss)
         mu = m + centre[None, :]
-        k = 0
-        for i, blk in zip(mine, blocks, strict=True):
-            rows = blk.shape[0]
-            if rows == 1:
-                mean[:, i], sd[:, i] = mu[:, k], np.sqrt(var[:, k])
-            else:  # band: the candidate with the smallest mean on each resample
-                best = np.argmin(mu[:, k:k + rows], axis=1)
-                pick = np.arange(b)
-                mean[:, i] = mu[:, k:k + rows][pick, best]
-                sd[:, i] = np.sqrt(var[:, k:k + rows][pick, best])
-            k += rows
+        sizes = np.array([blk.shape[0] for blk in blocks])
+        starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+        single = sizes == 1
+        cols, at = np.asarray(mine)[single], starts[single]
+        mean[:, cols], sd[:, cols] = mu[:, at], np.sqrt(var[:, at])
+        for i, k, rows in zip(np.asarray(mine)[~single], starts[~single], sizes[~single],
+                              strict=True):
+            # band: the candidate with the smallest mean on each resample
+            best = np.argmin(mu[:, k:k + rows], axis=1)
+            pick = np.arange(b)
+            mean[:, i] = mu[:, k:k + rows][pick, best]
+            sd[:, i] = np.sqrt(var[:, k:k + rows][pick, best])
     return _Stats(mean, sd, ns)
 
 
-def _tail(excess: FloatArray, se: FloatArray, dof: FloatArray) -> FloatArray:
-    """One-sided p of "the mean exceeds by ``excess``" (``t_tail``'s rules at zero spread)."""
+def _tail(excess: FloatArray, se: FloatArray, dof: FloatArray, q: FloatArray) -> FloatArray:
+    """One-sided p of "the mean exceeds by ``excess``" (``t_tail``'s rules at zero spread),
+    computed only where it can be at most :data:`ALPHA` -- where the t statistic reaches the
+    95 % intervals' quantile; elsewhere 1. Any p-value above ``ALPHA`` can neither contradict
+    nor change the Holm-adjusted p-value of a cell with a smaller p-value (those come first
+    in the step-down), so every decision is the exact p-values' (module docstring). ``q``:
+    the ``1 - ALPHA`` quantile of Student's t on ``dof`` degrees of freedom (broadcast)."""
+    out = np.ones_like(excess)
     with np.errstate(divide="ignore", invalid="ignore"):
-        p = _sc.stdtr(dof, -(excess / se))
-    return np.where(se > 0.0, p, np.where(excess > 0.0, 0.0, 1.0))
+        t = excess / se
+    zero = se <= 0.0
+    need = ~zero & (t >= q * (1.0 - 1e-12))
+    if need.any():
+        out[need] = _sc.stdtr(np.broadcast_to(dof, t.shape)[need], -t[need])
+    out[zero & (excess > 0.0)] = 0.0
+    return out
 
 
 def _holm(p: FloatArray) -> FloatArray:
@@ -181,34 +193,40 @@ def judge_replicates(cells: Sequence[CellData], levels: Sequence[tuple[str, floa
     noisy = np.array([c.sigma != 0.0 for c in cells], dtype=bool)
     testable = noisy & (st.n >= 2)
     dof = np.maximum(st.n - 1, 1).astype(np.float64)[None, :]
-    q = _sc.stdtrit(dof, 0.975)
+    q = _sc.stdtrit(dof, 1.0 - ALPHA)  # the 95 % intervals' quantile (one per cell)
     se = st.sd / np.sqrt(st.n)[None, :]
     half = q * se
-    support = np.zeros((b, len(cells)), dtype=bool)
-    p = np.ones((b, len(cells)))
-    for i, c in enumerate(cells):
-        if not testable[i]:
-            continue
-        mu, h, s = st.mean[:, i], half[:, i], se[:, i]
-        if c.kind == BELOW:
-            support[:, i] = mu + h < 0.0
-            p[:, i] = _tail(mu, s, dof[:, i])
-        else:
-            lo, hi = c.band
-            support[:, i] = (mu - h >= lo) & (mu + h <= hi)
-            p[:, i] = np.minimum(1.0, np.minimum(_tail(lo - mu, s, dof[:, i]),
-                                                 _tail(mu - hi, s, dof[:, i])))
+    mu = st.mean
+    below = np.flatnonzero([c.kind == BELOW for c in cells])
+    inside = np.flatnonzero([c.kind != BELOW for c in cells])
+    support = np.zeros(mu.shape, dtype=bool)
+    p = np.ones(mu.shape)
+    if below.size:
+        m, h, e = mu[:, below], half[:, below], se[:, below]
+        d, qq = np.broadcast_to(dof[:, below], m.shape), np.broadcast_to(q[:, below], m.shape)
+        support[:, below] = m + h < 0.0
+        p[:, below] = _tail(m, e, d, qq)
+    if inside.size:
+        m, h, e = mu[:, inside], half[:, inside], se[:, inside]
+        d, qq = np.broadcast_to(dof[:, inside], m.shape), np.broadcast_to(q[:, inside], m.shape)
+        lo = np.array([cells[int(i)].band[0] for i in inside])[None, :]
+        hi = np.array([cells[int(i)].band[1] for i in inside])[None, :]
+        support[:, inside] = (m - h >= lo) & (m + h <= hi)
+        p[:, inside] = np.minimum(1.0, np.minimum(_tail(lo - m, e, d, qq),
+                                                  _tail(m - hi, e, d, qq)))
+    support &= testable[None, :]
     family = np.flatnonzero(testable)
     contradicts = np.zeros_like(support)
     if family.size:
         adj = _holm(p[:, family])
         contradicts[:, family] = ~support[:, family] & (adj <= ALPHA)
     out = np.empty((b, len(levels)), dtype=np.int8)
-    for j, (path, sigma) in enumerate(levels):
-        mine = [i for i, c in enumerate(cells)
-                if c.sigma == sigma and (path == ALL or c.trajectory == path)]
-        if not mine:
-            raise ValueError(f"no cells at {path} sigma {sigma:g}")
+    sigma = np.array([c.sigma for c in cells])
+    traj = np.array([c.trajectory for c in cells], dtype=object)
+    for j, (path, s) in enumerate(levels):
+        mine = np.flatnonzero((sigma == s) & ((traj == path) if path != ALL else True))
+        if not mine.size:
+            raise ValueError(f"no cells at {path} sigma {s:g}")
         holds = support[:, mine].all(axis=1)
         contra = contradicts[:, mine].any(axis=1)
         out[:, j] = np.where(holds, STATUS_CODES[HOLDS],

@@ -1,15 +1,17 @@
 """Seeds by need: a sequential design that adds noise realisations where a verdict needs them.
 
-Every (path, sigma) *unit* of an experiment starts with ``first`` realisations (seed indices
-``0 .. first-1``) for every controller. After each round, every claim is judged
+Every (controller, path, sigma) *cell* of an experiment starts with ``first`` realisations
+(seed indices ``0 .. first-1``). After each round, every claim is judged
 (:func:`~.analysis.evaluate_claims`) and the replication probability of every level -- claim x
 path (and all paths together) x sigma -- is estimated by the bootstrap
 (:mod:`.replication`). A level is *settled* when its replication probability reaches
-``target``. Every unit behind an unsettled level (its path, or every path of the claim for a
-level over all paths) gets ``batch`` more realisations, up to ``cap``, for every controller
-(so all controllers of a unit keep sharing their seeds: the comparisons stay paired); rounds
-continue until every level is settled or every unit behind an unsettled one is at the cap.
-Levels still unsettled at the cap are reported as such, never as a verdict.
+``target``. The cells behind an unsettled level -- the claim's controllers on its path (or on
+every path of the claim, for a level over all paths) at its sigma -- get realisations up to
+``batch`` more than the level has, at most ``cap``; seed indices continue where each cell
+stopped, so compared controllers keep sharing their seeds (a comparison uses the seeds both
+have). Rounds continue until every level is settled or every cell behind an unsettled one is
+at the cap. Levels still unsettled at the cap are reported as such, never as a verdict.
+Controllers that no claim compares keep the first round's realisations.
 
 The design is reused by every experiment that judges claims (the study's noise sweep, and any
 plant or controller implementation that can simulate a batch of seeds): :func:`settle` takes a
@@ -121,30 +123,19 @@ class SettledResult:
     claims : list of ClaimResult
         The claims judged on all rows, with replication probabilities and verdicts over the
         settled levels.
-    n : dict of (str, float) -> int
-        Realisations per (path, sigma) unit at the end.
+    n : dict of (str, str, float) -> int
+        Realisations per (controller, path, sigma) cell at the end.
     rounds : list of dict
-        Per extension round: ``{"round": k, "units": [(path, sigma, n_before, n_after),
-        ...]}``.
+        Per extension round: ``{"round": k, "units": [(path, sigma, n_before, n_after,
+        controllers), ...]}``.
     design : SequentialDesign
     """
 
     rows: dict[str, np.ndarray]
     claims: list[ClaimResult]
-    n: dict[tuple[str, float], int]
+    n: dict[tuple[str, str, float], int]
     design: SequentialDesign
     rounds: list[dict[str, Any]] = field(default_factory=list)
-
-    def n_of(self, claim: ClaimDef | None, path: str, sigma: float,
-             trajectories: Sequence[str]) -> int:
-        """Realisations behind a level: the unit's, or the fewest of the claim's paths for a
-        level over all paths (1 without noise)."""
-        if sigma == 0.0:
-            return 1
-        if path != ALL:
-            return self.n[(path, sigma)]
-        paths = claim.trajectories if claim is not None else trajectories
-        return min(self.n[(p, sigma)] for p in paths)
 
 
 def concat_rows(parts: Sequence[Rows]) -> dict[str, np.ndarray]:
@@ -159,22 +150,32 @@ def concat_rows(parts: Sequence[Rows]) -> dict[str, np.ndarray]:
     return {k: np.concatenate([np.asarray(p[k]) for p in parts]) for k in keys}
 
 
-def _unsettled_units(claims: Sequence[ClaimDef], results: Sequence[ClaimResult],
-                     target: float) -> set[tuple[str, float]]:
-    units: set[tuple[str, float]] = set()
+def _wanted(claims: Sequence[ClaimDef], results: Sequence[ClaimResult],
+            n: Mapping[tuple[str, str, float], int], design: SequentialDesign
+            ) -> dict[tuple[str, str, float], int]:
+    """The realisations each cell behind an unsettled level should reach (only cells below
+    it)."""
+    want: dict[tuple[str, str, float], int] = {}
     for d, r in zip(claims, results, strict=True):
         if d.missing or not r.level_status:
             continue
         for (path, sigma), p in r.replication.items():
-            if sigma == 0.0 or p >= target:
+            if sigma == 0.0 or p >= design.target:
                 continue
             status = (r.level_status.get(sigma) if path == ALL
                       else r.per_trajectory.get(path, {}).get("status", {}).get(sigma))
             if status == DETERMINISTIC:
                 continue
             paths = d.trajectories if (path == ALL or d.kind == BAND) else (path,)
-            units.update((p_, sigma) for p_ in paths)
-    return units
+            cells = [(c, p_, sigma) for c in d.controllers for p_ in paths]
+            have = min(n[cell] for cell in cells)
+            if have >= design.cap:
+                continue
+            target = min(design.cap, have + design.batch)
+            for cell in cells:
+                if n[cell] < target:
+                    want[cell] = max(want.get(cell, 0), target)
+    return want
 
 
 def settle(
@@ -200,8 +201,8 @@ def settle(
     claims : sequence of ClaimDef
         What is judged (:func:`~.claimcells.claim_definitions`).
     controllers : sequence of str
-        Every controller of the experiment (each gets the same seeds in a unit, also those
-        no claim compares: their summaries stay paired).
+        Every controller of the experiment (the first round simulates them all; later rounds
+        only the claims' controllers).
     trajectories, levels : sequence
         The experiment's paths and noise levels (a level 0 is one noise-free run per cell).
     design : SequentialDesign
@@ -218,21 +219,23 @@ def settle(
     Raises
     ------
     ValueError
-        If ``rows`` lack a unit or have another number of realisations than ``first``.
+        If ``rows`` lack a cell or have another number of realisations than ``first``.
     """
     units = {(p, float(s)): (design.first if s > 0 else 1) for p in trajectories for s in levels}
+    n = {(c, p, s): k for (p, s), k in units.items() for c in controllers}
     if rows is None:
-        first = [SeedBatch(tuple((c, p, s) for c in controllers), 0, n)
-                 for (p, s), n in units.items()]
+        first = [SeedBatch(tuple((c, p, s) for c in controllers), 0, k)
+                 for (p, s), k in units.items()]
         rows = simulate(first)
     table = dict(rows)
     mask = table["experiment"] == experiment
-    for (p, s), n in units.items():
+    for (p, s), k in units.items():
         sel = mask & (table["trajectory"] == p) & (table["noise_std"] == s)
-        have = {int(x) for x in np.asarray(table["seed"])[sel]}
-        if have != set(range(n)):
-            raise ValueError(f"settle: the first round's rows of {p!r} at sigma {s:g} have "
-                             f"{len(have)} realisations, not {n}")
+        for c in controllers:
+            have = {int(x) for x in np.asarray(table["seed"])[sel & (table["controller"] == c)]}
+            if have != set(range(k)):
+                raise ValueError(f"settle: the first round's rows of {c!r} on {p!r} at sigma "
+                                 f"{s:g} have {len(have)} realisations, not {k}")
     rounds: list[dict[str, Any]] = []
     while True:
         sub = {k: np.asarray(v)[table["experiment"] == experiment] for k, v in table.items()}
@@ -242,19 +245,23 @@ def settle(
         results = replicate_claims(sub, claims, results, experiment=experiment,
                                    resamples=design.resamples, seed=design.seed,
                                    target=design.target)
-        wanted = sorted(_unsettled_units(claims, results, design.target))
-        grow = [(p, s, units[(p, s)], min(design.cap, units[(p, s)] + design.batch))
-                for p, s in wanted if units[(p, s)] < design.cap]
-        if not grow:
-            return SettledResult(rows=table, claims=results, n=units, design=design,
+        want = _wanted(claims, results, n, design)
+        if not want:
+            return SettledResult(rows=table, claims=results, n=n, design=design,
                                  rounds=rounds)
-        record = {"round": len(rounds) + 1, "units": grow}
+        groups: dict[tuple[str, float, int, int], list[str]] = {}
+        for (c, p, s), b in sorted(want.items(), key=lambda kv: (kv[0][1], kv[0][2])):
+            groups.setdefault((p, s, n[(c, p, s)], b), []).append(c)
+        order = {c: i for i, c in enumerate(controllers)}
+        batches = [SeedBatch(tuple((c, p, s) for c in sorted(cs, key=order.__getitem__)), a, b)
+                   for (p, s, a, b), cs in groups.items()]
+        record = {"round": len(rounds) + 1,
+                  "units": [(b.cells[0][1], b.cells[0][2], b.start, b.stop,
+                             tuple(c for c, _, _ in b.cells)) for b in batches]}
         rounds.append(record)
         if progress is not None:
             progress(record)
-        batches = [SeedBatch(tuple((c, p, s) for c in controllers), a, b)
-                   for p, s, a, b in grow]
         new = simulate(batches)
         table = concat_rows([table, new])
-        for p, s, _a, b in grow:
-            units[(p, s)] = b
+        for cell, b in want.items():
+            n[cell] = b

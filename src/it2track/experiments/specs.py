@@ -206,24 +206,16 @@ class ControllerSpec:
                 e_nodes=_SURFACE_AXIS, de_nodes=_SURFACE_AXIS,
                 table=_surface_table(self.fou, self.reducer, self.tnorm, self.output_gain),
                 ke=self.ke, kde=self.kde, name=self.label)
-        if k is ControllerKind.FLC:
-            fls: Any = heading_fls(0.0, tnorm=tnorm)
-        elif k is ControllerKind.IT2:
-            fls = heading_fls(self.fou, reducer=Reducer.from_name(self.reducer).value, tnorm=tnorm)
-        elif k is ControllerKind.T1_MATCHED:
-            fls = dead_zone_matched_fls(self.fou, tnorm=tnorm)
-        elif k is ControllerKind.T1_SLOPE_MATCHED:
-            from .baselines import slope_matched_fls
-
-            fls = slope_matched_fls(self.fou, tnorm=tnorm)
-        else:
+        if k is ControllerKind.FILE:
             from ..io import load
 
-            fls = load(self.path)
-        if self.output_gain != 1.0:
-            from .baselines import scaled_consequents
+            fls: Any = load(self.path)
+            if self.output_gain != 1.0:
+                from .baselines import scaled_consequents
 
-            fls = scaled_consequents(fls, self.output_gain)
+                fls = scaled_consequents(fls, self.output_gain)
+        else:
+            fls = _paper_system(k, self.fou, self.reducer, tnorm.value, self.output_gain)
         return FuzzyHeadingController(fls=fls, ke=self.ke, kde=self.kde, name=self.label)
 
     def to_dict(self) -> dict[str, Any]:
@@ -311,6 +303,29 @@ _APPLIES_TO: dict[str, tuple[ControllerKind, ...]] = {
 }
 
 
+@functools.lru_cache(maxsize=256)
+def _paper_system(kind: ControllerKind, fou: float, reducer: str, tnorm: str,
+                  gain: float) -> Any:
+    """The fuzzy system of a built-in kind (immutable, so one object serves every spec that
+    asks for it: the study builds hundreds of specs over a handful of systems)."""
+    t = TNorm.from_name(tnorm)
+    if kind is ControllerKind.FLC:
+        fls: Any = heading_fls(0.0, tnorm=t)
+    elif kind is ControllerKind.IT2:
+        fls = heading_fls(fou, reducer=Reducer.from_name(reducer).value, tnorm=t)
+    elif kind is ControllerKind.T1_MATCHED:
+        fls = dead_zone_matched_fls(fou, tnorm=t)
+    else:
+        from .baselines import slope_matched_fls
+
+        fls = slope_matched_fls(fou, tnorm=t)
+    if gain != 1.0:
+        from .baselines import scaled_consequents
+
+        fls = scaled_consequents(fls, gain)
+    return fls
+
+
 #: Grid of the surface tables (both inputs): 401 points on [-1, 1], step 0.005.
 SURFACE_POINTS = 401
 _SURFACE_AXIS = np.linspace(-1.0, 1.0, SURFACE_POINTS)
@@ -319,14 +334,8 @@ _SURFACE_AXIS = np.linspace(-1.0, 1.0, SURFACE_POINTS)
 @functools.lru_cache(maxsize=16)
 def _surface_table(fou: float, reducer: str, tnorm: str, gain: float) -> np.ndarray:
     """The IT2FLC's output on the surface grid (computed once per process; read-only)."""
-    fls: Any = heading_fls(fou, reducer=Reducer.from_name(reducer).value,
-                           tnorm=TNorm.from_name(tnorm))
-    if gain != 1.0:
-        from .baselines import scaled_consequents
-
-        fls = scaled_consequents(fls, gain)
-    table = SurfaceTableController.from_system(fls, points=SURFACE_POINTS).table
-    return table
+    fls = _paper_system(ControllerKind.IT2, fou, reducer, tnorm, gain)
+    return SurfaceTableController.from_system(fls, points=SURFACE_POINTS).table
 
 
 class Table:

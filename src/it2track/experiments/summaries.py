@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from .claimcells import C3_FACTOR, C3_TARGET, INTEGRALS
+from .claimcells import C3_FACTOR, C3_TARGET, INTEGRALS, _common
 from .claimcells import group_index as _group_index
 from .judgement import ClaimResult
 from .stats import binomial_interval, mean_interval, paired_comparison
@@ -29,7 +29,8 @@ def summarise(rows: Rows, *, reference: str = "FLC") -> list[dict[str, Any]]:
     Columns: ``experiment, trajectory, controller, kind, fou, noise_std, metric, n, mean,
     ci_low, ci_high`` and, against ``reference`` on the same seeds, ``diff_mean, diff_low,
     diff_high, win_rate, ties`` (empty for the reference itself or where it is absent; the win
-    rate counts ties as half, see :func:`~it2track.experiments.stats.paired_comparison`).
+    rate counts ties as half, see :func:`~it2track.experiments.stats.paired_comparison`),
+    over the seeds both have (``diff_n`` of them).
     A noise-free cell is one deterministic run: ``n = 1`` and no interval (``ci_*`` and
     ``diff_low/high`` empty); its ``diff_mean`` and ``win_rate`` (0, 0.5 or 1) are exact.
     """
@@ -38,11 +39,11 @@ def summarise(rows: Rows, *, reference: str = "FLC") -> list[dict[str, Any]]:
     out: list[dict[str, Any]] = []
     for (exp, traj, ctrl, sigma), idx in groups.items():
         ref_idx = groups.get((exp, traj, reference, sigma))
-        paired = (
-            ref_idx is not None
-            and ctrl != reference
-            and np.array_equal(rows["seed"][idx], rows["seed"][ref_idx])
-        )
+        paired = ref_idx is not None and ctrl != reference
+        if paired:
+            assert ref_idx is not None
+            mine, ref_idx = _common(rows["seed"], [idx, ref_idx])
+            paired = mine.size > 0
         for metric in SUMMARY_METRICS:
             values = rows[metric][idx]
             iv = mean_interval(values)
@@ -53,14 +54,15 @@ def summarise(rows: Rows, *, reference: str = "FLC") -> list[dict[str, Any]]:
                 "noise_std": float(sigma), "metric": metric, "n": iv.n, "mean": iv.mean,
                 "ci_low": "" if single else iv.low, "ci_high": "" if single else iv.high,
                 "diff_mean": "", "diff_low": "", "diff_high": "", "win_rate": "", "ties": "",
+                "diff_n": "",
             }  # fmt: skip
             if paired:
                 assert ref_idx is not None
-                cmp = paired_comparison(values, rows[metric][ref_idx])
+                cmp = paired_comparison(rows[metric][mine], rows[metric][ref_idx])
                 row.update(
                     diff_mean=cmp.diff.mean, diff_low="" if single else cmp.diff.low,
                     diff_high="" if single else cmp.diff.high, win_rate=cmp.win_rate,
-                    ties=cmp.ties,
+                    ties=cmp.ties, diff_n=cmp.diff.n,
                 )
             out.append(row)
     return out
@@ -130,7 +132,9 @@ def ordering_probability(
     Returns rows ``sigma, trajectory, n, k, p, ci_low, ci_high, deterministic``: ``k`` of
     ``n`` realisations (seed indices) show the ordering, ``p = k / n`` with its exact
     Clopper-Pearson ``level`` interval. A noise-free level is one run (``n = 1``,
-    ``deterministic = True``, no interval).
+    ``deterministic = True``, no interval). Controllers and trajectories may have different
+    seeds (seeds by need); each count uses the seeds all its controllers (and, for ``"all"``,
+    all trajectories) have.
     """
     mask = rows["experiment"] == experiment
     sub = {k: v[mask] for k, v in rows.items()}
@@ -140,24 +144,25 @@ def ordering_probability(
     out = []
     for sigma in levels:
         per_traj = {}
-        seeds = None
+        seeds_of = {}
         for traj in trajectories:
-            idx = [groups.get((traj, label, sigma)) for label in labels]
-            if any(i is None for i in idx):
+            found = [groups.get((traj, label, sigma)) for label in labels]
+            if any(i is None for i in found):
                 raise ValueError(f"ordering_probability: missing controllers on {traj!r} at "
                                  f"sigma {sigma:g}")
+            idx = _common(sub["seed"], [i for i in found if i is not None])
             s0 = sub["seed"][idx[0]]
-            if any(not np.array_equal(sub["seed"][i], s0) for i in idx):
-                raise ValueError("ordering_probability: controllers saw different seeds")
-            if seeds is not None and not np.array_equal(seeds, s0):
-                raise ValueError("ordering_probability: trajectories saw different seeds")
-            seeds = s0
+            seeds_of[traj] = s0
             ok = np.ones(len(s0), dtype=bool)
             for metric in metrics:
                 v = np.stack([sub[metric][i] for i in idx])  # (controllers, seeds)
                 ok &= np.all(v[:-1] > v[1:], axis=0)
             per_traj[traj] = ok
-        everywhere = np.logical_and.reduce(list(per_traj.values()))
+        common = set(seeds_of[trajectories[0]].tolist())
+        for traj in trajectories[1:]:
+            common &= set(seeds_of[traj].tolist())
+        everywhere = np.logical_and.reduce([
+            ok[np.isin(seeds_of[traj], sorted(common))] for traj, ok in per_traj.items()])
         for name, ok in [("all", everywhere), *per_traj.items()]:
             n, k = int(ok.size), int(ok.sum())
             det = sigma == 0.0

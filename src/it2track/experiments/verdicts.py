@@ -14,7 +14,7 @@ The *decisive cell* of a level is the one its status hinges on:
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 from .claimcells import BAND, BELOW, ClaimDef
@@ -53,16 +53,13 @@ def _describe(claim: ClaimDef, row: Mapping[str, Any]) -> str:
     return f"{row['trajectory']} {row['metric']}: {row['comparison']}"
 
 
-def verdict_rows(
-    claims: Sequence[ClaimDef],
-    results: Sequence[ClaimResult],
-    n_of: Callable[[ClaimDef, str, float], int],
-) -> list[dict[str, Any]]:
+def verdict_rows(claims: Sequence[ClaimDef],
+                 results: Sequence[ClaimResult]) -> list[dict[str, Any]]:
     """The rows of ``verdicts.csv`` (columns :data:`VERDICT_COLUMNS`) for judged claims with
-    replication probabilities (:func:`~.replication.replicate_claims`); ``n_of(claim, path,
-    sigma)`` gives the realisations behind a level. Claims not evaluated have no rows. A
-    level without replication probabilities (none computed) is reported as settled with an
-    empty ``replication``."""
+    replication probabilities (:func:`~.replication.replicate_claims`). ``n`` is the fewest
+    realisations behind any cell of the level (1 without noise). Claims not evaluated have no
+    rows. A level without replication probabilities (none computed) is reported as settled
+    with an empty ``replication``."""
     out: list[dict[str, Any]] = []
     for d, r in zip(claims, results, strict=True):
         if d.missing or not r.level_status:
@@ -79,7 +76,7 @@ def verdict_rows(
                     "claim": d.id, "path": path, "sigma": sigma, "status": status,
                     "settled": r.settled(path, sigma),
                     "replication": "" if rep is None else rep,
-                    "n": n_of(d, path, sigma), "cells": len(mine),
+                    "n": min((int(e["n"]) for e in mine), default=0), "cells": len(mine),
                     "supporting": sum(e["outcome"] == "supports" for e in mine),
                     "contradicting": sum(e["outcome"] == "contradicts" for e in mine),
                     "decisive": "", "estimate": "", "ci_low": "", "ci_high": "",

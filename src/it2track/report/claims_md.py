@@ -67,18 +67,20 @@ def write_claims_md(path: Path, claims: Sequence[Any], *, preamble: str, section
     return atomic_write_text(path, "\n".join(lines) + "\n")
 
 
-def claims_preamble(config: Any, *, seeds: Mapping[tuple[str, float], int] | None = None,
+def claims_preamble(config: Any, *,
+                    seeds: Mapping[tuple[str, str, float], int] | None = None,
                     smoke: bool = False) -> str:
     """The opening of claims.md: what was run and how a verdict is reached; ``seeds``: the
-    realisations each (path, sigma) got (the sequential design's outcome)."""
+    realisations each (controller, path, sigma) got (the sequential design's outcome)."""
     design = getattr(config, "verdicts", None)
     levels = levels_text(config.noise_levels)
-    noisy = [n for (_, s), n in (seeds or {}).items() if s > 0.0]
+    noisy = [n for key, n in (seeds or {}).items() if key[-1] > 0.0]
     if design is not None:
-        how = (f"noise realisations by need: every (path, σ) starts with {design.first} "
-               f"(common random numbers across controllers) and gets {design.batch} more per "
-               f"round, up to {design.cap}, while a level's status is unsettled; this run "
-               f"used {count_text(noisy) if noisy else design.first} per (path, σ) "
+        how = (f"noise realisations by need: every controller, path and σ starts with "
+               f"{design.first} (common random numbers across controllers); while a level's "
+               f"status is unsettled, the controllers it compares on its paths get up to "
+               f"{design.batch} more per round, at most {design.cap}; this run used "
+               f"{count_text(noisy) if noisy else design.first} per controller, path and σ "
                "(verdicts.csv gives each level's)")
     else:
         how = (f"{count_text(noisy) if noisy else config.sweep_seeds} noise realisations per "
