@@ -183,8 +183,8 @@ def test_first_round_rows_are_checked_and_reused():
                  design=design, rows=rows)
     assert again.calls == [] and len(out.rows["seed"]) == len(rows["seed"])
     short = {k: v[(rows["seed"] < 19) | (rows["controller"] != "PD")] for k, v in rows.items()}
-    with pytest.raises(ValueError, match="'PD' on 'straight' at sigma 0.05 have 19 "
-                                         "realisations, not 20"):
+    with pytest.raises(ValueError, match=r"'PD' on 'straight' at sigma 0\.05 have 19 "
+                                         r"realisations, not 20"):
         settle(again, claims=CLAIMS, controllers=CTRL, trajectories=TRAJ, levels=LEVELS,
                design=design, rows=short)
 
