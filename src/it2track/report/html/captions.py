@@ -8,7 +8,7 @@ from typing import Any
 
 from ...experiments.specs import ControllerKind
 from ...experiments.study import StudyResult
-from ..counts import realisations_text
+from ..counts import count_text, realisations_text
 from ..identity import PAPER_FIGURE_NUMBER, slug, surface_limit
 from .facts import _gains_text, _gap_sentence
 
@@ -135,11 +135,14 @@ def figure_captions(result: StudyResult, summary: Sequence[Mapping[str, Any]]
             "(left to right) and coloured by the claim's status there: holds (green), "
             "contradicted (red, Holm-controlled), not shown (grey); white: not evaluated "
             "under that variant. A noise reading is judged at its own σ (one strip, its σ "
-            "beside the row). Thick outline: the variant flips the claim against the "
-            "baseline (a level goes from holds to contradicted or back); dashed: it changes "
-            "it (a level moves to or from not shown). Left: all trajectories together, as "
+            "beside the row). Thick outline: the variant flips the claim beyond the baseline's "
+            "spread over independent seed batches (a settled status the baseline never gave, "
+            "whose opposite it did); dashed: it changes it beyond that spread (a settled status "
+            "the baseline never gave). Left: all trajectories together, as "
             f"the verdicts; then each trajectory alone ({trajs}; C3 concerns the straight "
-            f"line only). {rob.config.seeds} realisations per cell.",
+            f"line only). {count_text(int(c['n']) for c in rob.cells if float(c['sigma']) > 0)} "
+            "realisations per cell; pale hatched strips: statuses whose replication probability "
+            "is below the target (unsettled), which never count as a change.",
         )
         sens = rob.config.sensitivity
         if sens is not None and rob.sensitivity_ranking:
