@@ -3,29 +3,32 @@
 A level's status (holds / contradicted / not shown, :mod:`.judgement`) is computed from a finite
 set of noise realisations; another set of the same size could give another status. The
 *replication probability* of a level is the probability that an independent seed set of the
-same size gives the same status. It is estimated here by the nonparametric bootstrap
-(Efron's plug-in principle; "reproducibility probability" in the sense of Shao and Chow,
-2002, estimated by resampling):
+same size gives the same status. It is estimated here by resampling the seeds:
 
-1. Draw ``B`` resamples of the seed positions of every cell, with replacement and of the
-   cell's own size ``n`` (the same draws for every cell with the same ``n``: the same noise
-   realisation stays paired across controllers, metrics, paths and levels, as the common
-   random numbers pair them in the data).
-2. Re-judge the *whole* claim on each resample, exactly as the data are judged: every cell's
+1. Draw ``B`` replicate seed sets for every cell, of the cell's own size ``n``, by the
+   *double* bootstrap: resample the seed positions with replacement (a plausible population
+   the data could have come from), then resample those (a replicate seed set drawn from that
+   population). The same draws serve every cell with the same ``n``: a noise realisation
+   stays paired across controllers, metrics, paths and levels, as the common random numbers
+   pair them in the data.
+2. Re-judge the *whole* claim on each replicate, exactly as the data are judged: every cell's
    95 % interval and one-sided p-value, the Holm-Bonferroni step-down over all the claim's
    noisy cells (so a level's status depends on the other levels' p-values as in the data),
    then every level's status, per path and over all paths.
-3. The replication probability of a level is the fraction of resamples whose status equals
+3. The replication probability of a level is the fraction of replicates whose status equals
    the observed one.
 
-The bootstrap distribution is centred on the observed statistics, so this is the plug-in
-estimate of P(same status): near 0.5 for a statistic that sits on a decision threshold, near 1
-for one far from every threshold. For one ``below`` cell with normal data it approaches the
-closed form ``P(T' < -t_(0.975, n-1))``, ``T'`` non-central t with ``n - 1`` degrees of
-freedom and non-centrality the observed t statistic (the test compares with scipy).
-A noise-free level is one deterministic run: every seed set gives it again (probability 1).
-The Monte Carlo error of the estimate is ``sqrt(p (1 - p) / B)`` (0.007 at p = 0.95 with
-``B = 1000``).
+Why two stages: a replicate's mean differs from the observed one by the error of the observed
+mean *and* the replicate's own error (about twice the variance; the predictive replication
+probability of Killeen, 2005, or Goodman, 1992, for a z statistic ``Phi((|z| - z_c) /
+sqrt 2)``). The single, plug-in bootstrap (``predictive=False``: Shao and Chow's
+"reproducibility probability" ``Phi(|z| - z_c)``) takes the observed effect for the true one and
+overstates how often a fresh seed set agrees -- two independent runs of the study disagreed on
+levels it called settled. For one ``below`` cell with normal data the predictive estimate
+approaches ``P(N(t, 2) < -t_(0.975, n-1))`` (``t`` the observed t statistic) and the plug-in one
+the non-central t ``P(T' < -t_(0.975, n-1))`` (the tests compare both with scipy). A noise-free
+level is one deterministic run: every seed set gives it again (probability 1). The Monte Carlo
+error of the estimate is ``sqrt(p (1 - p) / B)`` (0.007 at p = 0.95 with ``B = 1000``).
 """
 
 from __future__ import annotations
@@ -57,11 +60,24 @@ FloatArray = NDArray[np.float64]
 Resampler = Callable[[int], NDArray[np.intp]]
 
 
-def uniform_resampler(resamples: int, seed: int) -> Resampler:
-    """Bootstrap draws sharing one stream of uniforms: ``resampler(n)`` gives
-    ``floor(U[:, :n] * n)`` for a fixed ``U`` of shape ``(resamples, max n)``, so cells with
-    the same number of seeds get the same resample (their pairing is kept), and the result
-    does not depend on which cells are asked for first.
+def _uniforms(resamples: int, seed: tuple[int, ...], width: int) -> FloatArray:
+    """``(resamples, width)`` uniforms drawn in column blocks of 64 from one stream: the first
+    ``m`` columns are the same whatever the width."""
+    blocks = -(-width // 64)
+    rng = np.random.default_rng(seed)
+    return rng.random((blocks, resamples, 64)).transpose(1, 0, 2).reshape(resamples, -1)
+
+
+def uniform_resampler(resamples: int, seed: int, *, predictive: bool = True) -> Resampler:
+    """Bootstrap draws sharing streams of uniforms, so cells with the same number of seeds get
+    the same resample (their pairing is kept), whatever order the cells are asked for in.
+
+    ``predictive`` (default): the *double* bootstrap of the predictive replication
+    probability (module docstring) -- a plausible population is resampled from the seeds
+    (positions ``floor(U1[:, :n] n)``), then a replicate seed set from it (positions
+    ``p1[floor(U2[:, :n] n)]``), so a replicate's mean spreads by about twice the variance of
+    the observed one: the uncertainty of the observed effect and of the replicate. Without it,
+    the plug-in bootstrap: one resample, positions ``floor(U1[:, :n] n)``.
 
     Raises
     ------
@@ -72,19 +88,21 @@ def uniform_resampler(resamples: int, seed: int) -> Resampler:
         if isinstance(v, bool) or not isinstance(v, int | np.integer) or v < least:
             raise ValueError(f"replication {key}={v!r} must be an integer >= {least}")
     rng_seed = int(seed)
-    cache: dict[str, FloatArray] = {}
+    cache: dict[int, FloatArray] = {}
+
+    def uniforms(stream: int, n: int) -> FloatArray:
+        u = cache.get(stream)
+        if u is None or u.shape[1] < n:
+            u = _uniforms(resamples, (rng_seed, stream), max(n, 0 if u is None else u.shape[1]))
+            cache[stream] = u
+        return u[:, :n]
 
     def draw(n: int) -> NDArray[np.intp]:
-        u = cache.get("u")
-        if u is None or u.shape[1] < n:
-            # Columns are drawn in blocks from one stream: the first m columns are the same
-            # whatever the largest n asked for.
-            width = max(n, 0 if u is None else u.shape[1])
-            blocks = -(-width // 64)
-            rng = np.random.default_rng(rng_seed)
-            u = rng.random((blocks, resamples, 64)).transpose(1, 0, 2).reshape(resamples, -1)
-            cache["u"] = u
-        return np.minimum((u[:, :n] * n).astype(np.intp), n - 1)
+        first = np.minimum((uniforms(0, n) * n).astype(np.intp), n - 1)
+        if not predictive:
+            return first
+        second = np.minimum((uniforms(1, n) * n).astype(np.intp), n - 1)
+        return np.take_along_axis(first, second, axis=1)
 
     return draw
 

@@ -20,7 +20,7 @@ from typing import Any
 from .claimcells import BAND, BELOW, ClaimDef
 from .judgement import ALL, CONTRADICTED, DETERMINISTIC, HOLDS, ClaimResult
 
-__all__ = ["VERDICT_COLUMNS", "verdict_rows"]
+__all__ = ["VERDICT_COLUMNS", "compare_verdicts", "verdict_rows"]
 
 VERDICT_COLUMNS = ("claim", "path", "sigma", "status", "settled", "replication", "n", "cells",
                    "supporting", "contradicting", "decisive", "estimate", "ci_low", "ci_high",
@@ -100,3 +100,51 @@ def verdict_rows(claims: Sequence[ClaimDef],
                            p_holm=pick["p_holm"])
                 out.append(row)
     return out
+
+
+def compare_verdicts(a: Sequence[Mapping[str, Any]],
+                     b: Sequence[Mapping[str, Any]]) -> dict[str, Any]:
+    """Two runs' ``verdicts.csv`` rows (e.g. two base seeds) compared level by level.
+
+    Returns ``{"levels": k, "settled_either": m, "agree": j, "disagree": [...]}``: of the
+    ``k`` noisy levels both runs judged, the ``m`` that either run reports as settled and,
+    of those, how many have the same status in both runs; ``disagree`` lists the others as
+    ``(claim, path, sigma, status_a, replication_a, status_b, replication_b)``. A settled
+    status is a verdict: the done-when of the replication probability is an empty
+    ``disagree``.
+
+    Raises
+    ------
+    ValueError
+        If the runs judged different levels.
+    """
+    def key(r: Mapping[str, Any]) -> tuple[str, str, float]:
+        return (str(r["claim"]), str(r["path"]), float(r["sigma"]))
+
+    ka = {key(r): r for r in a}
+    kb = {key(r): r for r in b}
+    if set(ka) != set(kb):
+        raise ValueError(f"compare_verdicts: the runs judged different levels "
+                         f"({sorted(set(ka) ^ set(kb))[:4]} ...)")
+    levels = settled = agree = 0
+    disagree = []
+    for k in sorted(ka):
+        ra, rb = ka[k], kb[k]
+        if k[2] == 0.0:
+            continue
+        levels += 1
+
+        def settled_of(r: Mapping[str, Any]) -> bool:
+            v = r["settled"]
+            return v is True or str(v) == "True"
+
+        if not (settled_of(ra) or settled_of(rb)):
+            continue
+        settled += 1
+        if ra["status"] == rb["status"]:
+            agree += 1
+        else:
+            disagree.append((*k, ra["status"], float(ra["replication"]), rb["status"],
+                             float(rb["replication"])))
+    return {"levels": levels, "settled_either": settled, "agree": agree,
+            "disagree": disagree}
