@@ -113,21 +113,28 @@ ONE = ClaimDef(id="X", statement="", criterion="", kind=BELOW, pairs=(("a", "b")
                trajectories=("straight",), metrics=("ISE",))
 
 
-@pytest.mark.parametrize("t_obs", [-2.4, -3.0, -3.6, -4.6])
-def test_one_cell_replication_approaches_the_noncentral_t_closed_form(t_obs):
+@pytest.mark.parametrize("t_obs", [-1.2, -2.4, -3.0, -3.6, -4.6, -5.5])
+def test_one_cell_replication_approaches_its_closed_forms(t_obs):
     n, b = 400, 6000
     cell = _one_cell(_exact_normal(n, t_obs))
     result = judge_claim(ONE, [cell], (0.1,))
-    assert result.level_status[0.1] == ("holds" if t_obs < -stats.t.ppf(0.975, n - 1)
-                                        else "not shown")
-    probs = replication_probabilities(ONE, [cell], result, uniform_resampler(b, 7))
     q = stats.t.ppf(0.975, n - 1)
+    holds = t_obs < -q
+    assert result.level_status[0.1] == ("holds" if holds else "not shown")
+    # Plug-in bootstrap: the replicate t is non-central t around the observed one.
+    plug = replication_probabilities(ONE, [cell], result,
+                                     uniform_resampler(b, 7, predictive=False))
     p_holds = stats.nct.cdf(-q, n - 1, t_obs)
-    expected = p_holds if result.level_status[0.1] == "holds" else 1.0 - p_holds
-    # Bootstrap vs closed form: Monte Carlo error sqrt(p(1-p)/b) <= 0.0065, plus the
-    # bootstrap's own O(1/sqrt n) skew.
-    assert probs[("all", 0.1)] == pytest.approx(expected, abs=0.03)
-    assert probs[("straight", 0.1)] == probs[("all", 0.1)]
+    assert plug[("all", 0.1)] == pytest.approx(p_holds if holds else 1.0 - p_holds, abs=0.03)
+    # Predictive (double) bootstrap: the replicate t spreads by twice the variance,
+    # P(holds again) = Phi((-q - t) / sqrt 2) (the normal limit; n = 400).
+    pred = replication_probabilities(ONE, [cell], result, uniform_resampler(b, 7))
+    p_holds = stats.norm.cdf((-q - t_obs) / np.sqrt(2.0))
+    assert pred[("all", 0.1)] == pytest.approx(p_holds if holds else 1.0 - p_holds, abs=0.03)
+    assert pred[("straight", 0.1)] == pred[("all", 0.1)]
+    # The predictive estimate is the more cautious one away from the threshold.
+    if abs(t_obs + q) > 0.5:
+        assert pred[("all", 0.1)] < plug[("all", 0.1)]
 
 
 class _Rows:
@@ -188,6 +195,19 @@ def test_an_empty_family_replicates_without_error():
     single = _one_cell(np.array([-1.0]), 0.1)
     codes = judge_replicates([single], [("all", 0.1)], uniform_resampler(5, 0))
     assert codes.tolist() == [[STATUS_CODES["not shown"]]] * 5
+
+
+def test_the_predictive_resample_is_a_resample_of_a_resample():
+    one = uniform_resampler(5, 3, predictive=False)(12)
+    two = uniform_resampler(5, 3)(12)
+    # Every replicate position is drawn from the first stage's positions of its row.
+    for a, b in zip(one, two, strict=True):
+        assert set(b.tolist()) <= set(a.tolist())
+    # A replicate's mean spreads about twice as much as a plug-in resample's.
+    x = np.random.default_rng(0).normal(size=200)
+    plug = x[uniform_resampler(4000, 1, predictive=False)(200)].mean(axis=1).var()
+    pred = x[uniform_resampler(4000, 1)(200)].mean(axis=1).var()
+    assert pred / plug == pytest.approx(2.0, rel=0.1)
 
 
 def test_uniform_resampler_is_seeded_prefix_stable_and_checked():

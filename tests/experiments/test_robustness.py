@@ -111,6 +111,9 @@ def test_variants_one_at_a_time_then_factorial():
     period = next(v for v in oat if v.value == "ts=0.001 noise_rate=1000")
     assert (period.loop.ts, period.loop.noise_rate) == (0.001, 1000.0)
     assert period.label == "Ts = 1 ms, noise at 1 kHz"
+    # A value that keeps one of its paths at the default still says it (no bare "Ts = 1 ms").
+    held = next(v for v in oat if v.value == "ts=0.001 noise_rate=100")
+    assert held.label == "Ts = 1 ms, noise at 100 Hz"
     gain = next(v for v in oat if v.choice == "output_gain" and v.value == "0.5")
     assert (gain.output_gain, gain.label, gain.loop) == (0.5, "output gain 0.5", LoopConfig())
     reading = next(v for v in oat if v.choice == "noise_reading" and v.value.startswith("3.16"))

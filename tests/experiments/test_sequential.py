@@ -191,7 +191,8 @@ def test_first_round_rows_are_checked_and_reused():
 
 @pytest.mark.parametrize(("kw", "match"), [
     ({"first": 1}, "first=1"), ({"batch": 0}, "batch=0"), ({"cap": 50}, "cap=50"),
-    ({"resamples": 99}, "resamples=99"), ({"target": 0.0}, "replication=0.0"),
+    ({"resamples": 99}, "resamples=99"), ({"resamples": 20_001}, r"in \[100, 20000\]"),
+    ({"target": 0.0}, "replication=0.0"),
     ({"target": 1.5}, "replication=1.5"), ({"target": float("nan")}, "replication=nan"),
     ({"seed": -1}, "seed=-1"), ({"first": True}, "first=True"), ({"cap": 100.0}, "cap=100.0"),
 ])
@@ -200,6 +201,7 @@ def test_design_refuses_bad_values(kw, match):
         SequentialDesign(**kw)
     assert SequentialDesign(target=1.0).target == 1.0
     assert SequentialDesign(first=2, cap=2).cap == 2
+    assert SequentialDesign(resamples=20_000).resamples == 20_000
 
 
 def test_concat_rows_needs_the_same_columns():

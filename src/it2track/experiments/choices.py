@@ -310,9 +310,11 @@ class Variant:
 
 
 def apply_settings(loop: LoopConfig, noise_levels: Sequence[float],
-                   settings: Mapping[str, Any], *, choice: str, value: str) -> Variant:
+                   settings: Mapping[str, Any], *, choice: str, value: str,
+                   label: str = "") -> Variant:
     """The :class:`Variant` of the study's ``loop`` and robustness ``noise_levels`` with the
-    path values ``settings`` (validated by :data:`PATHS`' parsers beforehand).
+    path values ``settings`` (validated by :data:`PATHS`' parsers beforehand); ``label``: the
+    values in the reader's words (default: those of the paths that differ from the loop's).
 
     Raises
     ------
@@ -346,7 +348,7 @@ def apply_settings(loop: LoopConfig, noise_levels: Sequence[float],
     except ValueError as exc:
         raise ValueError(f"choice {choice} = {value}: {exc}") from None
     changed = tuple((p, v) for p, v in settings.items() if v != baseline_value(p, loop))
-    label = describe_settings(dict(changed)) if changed else "the paper's choices"
+    label = label or (describe_settings(dict(changed)) if changed else "the paper's choices")
     return Variant(choice=choice, value=value, settings=changed, loop=new_loop, label=label,
                    **out)
 

@@ -254,7 +254,8 @@ def robustness_variants(config: RobustnessConfig, loop: Any) -> list[Variant]:
     out = [apply_settings(loop, levels, {}, choice="baseline", value="paper")]
     for c in config.choices:
         for alt in c.alternatives:
-            out.append(apply_settings(loop, levels, c.settings(alt), choice=c.name,
+            out.append(apply_settings(loop, levels, c.settings(alt), label=c.describe(alt),
+                                      choice=c.name,
                                       value=c.label(alt)))
     if config.factorial:
         chosen = [next(c for c in config.choices if c.name == n) for n in config.factorial]
@@ -267,5 +268,8 @@ def robustness_variants(config: RobustnessConfig, loop: Any) -> list[Variant]:
             for c, v in zip(chosen, combo, strict=True):
                 settings.update(c.settings(v))
             label = " x ".join(c.label(v) for c, v in zip(chosen, combo, strict=True))
-            out.append(apply_settings(loop, levels, settings, choice=name, value=label))
+            words = ", ".join(c.describe(v) for c, v in zip(chosen, combo, strict=True)
+                              if v != c.default)
+            out.append(apply_settings(loop, levels, settings, choice=name, value=label,
+                                      label=words))
     return out

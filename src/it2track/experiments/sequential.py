@@ -42,9 +42,15 @@ __all__ = ["SeedBatch", "SequentialDesign", "SettledResult", "concat_rows", "set
 Rows = Mapping[str, np.ndarray]
 
 
-def _int(v: Any, key: str, least: int) -> None:
-    if isinstance(v, bool) or not isinstance(v, int) or v < least:
-        raise ValueError(f"verdicts {key}={v!r} must be an integer >= {least}")
+#: Most bootstrap resamples (memory: the draws are (resamples, seeds) arrays).
+MAX_RESAMPLES = 20_000
+
+
+def _int(v: Any, key: str, least: int, most: int | None = None) -> None:
+    if isinstance(v, bool) or not isinstance(v, int) or v < least or (
+            most is not None and v > most):
+        bound = f">= {least}" if most is None else f"in [{least}, {most}]"
+        raise ValueError(f"verdicts {key}={v!r} must be an integer {bound}")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -62,7 +68,7 @@ class SequentialDesign:
     target : float
         Replication probability that settles a level, in (0, 1].
     resamples : int
-        Bootstrap resamples per estimate (>= 100).
+        Bootstrap resamples per estimate (100 to 20 000).
     seed : int
         Seed of the bootstrap's draws (>= 0).
     """
@@ -77,7 +83,7 @@ class SequentialDesign:
     def __post_init__(self) -> None:
         _int(self.first, "first", 2)
         _int(self.batch, "batch", 1)
-        _int(self.resamples, "resamples", 100)
+        _int(self.resamples, "resamples", 100, MAX_RESAMPLES)
         _int(self.seed, "seed", 0)
         _int(self.cap, "cap", 2)
         if self.cap < self.first:
