@@ -183,8 +183,10 @@ def test_tuned_against_tuned(page):
                         for c in result.tuned_claims}
     reps = {r[0].split()[0]: r[2] for r in rows.by_table["tuned-claims"][1:]}
     for c in result.tuned_claims:
-        want = [p for (path, s), p in sorted(c.replication.items()) if path == "all" and s > 0]
-        assert reps[c.id] == ", ".join(f"{p:.2f}" for p in want) and want
+        want = [(s, p) for (path, s), p in sorted(c.replication.items())
+                if path == "all" and s > 0]
+        assert want and reps[c.id] == ", ".join(f"{c.level_status[s]} ({p:.2f})"
+                                                for s, p in want)
 
 
 def test_assumptions_cite_the_model_document_for_every_open_choice(page):

@@ -275,11 +275,12 @@ def _tuned_markdown(result: Any) -> list[str]:
                    f"{'yes' if result.pd_tuning['on_grid_edge'] else 'no'} |")
     out.append("")
     if result.tuned_claims:
-        out += ["| claim (tuned controllers) | verdict | replication probability |",
+        out += ["| claim (tuned controllers) | verdict | status (replication probability) |",
                 "|---|---|---|"]
         for c in result.tuned_claims:
             detail = f" ({c.detail})" if c.detail else ""
-            reps = ", ".join(f"{p:.2f}" for (path, s), p in sorted(c.replication.items())
+            reps = ", ".join(f"{c.level_status[s]} ({p:.2f})"
+                             for (path, s), p in sorted(c.replication.items())
                              if path == "all" and s > 0.0)
             out.append(f"| {c.id} | {c.verdict}{detail} | {reps} |")
         out.append("")

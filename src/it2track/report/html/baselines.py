@@ -60,9 +60,10 @@ def _surfaces(result: StudyResult) -> dict[str, Any] | None:
 
 
 def _replication(c: Any) -> str:
-    reps = [p for (path, s), p in sorted(getattr(c, "replication", {}).items())
+    """Each noisy level's status with its replication probability, e.g. "not shown (0.86)"."""
+    reps = [(s, p) for (path, s), p in sorted(getattr(c, "replication", {}).items())
             if path == "all" and s > 0.0]
-    return ", ".join(f"{p:.2f}" for p in reps)
+    return ", ".join(f"{c.level_status[s]} ({p:.2f})" for s, p in reps)
 
 
 def baselines_section(result: StudyResult) -> Markup:
