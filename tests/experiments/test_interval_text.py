@@ -47,3 +47,21 @@ def test_printed_mean_lies_inside_and_off_the_bounds(mean, below, above, digits)
 def test_inconsistent_intervals_are_refused(bad):
     with pytest.raises(ValueError, match="low <= mean <= high"):
         interval_text(*bad)
+
+
+def test_evidence_tables_print_the_estimate_inside_its_interval():
+    from it2track.experiments.judgement import evidence_texts
+
+    row = {"sigma": 0.1, "metric": "ISE", "n": 100, "diff_mean": 2.74831,
+           "ci_low": 2.74802, "ci_high": 2.74867, "p_holm": 0.5, "outcome": "inconclusive"}
+    text = evidence_texts(row)
+    m, lo, hi = float(text["diff_mean"]), float(text["ci_low"]), float(text["ci_high"])
+    assert lo < m < hi  # at 4 digits all three would print 2.748
+    assert text["n"] == "100" and text["p_holm"] == "0.5" and text["sigma"] == "0.1"
+    c3 = {"sigma": 0.05, "best controller": "FLC", "n": 4, "mean ISE": 0.0031234,
+          "ci_low": 0.0031230, "ci_high": 0.003124}
+    shown = evidence_texts(c3)
+    assert float(shown["ci_low"]) < float(shown["mean ISE"]) < float(shown["ci_high"])
+    noise_free = {"sigma": 0.0, "diff_mean": 1.0, "ci_low": "", "ci_high": ""}
+    assert evidence_texts(noise_free) == {"sigma": "0", "diff_mean": "1", "ci_low": "",
+                                          "ci_high": ""}

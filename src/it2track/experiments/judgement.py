@@ -31,7 +31,7 @@ from typing import Any
 import numpy as np
 
 from .claimcells import BAND, BELOW, CellData, ClaimDef
-from .stats import holm_adjust, mean_interval, paired_comparison, t_tail
+from .stats import holm_adjust, interval_text, mean_interval, paired_comparison, t_tail
 
 __all__ = [
     "ALPHA",
@@ -40,6 +40,7 @@ __all__ = [
     "HOLDS",
     "NOT_SHOWN",
     "ClaimResult",
+    "evidence_texts",
     "judge_claim",
     "levels_text",
     "verdict_text",
@@ -155,9 +156,29 @@ class ClaimResult:
             lines.append("| " + " | ".join(cols) + " |")
             lines.append("|" + "---|" * len(cols))
             for row in self.evidence:
-                lines.append("| " + " | ".join(_fmt(row[c]) for c in cols) + " |")
+                text = evidence_texts(row)
+                lines.append("| " + " | ".join(text[c] for c in cols) + " |")
             lines.append("")
         return "\n".join(lines)
+
+
+def evidence_texts(row: Mapping[str, Any], digits: int = 4) -> dict[str, str]:
+    """An evidence row as text: numbers to ``digits`` significant digits, except that the
+    estimate and its interval (``diff_mean`` or ``mean ...``, ``ci_low``, ``ci_high``) get the
+    digits that keep the printed estimate inside the printed interval
+    (:func:`~.stats.interval_text`)."""
+    out = {k: _fmt(v) for k, v in row.items()}
+    key = "diff_mean" if "diff_mean" in row else next(
+        (k for k in row if k.startswith("mean ")), None)
+    low, high = row.get("ci_low", ""), row.get("ci_high", "")
+    if key is not None and low != "" and high != "" and isinstance(row[key], float):
+        mean, lo, hi = float(row[key]), float(low), float(high)
+        if lo <= mean <= hi:
+            text = interval_text(mean, lo, hi, digits)
+            m, rest = text.split(" [")
+            a, b = rest.rstrip("]").split(", ")
+            out.update({key: m, "ci_low": a, "ci_high": b})
+    return out
 
 
 def _fmt(v: Any) -> str:

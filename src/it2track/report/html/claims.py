@@ -9,6 +9,7 @@ from typing import Any
 import numpy as np
 from markupsafe import Markup
 
+from ...experiments.judgement import evidence_texts
 from ...experiments.stats import interval_text
 from .env import fmt, render
 
@@ -68,7 +69,8 @@ def _evidence(evidence: Sequence[Mapping[str, Any]]) -> dict[str, Any] | None:
     rows = []
     for row in evidence:
         text, cls = _outcome(row)
-        rows.append({"cells": [(fmt(row.get(k, "")), is_num)
+        shown = evidence_texts(row) if "ci_low" in row else {}
+        rows.append({"cells": [(shown.get(k, fmt(row.get(k, ""))), is_num)
                                for k, is_num in zip(cols, numeric, strict=True)],
                      "outcome": text, "outcome_cls": cls})
     return {"header": [*cols, "outcome"] if has_outcome else cols, "rows": rows,
