@@ -22,8 +22,7 @@ Paths (:data:`PATHS`) and what a value means:
 ``noise.sigma``                    ``"sweep"`` (the robustness noise levels) or one sigma, rad
 ``metrics.heading``                integrals on the ``"true"`` or the ``"measured"`` heading
 ``controllers.ke``, ``controllers.kde``  input gains of every fuzzy controller
-``controllers.output_gain``        output gain of every untuned fuzzy controller (scales u; the
-                                   motor mixing V0 +- g u)
+``controllers.output_gain``        output gain g of every untuned fuzzy controller (V0 +- g u)
 ``controllers.tuned``              ``true``: the tuned fuzzy controllers instead of the paper's
 
 Applying a set of path values to the study's loop gives a :class:`Variant`: the loop, the

@@ -101,8 +101,8 @@ class SequentialDesign:
 
 @dataclass(frozen=True)
 class SeedBatch:
-    """Realisations to simulate: seed indices ``start .. stop-1`` of every ``(controller,
-    path, sigma)`` cell of ``cells``."""
+    """Realisations to simulate: the seed indices from ``start`` to ``stop - 1`` of every
+    ``(controller, path, sigma)`` cell of ``cells``."""
 
     cells: tuple[tuple[str, str, float], ...]
     start: int
