@@ -15,7 +15,7 @@ from it2track import configs
 from it2track.cli.config import ConfigFile
 from it2track.cli.main import main
 
-NAMES = ("optimize", "paper", "sweep")
+NAMES = ("optimize", "paper", "sweep", "sweep_dc_motor")
 
 
 def test_the_packaged_names_and_files():
@@ -26,7 +26,7 @@ def test_the_packaged_names_and_files():
         assert p.parent.name == "configs" and p.parent.parent.name == "it2track"
         assert configs.text(name) == p.read_text(encoding="utf-8")
     with pytest.raises(ValueError, match="'papr' is not a packaged config; the names are "
-                                         "optimize, paper, sweep"):
+                                         "optimize, paper, sweep, sweep_dc_motor"):
         configs.path("papr")
 
 
