@@ -101,12 +101,14 @@ def _gamma(k: int) -> float:
     return k * EPS32 / (1.0 - k * EPS32)
 
 
-def row_errors(system: IT2Sugeno | T1Sugeno) -> FloatArray:
+def row_errors(system: Any, tables: Any = None) -> FloatArray:
     """Bound ``e`` on the float error of every membership row, shape ``(M + 1,)``.
 
     The last entry (the constant 1 of unmentioned inputs) is 0. See the module docstring.
+    ``tables`` are the system's rule tables (a Mamdani system's antecedents; by default
+    ``system.tables``).
     """
-    t = system.tables
+    t = system.tables if tables is None else tables
     out = np.zeros(t.n_rows + 1)
     for k in range(t.n_rows):
         i = int(t.mf_input[k])
@@ -162,23 +164,26 @@ def _centroid_bound(lower_sum: FloatArray, sum_e: FloatArray, spread_y: float,
 
 
 def _weighted_bound(lower_sum: FloatArray, big_e: FloatArray, y: FloatArray,
-                    c: FloatArray, arith: float) -> FloatArray:
-    """``sum_r E_r |y_r - c| / (sum fl - 3 sum E) + A`` (see the module docstring, step 3)."""
+                    c: FloatArray, arith: Any) -> FloatArray:
+    """``sum_r E_r |y_r - c| / (sum fl - 3 sum E) + A`` (see the module docstring, step 3);
+    ``y`` is ``(R,)`` or, for consequents that depend on the input, ``(R, N)``."""
     sum_e = big_e.sum(axis=0)
     s = lower_sum - 3.0 * sum_e
+    y2 = y if y.ndim == 2 else y[:, None]
     with np.errstate(divide="ignore", invalid="ignore"):
-        num = np.einsum("rn,rn->n", big_e, np.abs(y[:, None] - c[None, :]))
+        num = np.einsum("rn,rn->n", big_e, np.abs(y2 - c[None, :]))
         b = np.where((s > 0) & np.isfinite(c), num / s + arith, np.inf)
     return b
 
 
-def float_error_bound(system: IT2Sugeno | T1Sugeno, x: ArrayLike
+def float_error_bound(system: Any, x: ArrayLike
                       ) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """Bound on ``|C_float - Python|`` at each point (see the module docstring).
+    """Bound on ``|C_float - Python|`` at each point (see the module docstring; a Mamdani
+    system's is :func:`~it2track.codegen.errorbound_mamdani.mamdani_float_error_bound`).
 
     Parameters
     ----------
-    system : IT2Sugeno or T1Sugeno
+    system : IT2Sugeno, T1Sugeno, IT2Mamdani or T1Mamdani
         The system the C was generated from (with its reducer).
     x : array_like, shape (N, n_inputs)
         Input points (float-representable values; they are clipped as the system does).
@@ -189,11 +194,93 @@ def float_error_bound(system: IT2Sugeno | T1Sugeno, x: ArrayLike
         Bounds for ``yl``, ``yr`` and ``u``; ``inf`` where the total lower firing is within
         rounding of zero (no bound follows there).
     """
-    t = system.tables
+    from .lowering import antecedent_tables
+    from .mamdani_c import is_centroid_mamdani
+
+    if is_centroid_mamdani(system):
+        from .errorbound_mamdani import mamdani_float_error_bound
+
+        return mamdani_float_error_bound(system, x)
+    t = antecedent_tables(system)
     arr = np.asarray(x, dtype=np.float64)
     xc = np.clip(arr, t.lo, t.hi).T.copy()  # (n_in, N)
+    fl, fu, eu, el = firing_and_errors(system, t, xc)
+    big_e = np.maximum(eu, el) + EPS32 * fu  # + the rounding of d = fu - fl in the reducers
+    r = t.n_rules
+    linear = "linear" in frozenset(getattr(t, "features", frozenset()))
+    if linear:
+        # first-order consequents at the clipped inputs, and each one's float error (below)
+        y_lo, y_hi = (np.array(v) for v in t.consequents_block(xc))
+        cons = _linear_error(t, xc)
+    else:
+        y_lo, y_hi = t.y_lo_s, t.y_hi_s
+        cons = np.zeros(arr.shape[0])
+    ymax = np.maximum(np.abs(y_lo).max(axis=0), np.abs(y_hi).max(axis=0))
+    range_l = y_lo.max(axis=0) - y_lo.min(axis=0)
+    range_r = y_hi.max(axis=0) - y_hi.min(axis=0)
+    sum_e = big_e.sum(axis=0)
+    arith = (2.0 * _gamma(2 * r + 2) + 4.0 * EPS32) * ymax
+    reducer = getattr(system, "reducer", None)
+    name = "type-1" if reducer is None else reducer.name
+    if name in ("km", "ekm", "eiasc"):
+        arith *= 2.0
+    sl = fl.sum(axis=0)
+    su = fu.sum(axis=0)
+    if name == "nie-tan":
+        ym = 0.5 * (y_lo + y_hi)
+        w = fl + fu
+        ym2 = ym if ym.ndim == 2 else ym[:, None]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ref = (w * ym2).sum(axis=0) / w.sum(axis=0)
+        # weights fl + fu are perturbed by 2 E and sum to at least sum(fl + fu)
+        b = _weighted_bound(sl + su, 2.0 * big_e, ym, ref, arith)
+        b_yl = b_yr = b
+    elif name == "wu-mendel":
+        b_yl = _wu_mendel_side(fl, fu, y_lo, sl, su, sum_e, range_l, arith, r, left=True)
+        b_yr = _wu_mendel_side(fl, fu, y_hi, sl, su, sum_e, range_r, arith, r, left=False)
+    else:
+        if linear:
+            ref_l, ref_r = EXHAUSTIVE.reduce_per_sample(fl, fu, y_lo, y_hi)
+        else:
+            ref_l, ref_r = EXHAUSTIVE.reduce_rules_first(fl, fu, y_lo, y_hi, t.order_ident,
+                                                         t.order_hi_s)
+        b_yl = _weighted_bound(sl, big_e, y_lo, ref_l, arith)
+        b_yr = _weighted_bound(sl, big_e, y_hi, ref_r, arith)
+    # perturbing every consequent by at most cons moves each weighted average, and so the
+    # extremes over the firing box, by at most cons
+    b_yl = b_yl + cons
+    b_yr = b_yr + cons
+    b_u = 0.5 * (b_yl + b_yr) + EPS32 * ymax
+    return b_yl, b_yr, b_u
+
+
+def _linear_error(t: Any, xc: FloatArray) -> FloatArray:
+    """Bound on the float error of every first-order consequent at the clipped inputs ``xc``
+    (n_in, N), the largest over the rules, shape (N,).
+
+    The C computes ``c0 + sum_i min(clo_i x_i, chi_i x_i)`` (or the max) with every constant
+    rounded once (``eps |c|``), the input clipped to the float-rounded universe (``eps U_i``
+    from the double's clipped input), one rounding per product (``eps |c_i x_i|``) and ``n``
+    additions (``gamma_n`` of the sum of the magnitudes)::
+
+        delta_r = gamma_{n + 2} (|c0| + sum_i |c_i| |x_i|) + eps sum_i |c_i| U_i.
+    """
+    n_in = t.n_inputs
+    c0 = np.maximum(np.abs(t.y_lo_s), np.abs(t.y_hi_s))[:, None]
+    ci = np.maximum(np.abs(t.coef_lo_s), np.abs(t.coef_hi_s))  # (R, n_in)
+    big_u = np.maximum(np.abs(t.lo), np.abs(t.hi))
+    mag = c0 + ci @ np.abs(xc)
+    delta = _gamma(n_in + 2) * mag + EPS32 * (ci @ big_u)[:, None]
+    out: FloatArray = delta.max(axis=0)
+    return out
+
+
+def firing_and_errors(system: Any, t: Any, xc: FloatArray
+                      ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """Exact firing intervals ``(fl, fu)`` (R, N) at the clipped inputs and the bounds on the
+    float error of each (``eu``, ``el``; steps 1 and 2 of the module docstring)."""
     m = t.memberships(xc).copy()
-    e = row_errors(system)
+    e = row_errors(system, t)
     general = bool(frozenset(getattr(t, "features", frozenset())) & {"not", "or", "weights"})
     if general:
         # NOT, OR, weights: rows [m, 1, 0, 1 - m] with errors [e, 0, 0, e + eps]; every t-norm
@@ -215,42 +302,11 @@ def float_error_bound(system: IT2Sugeno | T1Sugeno, x: ArrayLike
             np.min(m[t.lower_rows_s], axis=1)
         eu = _firing_error(m, e, t.upper_rows_s, system.tnorm)
         el = _firing_error(m, e, t.lower_rows_s, system.tnorm)
-    big_e = np.maximum(eu, el) + EPS32 * fu
-    sum_e = big_e.sum(axis=0)
-    r = t.n_rules
-    y_lo, y_hi = t.y_lo_s, t.y_hi_s
-    ymax = float(max(np.abs(y_lo).max(), np.abs(y_hi).max()))
-    range_l = float(y_lo.max() - y_lo.min())
-    range_r = float(y_hi.max() - y_hi.min())
-    arith = (2.0 * _gamma(2 * r + 2) + 4.0 * EPS32) * ymax
-    reducer = getattr(system, "reducer", None)
-    name = "type-1" if reducer is None else reducer.name
-    if name in ("km", "ekm", "eiasc"):
-        arith *= 2.0
-    sl = fl.sum(axis=0)
-    su = fu.sum(axis=0)
-    if name == "nie-tan":
-        ym = 0.5 * (y_lo + y_hi)
-        w = fl + fu
-        with np.errstate(divide="ignore", invalid="ignore"):
-            ref = np.einsum("rn,r->n", w, ym) / w.sum(axis=0)
-        # weights fl + fu are perturbed by 2 E and sum to at least sum(fl + fu)
-        b = _weighted_bound(sl + su, 2.0 * big_e, ym, ref, arith)
-        b_yl = b_yr = b
-    elif name == "wu-mendel":
-        b_yl = _wu_mendel_side(fl, fu, y_lo, sl, su, sum_e, range_l, arith, r, left=True)
-        b_yr = _wu_mendel_side(fl, fu, y_hi, sl, su, sum_e, range_r, arith, r, left=False)
-    else:
-        ref_l, ref_r = EXHAUSTIVE.reduce_rules_first(fl, fu, y_lo, y_hi, t.order_ident,
-                                                     t.order_hi_s)
-        b_yl = _weighted_bound(sl, big_e, y_lo, ref_l, arith)
-        b_yr = _weighted_bound(sl, big_e, y_hi, ref_r, arith)
-    b_u = 0.5 * (b_yl + b_yr) + EPS32 * ymax
-    return b_yl, b_yr, b_u
+    return fl, fu, eu, el
 
 
 def _wu_mendel_side(fl: FloatArray, fu: FloatArray, y: FloatArray, sl: FloatArray,
-                    su: FloatArray, sum_e: FloatArray, spread_y: float, arith: float, r: int,
+                    su: FloatArray, sum_e: FloatArray, spread_y: Any, arith: Any, r: int,
                     *, left: bool) -> FloatArray:
     with np.errstate(divide="ignore", invalid="ignore"):
         d0 = _centroid_bound(sl, sum_e, spread_y, arith)
@@ -259,17 +315,19 @@ def _wu_mendel_side(fl: FloatArray, fu: FloatArray, y: FloatArray, sl: FloatArra
         spread = np.where(sl > 0, 1.0 / sl - 1.0 / su, np.inf)
         d_spread = np.where(sl > sum_e, sum_e / (sl * (sl - sum_e)), np.inf) + np.where(
             su > sum_e, sum_e / (su * (su - sum_e)), np.inf)
+        y2 = y if y.ndim == 2 else y[:, None]
+        lo_y, hi_y = y2.min(axis=0), y2.max(axis=0)
         if left:
-            p = np.einsum("rn,r->n", fl, y - y.min())
-            q = np.einsum("rn,r->n", fu, y.max() - y)
+            p = (fl * (y2 - lo_y)).sum(axis=0)
+            q = (fu * (hi_y - y2)).sum(axis=0)
         else:
-            p = np.einsum("rn,r->n", fu, y - y.min())
-            q = np.einsum("rn,r->n", fl, y.max() - y)
+            p = (fu * (y2 - lo_y)).sum(axis=0)
+            q = (fl * (hi_y - y2)).sum(axis=0)
         tt = np.where(p + q > 0, p * q / (p + q), 0.0)
         d_t = 2.0 * sum_e * spread_y
         d_prod = d_spread * (tt + d_t) + spread * d_t
         arith_prod = (_gamma(r) * (su + sl) / (su * sl) + 6.0 * EPS32 * spread) * tt \
-            + 4.0 * EPS32 * float(np.abs(y).max())
+            + 4.0 * EPS32 * np.abs(y2).max(axis=0)
         out: FloatArray = outer + 0.5 * (d_prod + arith_prod)
     return np.where(np.isfinite(out), out, np.inf)
 

@@ -172,7 +172,7 @@ def float_context(system: Any, real: RealType, prefix: str) -> dict[str, Any]:
     } if not linear else {k: k for k in ("y1l", "yml", "y1r", "ymr")}
     exact_reduction = red_name in ("exhaustive", "km", "ekm", "eiasc") and not type1_exact
     sort = linear and exact_reduction
-    if linear:
+    if linear or mam is not None:  # sorted at run time / the grid is sorted
         need_hi_gather = False
     coef_tables = []
     if linear:

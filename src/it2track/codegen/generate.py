@@ -103,6 +103,18 @@ def check_supported(system: object, real: RealType | None = None) -> None:
     implications, aggregations and defuzzifiers listed in this module; a built-in type reducer;
     no rule-language feature outside :data:`SUPPORTED_FEATURES`. The fixed-point build carries
     zero-order Sugeno systems only (see :mod:`.fixedpoint`).
+
+    Parameters
+    ----------
+    system : object
+        The system to check (anything: what is not a supported system is refused).
+    real : RealType, optional
+        The arithmetic; ``None`` checks what every arithmetic's build shares.
+
+    Raises
+    ------
+    UnsupportedFeatureError
+        Naming what is not carried.
     """
     if type(system) not in SUPPORTED_SYSTEMS:
         raise UnsupportedFeatureError(
