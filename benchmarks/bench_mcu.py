@@ -7,7 +7,10 @@ gcc-arm-none-eabi, libnewlib-arm-none-eabi; gcc for the host cross-check)::
         [--figure docs/mcu_costs.png]
 
 Generates float C and integer-only q15 fixed-point C for the paper's controller (FoU 0.2) with
-each type reducer (and the type-1 FLC; the Wu-Mendel bounds have no q15 build), cross-compiles
+each type reducer (and the type-1 FLC; the Wu-Mendel bounds have no q15 build), and float C for
+its Mamdani variants (IT2 with the exhaustive reducer and KM, type-1 with the centroid, on a
+101-point output grid) and first-order (TSK) variants (``it2track.paper.heading_mamdani``,
+``heading_tsk``; fixed point carries zero-order Sugeno systems only), cross-compiles
 it for the ATmega328P (``avr-gcc -mmcu=atmega328p -Os``), runs it on the cycle-accurate simavr
 at 16 MHz and counts the cycles of every call with Timer1 (prescaler 1), over a grid of
 ``[-1, 1]^2`` plus random inputs; checks that the AVR's outputs equal the host's build of the

@@ -15,13 +15,18 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from numbers import Real
+from typing import Any
 
 from .fuzzy import (
     EXHAUSTIVE,
     Input,
+    IT2Mamdani,
     IT2Set,
     IT2Sugeno,
+    Linear,
+    Output,
     Rule,
+    T1Mamdani,
     T1Sugeno,
     TNorm,
     Triangle,
@@ -35,6 +40,8 @@ __all__ = [
     "dead_zone_matched_fls",
     "heading_fls",
     "heading_fls_widths",
+    "heading_mamdani",
+    "heading_tsk",
 ]
 
 #: Type-1 centre lines of the three sets (``[a b c]``), shared by both inputs.
@@ -189,3 +196,105 @@ def dead_zone_matched_fls(fou: float, *, tnorm: TNorm = TNorm.PRODUCT) -> T1Suge
     return T1Sugeno(
         inputs=inputs, rules=_rules(), tnorm=tnorm, name=f"type-1 FLC, dead zone of FoU {fou:g}"
     )
+
+
+def _voltage(rule: Rule) -> float:
+    """The voltage of a rule of Table 2 (a crisp zero-order consequent)."""
+    cons = rule.consequents[0]
+    assert isinstance(cons, tuple)
+    return float(cons[0])
+
+
+#: The output sets of :func:`heading_mamdani`: a triangle around each voltage of Table 2.
+MAMDANI_VOLTS: dict[str, float] = {"NH": -12.0, "NM": -8.0, "NL": -4.0, "Z": 0.0, "PL": 4.0,
+                                   "PM": 8.0, "PH": 12.0}
+
+
+def heading_mamdani(fou: float = 0.2, *, reducer: TypeReducer = EXHAUSTIVE, type1: bool = False,
+                    output_fou: float = 2.0, **options: Any) -> IT2Mamdani | T1Mamdani:
+    """The paper's controller as a Mamdani system (not in the paper: a variant for comparison
+    and for the C generator's cost table).
+
+    The inputs and rule table of :func:`heading_fls` ``(fou)``, each rule's voltage replaced by
+    an output set: a triangle 4 V wide on each side around it (shoulders at +-12 V) on
+    ``[-12, 12]`` V, widened by ``output_fou`` into an IT2 set; product t-norm, and the
+    Mamdani defaults otherwise (min implication, max aggregation, 101-point grid).
+
+    Parameters
+    ----------
+    fou : float
+        FoU width of the input sets (as :func:`heading_fls`).
+    reducer : TypeReducer
+        The type reducer of the IT2 system.
+    type1 : bool
+        The type-1 system instead: the upper MFs of the inputs (the type-1 FLC's sets when
+        ``fou = 0``) and of the output sets, defuzzified by the centroid.
+    output_fou : float
+        FoU width of the output sets (volts).
+    **options
+        Further fields of :class:`~it2track.fuzzy.IT2Mamdani` / ``T1Mamdani``
+        (``implication``, ``aggregation``, ``resolution``, ``tnorm``, ...).
+
+    Returns
+    -------
+    IT2Mamdani or T1Mamdani
+
+    Examples
+    --------
+    >>> fls = heading_mamdani(0.2)
+    >>> round(float(fls(0.5, 0.0)), 6), round(float(heading_mamdani(type1=True)(0.5, 0.0)), 6)
+    (3.936795, 3.903585)
+    """
+    base = heading_fls(fou)
+    sets = []
+    for label, v in MAMDANI_VOLTS.items():
+        left = v if v == -12.0 else v - 4.0
+        right = v if v == 12.0 else v + 4.0
+        s = IT2Set.from_fou(Triangle(left, v, right), output_fou, label)
+        sets.append(IT2Set.type1(s.upper, label) if type1 else s)
+    out = Output("u", (-12.0, 12.0), sets)
+    label_of = {v: k for k, v in MAMDANI_VOLTS.items()}
+    rules = [Rule(r.antecedent, label_of[_voltage(r)]) for r in base.rules]
+    options.setdefault("tnorm", TNorm.PRODUCT)
+    if type1:
+        inputs = tuple(Input(i.name, i.universe, [IT2Set.type1(s.upper, s.name) for s in i.sets])
+                       for i in base.inputs)
+        return T1Mamdani(inputs=inputs, outputs=(out,), rules=tuple(rules),
+                         name=f"paper Mamdani FLC, type-1 (FoU {fou:g})", **options)
+    return IT2Mamdani(inputs=base.inputs, outputs=(out,), rules=tuple(rules),
+                      reducer=reducer, name=f"paper Mamdani IT2FLC (FoU {fou:g})", **options)
+
+
+def heading_tsk(fou: float = 0.2, *, reducer: TypeReducer = EXHAUSTIVE,
+                slopes: tuple[object, object] = (1.5, (-0.5, 0.5))) -> IT2Sugeno | T1Sugeno:
+    """The paper's controller with first-order (TSK) consequents (not in the paper: a variant
+    for the C generator's tests and cost table): each rule's voltage ``y`` of Table 2 becomes
+    ``y + a e + b de`` with ``(a, b) = slopes`` -- numbers or intervals ``(lo, hi)`` (interval
+    coefficients need an IT2 system, ``fou > 0``).
+
+    Parameters
+    ----------
+    fou : float
+        FoU width of the input sets (``0``: a type-1 system).
+    reducer : TypeReducer
+        The type reducer (``fou > 0``).
+    slopes : (a, b)
+        Coefficients of ``e`` and ``de`` in every rule.
+
+    Returns
+    -------
+    IT2Sugeno or T1Sugeno
+
+    Examples
+    --------
+    >>> round(float(heading_tsk(0.2)(0.5, 0.0)), 6)
+    4.75
+    """
+    base = heading_fls(fou, reducer=reducer)
+    rules = [Rule(r.antecedent, Linear(list(slopes), _voltage(r)))  # type: ignore[arg-type]
+             for r in base.rules]
+    name = f"paper TSK FLC (FoU {fou:g})"
+    if isinstance(base, T1Sugeno):
+        return T1Sugeno(inputs=base.inputs, rules=tuple(rules), tnorm=base.tnorm, name=name)
+    return IT2Sugeno(inputs=base.inputs, rules=tuple(rules), tnorm=base.tnorm, reducer=reducer,
+                     name=name)

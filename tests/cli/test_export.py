@@ -209,3 +209,42 @@ def test_force_never_replaces_what_is_not_a_regular_file(tmp_path):
     res = run("--paper", 0.2, "--out", tmp_path, "--force")
     assert res.exit_code == 2 and "not a regular file" in res.output
     assert not (tmp_path / "it2.c").exists()
+
+
+def test_mamdani_and_tsk_files_export_and_compile(tmp_path):
+    """MATLAB's tipper.fis (a type-1 Mamdani system, Gaussian sets, OR rules) and the paper's
+    IT2 Mamdani and first-order variants saved as files: written, and they compile."""
+    from it2track.paper import heading_mamdani, heading_tsk
+
+    tipper = os.path.join(os.path.dirname(__file__), "..", "io", "data", "tipper_mamdani.fis")
+    files = {"tipper": tipper}
+    for name, system in (("mam", heading_mamdani(0.2)), ("tsk", heading_tsk(0.2))):
+        path = tmp_path / f"{name}.toml"
+        save(system, path)
+        files[name] = str(path)
+    for name, path in files.items():
+        out = tmp_path / f"out-{name}"
+        res = run(path, "--out", out, "--real", "float", "--prefix", name)
+        assert res.exit_code == 0, res.output
+        src = (out / f"{name}.c").read_text()
+        assert ("_GRID[101]" in src) == (name != "tsk"), name
+        assert ("_lin(" in src) == (name == "tsk"), name
+        if not missing_tools(["gcc"]):
+            subprocess.run(["gcc", *STRICT, "-c", f"{name}.c"], cwd=out, check=True)
+    res = run(files["mam"], "--out", tmp_path / "km", "--reducer", "km")
+    assert res.exit_code == 0 and "reducer km" in res.output, res.output
+    res = run(files["tipper"], "--out", tmp_path / "t1", "--reducer", "km")
+    assert res.exit_code == 2 and "type-1 system" in res.output
+
+
+def test_what_fixed_point_does_not_carry_is_named_before_writing(tmp_path):
+    from it2track.paper import heading_mamdani, heading_tsk
+
+    for system, words in ((heading_mamdani(0.2), "Mamdani systems have no fixed-point"),
+                          (heading_tsk(0.2), "first-order (linear) consequents")):
+        path = tmp_path / "s.toml"
+        save(system, path)
+        out = tmp_path / "o"
+        res = run(path, "--out", out, "--real", "q15")
+        assert res.exit_code == 2 and words in res.output and "Traceback" not in res.output
+        assert not out.exists()

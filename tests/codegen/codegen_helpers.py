@@ -148,3 +148,67 @@ def host_lib_factory(build_dir):
         return cache[key]
 
     return make
+
+
+def paper_mamdani(*, reducer=None, type1: bool = False, **kwargs):
+    """it2track.paper.heading_mamdani (FoU 0.2; the type-1 one from the type-1 FLC's sets)."""
+    from it2track.paper import heading_mamdani
+
+    extra = {} if reducer is None else {"reducer": reducer.value}
+    return heading_mamdani(0.0 if type1 else 0.2, type1=type1, **extra, **kwargs)
+
+
+def paper_tsk(*, reducer=None, type1: bool = False, interval: bool = True):
+    """it2track.paper.heading_tsk: slopes 1.5 and [-0.5, 0.5] (or -2 for crisp coefficients)."""
+    from it2track.paper import heading_tsk
+
+    extra = {} if reducer is None else {"reducer": reducer.value}
+    slopes = (1.5, (-0.5, 0.5) if (interval and not type1) else -2.0)
+    return heading_tsk(0.0 if type1 else 0.2, slopes=slopes, **extra)
+
+
+def random_mamdani(seed: int, *, type1: bool = False, shapes=SHAPES):
+    """A random Mamdani system: 1-3 inputs, random output sets, rule-language features, every
+    implication and aggregation, a random reducer and resolution."""
+    from it2track.fuzzy import Aggregation, Implication, IT2Mamdani, Output, T1Mamdani
+
+    base = random_system(seed, type1=type1, shapes=shapes, features=True)
+    rng = np.random.default_rng(1000 + seed)
+    lo = float(rng.uniform(-5.0, 0.0))
+    hi = lo + float(rng.uniform(1.0, 10.0))
+    n_sets = int(rng.integers(2, 6))
+    sets = [_random_set(rng, lo, hi, f"o{j}", ("triangle", "trapezoid", "left", "right")[
+        int(rng.integers(4))], type1=type1) for j in range(n_sets)]
+    out = Output("y", (lo, hi), sets)
+    rules = [Rule(r.antecedent, f"o{int(rng.integers(n_sets))}", weight=r.weight,
+                  connective=r.connective, negated=r.negated) for r in base.rules]
+    common = {
+        "inputs": base.inputs, "outputs": [out], "rules": rules, "tnorm": base.tnorm,
+        "snorm": base.tables.snorm,
+        "implication": list(Implication)[(seed // 3) % 2],
+        "aggregation": list(Aggregation)[seed % 3],
+        "resolution": int(rng.integers(5, 80)), "name": f"random-mamdani-{seed}",
+    }
+    if type1:
+        return T1Mamdani(**common)
+    red = list(Reducer)[seed % len(Reducer)]
+    return IT2Mamdani(reducer=red.value, **common)
+
+
+def random_tsk(seed: int, *, type1: bool = False, shapes=SHAPES):
+    """A random first-order system: random_system's antecedents with Linear consequents
+    (interval coefficients unless type-1)."""
+    from it2track.fuzzy import Linear
+
+    base = random_system(seed, type1=type1, shapes=shapes, features=True)
+    rng = np.random.default_rng(2000 + seed)
+    rules = []
+    for r in base.rules:
+        coefs: list[float | tuple[float, float]] = []
+        for _ in range(base.n_inputs):
+            c = float(rng.uniform(-3.0, 3.0))
+            coefs.append(c if (type1 or rng.random() < 0.5) else (c, c + float(rng.uniform(0, 2))))
+        c0 = float(rng.uniform(-5.0, 5.0))
+        rules.append(Rule(r.antecedent, Linear(coefs, c0), weight=r.weight,
+                          connective=r.connective, negated=r.negated))
+    return dataclasses.replace(base, rules=tuple(rules), name=f"random-tsk-{seed}")

@@ -13,15 +13,17 @@ import dataclasses
 import re
 import subprocess
 
+import fixed_model
 import numpy as np
 import pytest
 from codegen_helpers import random_system, skip_without
 
 import it2track
 from it2track.codegen import RealType, generate_c
+from it2track.codegen.fixedpoint import fixed_plan
 from it2track.codegen.host import HostLibrary, build_host_library
 from it2track.codegen.mcu import AVR_FLAGS, arm_sizes, avr_sizes, cost_grid, run_on_avr
-from it2track.fuzzy import Reducer
+from it2track.fuzzy import Input, IT2Set, IT2Sugeno, Reducer, Rule, Triangle
 
 FIXED_REDUCERS = [r for r in Reducer if r.value.name != "wu-mendel"]
 PL_SHAPES = ("triangle", "trapezoid", "left", "right")
@@ -93,15 +95,56 @@ def test_portable_c_on_the_avr_equals_the_assembly(avr, build_dir, tmp_path):
     assert "__asm__" in code.source and "#if defined(__AVR__)" in code.source
 
 
+def gappy_system():
+    """Lower sets with gaps between them (so at some inputs no rule has a lower firing: the
+    scans start from a zero denominator) and a type-1 set (upper = lower, so some rules move
+    nothing: d = 0), consequents with ties and out of order."""
+    a = IT2Set(Triangle(-1.0, -1.0, 0.2), Triangle(-1.0, -1.0, -0.6), "A")
+    b = IT2Set(Triangle(-0.6, 0.0, 0.6), Triangle(-0.15, 0.0, 0.15), "B")
+    c = IT2Set.type1(Triangle(0.1, 1.0, 1.0), "C")
+    x = Input("x", (-1.0, 1.0), [a, b, c])
+    z = Input("z", (-1.0, 1.0), [a, b, c])
+    rules = [Rule([p, q], v) for (p, q), v in zip(
+        [(p, q) for p in "ABC" for q in "ABC"],
+        [3.0, -2.0, 0.5, -2.0, 0.0, 1.5, 0.5, 4.0, -5.0], strict=True)]
+    return IT2Sugeno(inputs=[x, z], rules=rules, name="gappy")
+
+
+def test_the_assembly_scans_on_every_path(avr, build_dir):
+    """The exhaustive reducer's hand-written AVR scans against the portable C scans on the AVR
+    and the host build, at inputs (found with the independent model) where the lower firing
+    sum is 0 and where a firing rule has d = fu - fl = 0."""
+    system = gappy_system()
+    code = generate_c(system, real=RealType.Q15)
+    plan = fixed_plan(system, "exhaustive")
+    axis = np.linspace(-1.0, 1.0, 41)
+    x = np.stack(np.meshgrid(axis, axis, indexing="ij"), -1).reshape(-1, 2)
+    q = plan.fmt.to_int(x)
+    fl, fu = fixed_model.firings(system, fixed_model.memberships(plan, q))
+    fires = fu > 0
+    assert np.any(fires.any(axis=0) & ((fl * fires).sum(axis=0) == 0))  # den starts at 0
+    assert np.any((fires & (fl == fu)).any(axis=0) & (fires.sum(axis=0) > 1))  # d = 0
+    asm = run_on_avr(code, x, build_dir=build_dir)
+    portable = dataclasses.replace(code, source="#define IT2_PORTABLE 1\n" + code.source)
+    c = run_on_avr(portable, x, build_dir=build_dir)
+    for a, b in ((asm.u, c.u), (asm.yl, c.yl), (asm.yr, c.yr), (asm.status, c.status)):
+        np.testing.assert_array_equal(a, b)
+    same_bits(asm, host(code, build_dir))
+    mu, _, _, mstatus, _, _ = fixed_model.evaluate(system, plan, q)
+    np.testing.assert_array_equal(asm.status, mstatus)
+    np.testing.assert_array_equal(asm.u.astype(np.int64), mu)
+
+
 def test_fixed_point_cycles_beside_the_float_build(avr, build_dir):
     """The exhaustive reducer's worst step over a 21 x 21 grid plus 300 random inputs: q15
-    measured 6,049 cycles (0.38 ms at 16 MHz), the float build 15,6xx; the guard leaves 5 %."""
+    measured 4,919 cycles (0.31 ms at 16 MHz), the float build 15,470: the guard is issue 22's
+    5,000-cycle target itself; the type-1 FLC measured 2,023."""
     x = cost_grid(21, n_random=300, seed=1).astype(np.float64)
     fls = it2track.heading_fls(0.2)
     fixed = run_on_avr(generate_c(fls, real=RealType.Q15), x, build_dir=build_dir)
     flt = run_on_avr(generate_c(fls, real=RealType.FLOAT), x, build_dir=build_dir)
-    assert fixed.cycles.max() <= 6_400
-    assert fixed.cycles.max() * 2.4 < flt.cycles.max()
+    assert fixed.cycles.max() <= 5_000
+    assert fixed.cycles.max() * 3 < flt.cycles.max()
     t1 = run_on_avr(generate_c(it2track.heading_fls(0.0), real=RealType.Q15), x,
                     build_dir=build_dir)
     assert t1.cycles.max() <= 2_500

@@ -99,3 +99,24 @@ def test_error_status_raises_like_python(build_dir):
     with pytest.raises(ValueError, match="2 inputs"):
         CHeadingController.from_system(
             IT2Sugeno(inputs=[Input("e", (-1, 1), [n, p])], rules=[Rule(["N"], 1.0)]))
+
+
+def test_mamdani_and_tsk_c_in_the_closed_loop(build_dir):
+    """The paper's controller as an IT2 Mamdani and as a first-order system: the compiled
+    double C reproduces the Python controllers' metrics on the three paths (noise-free and
+    noisy)."""
+    skip_without("gcc")
+    from it2track.paper import heading_mamdani, heading_tsk
+
+    systems = [heading_mamdani(0.2), heading_tsk(0.2)]
+    controllers = []
+    for fls in systems:
+        controllers.append(FuzzyHeadingController(fls=fls))
+        controllers.append(CHeadingController.from_system(fls, real=RealType.DOUBLE,
+                                                          build_dir=str(build_dir)))
+    trajectories = [get_trajectory(name) for name in TRAJECTORIES]
+    runs = run_grid(len(controllers), len(trajectories), [0.0, 0.05], 2)
+    metrics = simulate_metrics(controllers, trajectories, runs, LoopConfig())
+    for py_index in (0, 2):
+        for name, (py, c) in _pairs(runs, metrics, py_index, py_index + 1).items():
+            np.testing.assert_allclose(c, py, rtol=1e-9, atol=1e-12, err_msg=name)

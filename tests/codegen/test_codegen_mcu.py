@@ -173,7 +173,7 @@ def test_cost_table_and_the_one_millisecond_aim(avr, build_dir):
     the AVR output equals the host build of the same C; each error within its derived bound;
     the exact exhaustive reducer's worst float step stays under 1 ms at 16 MHz (16,000 cycles;
     measured 15,655 on the benchmark's 61 x 61 grid plus 2,000 random points)."""
-    table = measure_costs(grid=9, n_random=40, arm=False, build_dir=build_dir)
+    table = measure_costs(grid=9, n_random=40, arm=False, variants=False, build_dir=build_dir)
     labels = [r.label for r in table.rows]
     assert labels[0].startswith("type-1") and len(labels) == 2 * (1 + len(Reducer)) - 1
     assert "IT2 wu-mendel (approx.), q15" not in labels
@@ -191,6 +191,25 @@ def test_cost_table_and_the_one_millisecond_aim(avr, build_dir):
     assert "IT2 exhaustive" in table.as_text()
     with pytest.raises(ValueError, match="arithmetics"):
         measure_costs(arithmetics=[RealType.DOUBLE], build_dir=build_dir)
+
+
+def test_cost_table_rows_of_the_mamdani_and_tsk_variants(avr, build_dir):
+    """The Mamdani (IT2 exhaustive and KM, type-1 centroid, 101-point grid) and first-order
+    rows: float only, the AVR's bits equal the host build's, each error within its bound, and
+    the IT2 Mamdani system fits the ATmega328P's 2 KB of RAM (its three grid arrays are most
+    of the stack)."""
+    table = measure_costs(grid=4, n_random=6, arm=False, include_type1=False, reducers=[],
+                          build_dir=build_dir)
+    labels = [r.label for r in table.rows]
+    assert labels == ["Mamdani IT2 exhaustive", "Mamdani IT2 km", "Mamdani type-1 (centroid)",
+                      "TSK IT2 exhaustive", "TSK type-1"]
+    for row in table.rows:
+        assert row.arithmetic == "float" and row.equals_host, row.label
+        assert row.error <= row.bound, row.label
+        assert row.ram == 0 and 0 < row.stack < 2048 - 256, row.label
+    mamdani, tsk = table.rows[0], table.rows[3]
+    assert mamdani.stack > 3 * 101 * 4  # the grid arrays: gl, gu, gy
+    assert mamdani.cycles_max > 10 * tsk.cycles_max
 
 
 def test_measure_costs_refuses_a_bad_grid():

@@ -26,23 +26,34 @@ def test_rule_language_features_outside_the_allow_list_are_refused(monkeypatch, 
 
 
 def test_features_it_does_not_implement_are_refused_in_real_systems():
-    from it2track.fuzzy import IT2Mamdani, Linear, Output, Triangle
+    from it2track.fuzzy import Aggregation, Implication, IT2Mamdani, Linear, Output, Triangle
     sets = [IT2Set.from_fou(Triangle(-1, -1, 1), 0.2, "N"),
             IT2Set.from_fou(Triangle(-1, 1, 1), 0.2, "P")]
     x = Input("x", (-1, 1), sets)
-    tsk = IT2Sugeno(inputs=[x], rules=[Rule(["N"], Linear([2.0], 0.5)), Rule(["P"], 1.0)])
-    with pytest.raises(UnsupportedFeatureError, match="linear"):
-        generate_c(tsk)
     two = IT2Sugeno(inputs=[x], rules=[Rule(["N"], consequents=[1.0, 2.0]),
                                        Rule(["P"], consequents=[-1.0, 0.0])])
-    with pytest.raises(UnsupportedFeatureError, match="outputs"):
+    with pytest.raises(UnsupportedFeatureError, match="several outputs"):
         generate_c(two)
     y = Output("y", (0, 4), [IT2Set(Triangle(0, 0, 4), Triangle(0, 0, 2), "small"),
                              IT2Set(Triangle(0, 4, 4), Triangle(2, 4, 4), "big")])
     mamdani = IT2Mamdani(inputs=[x], outputs=[y],
                          rules=[Rule(["N"], "small"), Rule(["P"], "big")], resolution=5)
-    with pytest.raises(UnsupportedFeatureError, match="IT2Mamdani"):
-        generate_c(mamdani)  # type: ignore[arg-type]
+    tsk = IT2Sugeno(inputs=[x], rules=[Rule(["N"], Linear([2.0], 0.5)), Rule(["P"], 1.0)])
+    for system in (mamdani, tsk):  # carried in float and double, refused in fixed point
+        assert "it2_eval" in generate_c(system, real=RealType.FLOAT).source
+    with pytest.raises(UnsupportedFeatureError, match="Mamdani systems have no fixed-point"):
+        generate_c(mamdani, real=RealType.Q15)
+    with pytest.raises(UnsupportedFeatureError, match=r"first-order \(linear\) consequents"):
+        generate_c(tsk, real=RealType.Q15)
+    # an operator outside the allow-list is refused by name (an enum member added later, say)
+    for field, value, what in (("implication", "lukasiewicz", "implication 'lukasiewicz'"),
+                               ("aggregation", "bounded-sum", "aggregation 'bounded-sum'"),
+                               ("tnorm", "einstein", "t-norm 'einstein'")):
+        odd = dataclasses.replace(mamdani)
+        object.__setattr__(odd, field, value)
+        with pytest.raises(UnsupportedFeatureError, match=what):
+            generate_c(odd)
+    assert Implication.PRODUCT and Aggregation.PROBOR  # the members it does carry
     weighted = IT2Sugeno(inputs=[x], rules=[Rule(["N"], 1.0, weight=0.5),
                                             Rule(["P"], -1.0, negated=[True])])
     assert {"weights", "not"} <= weighted.tables.features
@@ -63,7 +74,7 @@ def test_unknown_system_types_are_refused():
     base = it2track.heading_fls(0.2)
     sub = Custom(inputs=base.inputs, rules=base.rules)
     for obj in (sub, object(), "it2"):
-        with pytest.raises(UnsupportedFeatureError, match="zero-order Sugeno"):
+        with pytest.raises(UnsupportedFeatureError, match="supported are Sugeno/TSK"):
             generate_c(obj)  # type: ignore[arg-type]
 
 

@@ -201,6 +201,25 @@ def _hand_system(**kwargs: object) -> IT2Mamdani:
                       resolution=5, **kwargs)  # type: ignore[arg-type]
 
 
+def test_type1_antecedents_keep_the_output_sets_footprint() -> None:
+    """Type-1 input sets fire an interval of zero width, but the IT2 output sets still give the
+    aggregated set a lower MF below its upper one: the interval is the brute force's, not the
+    upper MF's type-1 centroid (yl == yr, what the evaluation once returned)."""
+    x = Input("x", (0, 1), [("lo", Triangle(0, 0, 1)), ("hi", Triangle(0, 1, 1))])
+    y = Output("y", (0, 10), [IT2Set.from_fou(Triangle(0, 0, 5), 2.0, "small"),
+                              IT2Set.from_fou(Triangle(5, 10, 10), 2.0, "big")])
+    system = IT2Mamdani(inputs=[x], outputs=[y], rules=[Rule(["lo"], "small"),
+                                                        Rule(["hi"], "big")])
+    for reducer in EXACT:
+        sys_r = IT2Mamdani(**{**_fields(system), "reducer": reducer})
+        for p in (0.3, 0.5, 0.9):
+            left, right = _switch_point_centroid(*_aggregate(sys_r, [p])[:2],
+                                                 list(_aggregate(sys_r, [p])[2]))
+            yl, yr = sys_r.interval(p)
+            assert right - left > 0.1
+            assert (float(yl), float(yr)) == pytest.approx((left, right), abs=1e-12)
+
+
 def test_hand_computed_example_in_exact_fractions() -> None:
     """x = 1/4: rule lo fires [1/2, 3/4], rule hi [0, 1/4]; grid y = 0..4. With min implication
     and max aggregation the aggregated set is lower [1/2, 1/2, 0, 0, 0], upper

@@ -3,6 +3,8 @@ atomically as PNG or SVG."""
 
 from __future__ import annotations
 
+import dataclasses
+
 import pytest
 
 from it2track.codegen.costs import CostRow, CostTable
@@ -34,6 +36,19 @@ def test_figure_has_one_bar_per_controller_in_microseconds():
                                            "type-1 FLC (FoU 0)"]
     assert len(size_ax.patches) == 6  # AVR and Cortex-M4F per controller
     assert len(mcu_cost_figure(_table(arm=False)).axes[1].patches) == 3
+
+
+def test_a_mamdani_row_puts_the_time_on_a_log_axis():
+    """A row 28 times the shortest (an IT2 Mamdani system on a 101-point grid) would flatten
+    the others on a linear axis."""
+    base = _table()
+    slow = CostRow(label="Mamdani IT2 exhaustive", reducer="exhaustive", arithmetic="float",
+                   exact=True, cycles_max=440_674, cycles_mean=379_406, flash=13_199,
+                   program_flash=14_300, ram=0, stack=1632, error=5e-6, bound=6e-4,
+                   equals_host=True, arm_text=None)
+    fig = mcu_cost_figure(dataclasses.replace(base, rows=(*base.rows, slow)))
+    assert fig.axes[0].get_xscale() == "log"
+    assert mcu_cost_figure(base).axes[0].get_xscale() == "linear"
 
 
 @pytest.mark.parametrize("suffix, magic", [(".png", b"\x89PNG"), (".svg", b"<?xml")])

@@ -14,6 +14,7 @@ import math
 import os
 import stat
 from pathlib import Path
+from typing import Any
 
 import click
 
@@ -53,6 +54,9 @@ def c_command(system: Path | None, fou: float | None, out_text: str, real: str,
               reducer: str | None, prefix: str, force: bool) -> None:
     """Generate C99 for the controller in SYSTEM (.t2fis, .fis or .toml) or --paper FOU.
 
+    Sugeno systems (zero- or first-order) and Mamdani systems (centroid on the output grid),
+    type-1 or interval type-2; fixed point (--real q15) carries zero-order Sugeno systems.
+
     The code needs no heap and no library beyond <math.h> (for Gaussian sets); one call,
     <prefix>_eval(in, &u, &yl, &yr), evaluates a step and returns a status (0 = OK). With
     --real q15 everything is integer arithmetic: the inputs and outputs are int16_t in the Q
@@ -79,7 +83,7 @@ def c_command(system: Path | None, fou: float | None, out_text: str, real: str,
     _check_out_dir(out)
 
     # -- build the system ---------------------------------------------------------------------
-    from ..fuzzy import IT2Sugeno, Reducer, T1Sugeno
+    from ..fuzzy import IT2Mamdani, IT2Sugeno, Reducer
 
     loaded: object
     try:
@@ -100,13 +104,13 @@ def c_command(system: Path | None, fou: float | None, out_text: str, real: str,
                                  param_hint="SYSTEM") from None
     where = "--paper" if fou is not None else "SYSTEM"
     try:
-        check_supported(loaded)  # before anything else: a Mamdani system, say, is named as such
+        # before anything else: what the generator does not carry is named, with --real
+        check_supported(loaded, RealType.from_name(real))
     except UnsupportedFeatureError as exc:
         raise click.BadParameter(f"cannot generate C: {exc}", param_hint=where) from None
-    assert isinstance(loaded, IT2Sugeno | T1Sugeno)
-    fls = loaded
+    fls: Any = loaded
     if reducer is not None:
-        if not isinstance(fls, IT2Sugeno):
+        if not isinstance(fls, IT2Sugeno | IT2Mamdani):
             raise click.BadParameter(
                 f"{type(fls).__name__} {fls.name!r} is a type-1 system: it has no type "
                 "reducer", param_hint="--reducer")

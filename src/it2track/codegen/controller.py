@@ -19,7 +19,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..fuzzy import ConvergenceError, IT2Sugeno, T1Sugeno, ZeroFiringError
+from ..fuzzy import (
+    ConvergenceError,
+    IT2Mamdani,
+    IT2Sugeno,
+    T1Mamdani,
+    T1Sugeno,
+    ZeroFiringError,
+)
 from ..tracking import HeadingController
 from .generate import CCode, RealType, generate_c
 from .host import HostLibrary, build_host_library
@@ -85,7 +92,8 @@ class CHeadingController(HeadingController):
             object.__setattr__(self, "name", f"C {self.code.prefix} ({self.code.real.value})")
 
     @classmethod
-    def from_system(cls, fls: IT2Sugeno | T1Sugeno, *, real: RealType = RealType.DOUBLE,
+    def from_system(cls, fls: IT2Sugeno | T1Sugeno | IT2Mamdani | T1Mamdani, *,
+                    real: RealType = RealType.DOUBLE,
                     ke: float = 1.0, kde: float = 1.0, name: str = "",
                     build_dir: str | None = None) -> CHeadingController:
         """Generate C for ``fls`` (see :func:`~it2track.codegen.generate_c`) and wrap it."""

@@ -1,5 +1,7 @@
 """The cost table: what one step of the paper's controller costs on microcontrollers, per type
-reducer and arithmetic (float and q15 fixed point).
+reducer and arithmetic (float and q15 fixed point), and of its Mamdani and first-order (TSK)
+variants (:func:`~it2track.paper.heading_mamdani`, :func:`~it2track.paper.heading_tsk`; float
+only: fixed point carries zero-order Sugeno systems).
 
 :func:`measure_costs` generates the C, runs it on the simulated ATmega328P
 (:func:`~it2track.codegen.mcu.run_on_avr`), checks its outputs against the host build of the
@@ -22,6 +24,7 @@ import tempfile
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -166,6 +169,7 @@ def measure_costs(
     grid: int = 21,
     n_random: int = 0,
     include_type1: bool = True,
+    variants: bool = True,
     arm: bool = True,
     build_dir: str | os.PathLike[str] | None = None,
 ) -> CostTable:
@@ -178,7 +182,9 @@ def measure_costs(
     the largest ``|u|`` difference of the AVR result from the Python (double) system beside the
     derived bound, whether the AVR's outputs equal the host's build of the same C bit for bit
     (when ``gcc`` is present), and the Cortex-M4F code size (``arm``). ``include_type1`` adds
-    the type-1 FLC (FoU 0).
+    the type-1 FLC (FoU 0); ``variants`` the Mamdani systems (IT2 with the exhaustive reducer and
+    KM, type-1 with the centroid, on a 101-point grid) and the first-order ones (IT2 with
+    interval coefficients and the exhaustive reducer, type-1), in float.
 
     Returns
     -------
@@ -191,7 +197,8 @@ def measure_costs(
     ValueError
         For an arithmetic other than float and q15.
     """
-    from ..paper import heading_fls
+    from ..fuzzy import EXHAUSTIVE, KM
+    from ..paper import heading_fls, heading_mamdani, heading_tsk
 
     for real in arithmetics:
         if real not in ARITHMETICS:
@@ -203,7 +210,7 @@ def measure_costs(
         require(ARM_TOOLS)
     reds = list(Reducer) if reducers is None else list(reducers)
     x64 = x.astype(np.float64)
-    systems: list[tuple[str, IT2Sugeno | T1Sugeno]] = []
+    systems: list[tuple[str, Any]] = []
     if include_type1:
         systems.append(("type-1 FLC (FoU 0)", heading_fls(0.0)))
     base = heading_fls(fou)
@@ -211,6 +218,14 @@ def measure_costs(
     for red in reds:
         label = f"IT2 {red.value.name}" + ("" if red.value.exact else " (approx.)")
         systems.append((label, dataclasses.replace(base, reducer=red.value)))
+    if variants:
+        systems += [
+            ("Mamdani IT2 exhaustive", heading_mamdani(fou, reducer=EXHAUSTIVE)),
+            ("Mamdani IT2 km", heading_mamdani(fou, reducer=KM)),
+            ("Mamdani type-1 (centroid)", heading_mamdani(0.0, type1=True)),
+            ("TSK IT2 exhaustive", heading_tsk(fou, reducer=EXHAUSTIVE)),
+            ("TSK type-1", heading_tsk(0.0, slopes=(1.5, -2.0))),
+        ]
     host_ok = True
     try:
         require(("gcc",))
@@ -219,7 +234,7 @@ def measure_costs(
     rows = []
     for label, fls in systems:
         for real in arithmetics:
-            if real.fixed and isinstance(fls, IT2Sugeno) and fls.reducer.name == "wu-mendel":
+            if real.fixed and not _fixed_carries(fls):
                 continue
             rows.append(_measure(label, fls, real, x64, host_ok, arm, build_dir))
     tools = {"avr-gcc": _version("avr-gcc"), "simavr": _simavr_version()}
@@ -228,7 +243,16 @@ def measure_costs(
     return CostTable(rows=tuple(rows), n_points=len(x), fou=fou, tools=tools)
 
 
-def _measure(label: str, fls: IT2Sugeno | T1Sugeno, real: RealType, x64: np.ndarray,
+def _fixed_carries(fls: Any) -> bool:
+    """Whether the q15 build carries ``fls`` (zero-order Sugeno, not Wu-Mendel)."""
+    if type(fls) not in (IT2Sugeno, T1Sugeno):
+        return False
+    if "linear" in fls.tables.features:
+        return False
+    return not (isinstance(fls, IT2Sugeno) and fls.reducer.name == "wu-mendel")
+
+
+def _measure(label: str, fls: Any, real: RealType, x64: np.ndarray,
              host_ok: bool, arm: bool, build_dir: str | os.PathLike[str] | None) -> CostRow:
     code = generate_c(fls, real=real)
     run = run_on_avr(code, x64, build_dir=build_dir)

@@ -502,7 +502,7 @@ def fixed_context(system: IT2Sugeno | T1Sugeno, prefix: str, real_name: str, wid
         "need_hi_gather": need_hi_gather, "ord_hi": ord_hi,
         "reducer": red_name, "reducer_title": TITLES[red_name].split(" (")[0],
         "reducer_text": TITLES[red_name], "max_iter": max_iter,
-        "max_iter_text": f"{max_iter} iterations" if iterative else "(not iterative)",
+        "max_iter_text": f"{max_iter} iterations" if iterative else None,
         "tnorm": system.tnorm.value, "extra": fmt.extra_bits, "out_frac": fmt.out_frac,
         "zero_value": None if plan.zero_q is None else plan.zero_q,
     }

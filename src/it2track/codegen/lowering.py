@@ -14,14 +14,17 @@ from ..fuzzy import (
     KM,
     NIE_TAN,
     WU_MENDEL,
+    IT2Mamdani,
     IT2Sugeno,
     MFKind,
+    T1Mamdani,
     T1Sugeno,
     TypeReducer,
 )
 from ..io.errors import UnsupportedFeatureError
 
-__all__ = ["REDUCERS", "TITLES", "dependencies", "environment", "reducer_of", "row_label"]
+__all__ = ["REDUCERS", "TITLES", "antecedent_tables", "dependencies", "environment",
+           "reducer_of", "row_label"]
 
 #: The built-in reducers, by name (a reducer is accepted only if it *is* one of these, up to
 #: its iteration cap).
@@ -38,10 +41,20 @@ TITLES = {
 }
 
 
-def reducer_of(system: IT2Sugeno | T1Sugeno) -> TypeReducer | None:
-    if type(system) is T1Sugeno:
+def antecedent_tables(system: Any) -> Any:
+    """The :class:`~it2track.fuzzy.tables.SystemTables` of a system's rules: its own tables
+    for a Sugeno system, the antecedents' lowering for a Mamdani system (whose consequent
+    intervals are the output sets' centroids: the centre-of-sets Sugeno system)."""
+    tables = system.tables
+    return getattr(tables, "antecedents", tables)
+
+
+def reducer_of(system: Any) -> TypeReducer | None:
+    """The system's type reducer (checked to be a built-in one), or None for a type-1
+    system."""
+    if type(system) in (T1Sugeno, T1Mamdani):
         return None
-    assert isinstance(system, IT2Sugeno)
+    assert isinstance(system, IT2Sugeno | IT2Mamdani)
     red = system.reducer
     known = REDUCERS.get(red.name)
     same = known is not None and (
@@ -56,8 +69,8 @@ def reducer_of(system: IT2Sugeno | T1Sugeno) -> TypeReducer | None:
     return red
 
 
-def row_label(system: IT2Sugeno | T1Sugeno, row: int) -> str:
-    tables = system.tables
+def row_label(system: Any, row: int) -> str:
+    tables = antecedent_tables(system)
     inp = system.inputs[int(tables.mf_input[row])]
     for s in inp.sets:
         if s.upper is tables.mfs[row] or s.upper == tables.mfs[row]:

@@ -424,12 +424,16 @@ class IT2Mamdani(_MamdaniBase):
             return self._undefined(c, x, k, yl, yr)
         y = self._m.grids[k]
         ident = np.arange(y.size)
+        # type-1 output sets: the lower aggregate equals the upper one where the firing does
+        # (type-1 antecedents); with IT2 output sets it never does
+        t1_out = bool(np.array_equal(self._m.lower_mf[k], self._m.upper_mf[k]))
         block = max(1, BLOCK // 8)  # (J, N) aggregates: keep a block's working set small
         for start in range(0, n, block):
             stop = min(start + block, n)
             fl, fu = c.firing_block(x[:, start:stop], self.tnorm)
             agg_u = self._m.aggregate(k, fu, lower=False)
-            agg_l = self._m.aggregate(k, fl, lower=True) if fl is not fu else agg_u
+            agg_l = (agg_u if (fl is fu and t1_out)
+                     else self._m.aggregate(k, fl, lower=True))
             if self.reducer._left is _exhaustive_left and stop - start <= 64:
                 # few samples, many grid rows: the vectorised form (same bits) is faster
                 yl[start:stop], yr[start:stop] = exhaustive_many_rows(agg_l, agg_u, y)
