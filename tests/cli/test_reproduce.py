@@ -44,8 +44,8 @@ def test_every_output_exists_and_parses(quick_run):
     from it2track.experiments.study import StudyConfig, quick_config
     from it2track.report.plan import possible_figure_keys
 
-    checked = {"metrics.csv", "summary.csv", "claims.md", "report.html", "manifest.json",
-               "robustness.csv", "sensitivity.csv",
+    checked = {"metrics.csv", "summary.csv", "verdicts.csv", "claims.md", "report.html",
+               "manifest.json", "robustness.csv", "sensitivity.csv",
                *(f"{k}.png" for k in possible_figure_keys(quick_config(StudyConfig())))}
     assert set(manifest["files"]) <= checked, set(manifest["files"]) - checked
     with (out / "metrics.csv").open() as fh:

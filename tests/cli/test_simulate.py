@@ -41,8 +41,10 @@ def test_simulate_prints_each_metric_with_its_unit(controller):
     text = CliRunner().invoke(main, args)
     as_json = CliRunner().invoke(main, [*args, "--json"])
     assert text.exit_code == 0 and as_json.exit_code == 0, text.output + as_json.output
-    values = json.loads(as_json.output)
-    lines = text.output.splitlines()[1:]
+    # stdout only: a first run's stage line ("compiling the simulation kernels...") goes to
+    # stderr, which CliRunner's .output interleaves
+    values = json.loads(as_json.stdout)
+    lines = text.stdout.splitlines()[1:]
     assert len(lines) == len(METRIC_NAMES)
     for line, name in zip(lines, METRIC_NAMES, strict=True):
         key, value, unit = re.fullmatch(r"  (\S+) +(\S+)  (.+)", line).groups()

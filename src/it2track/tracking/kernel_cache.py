@@ -153,7 +153,15 @@ def _load_cached(dispatcher: Any, args: tuple[Any, ...]) -> bool:
     would do); False if the cache does not hold it. Never compiles."""
     from numba.core.compiler_lock import global_compiler_lock
 
+    import inspect
+
+    from numba.core import types
+
     sig = tuple(dispatcher.typeof_pyval(a) for a in args)
+    # Parameters left out take their default, which numba types as Omitted(default) (as the
+    # engines' calls leave ``ext`` out).
+    params = list(inspect.signature(dispatcher.py_func).parameters.values())[len(args):]
+    sig += tuple(types.Omitted(p.default) for p in params if p.default is not p.empty)
     if sig in dispatcher.overloads:
         return True
     with global_compiler_lock:
