@@ -151,11 +151,10 @@ def _entry_calls() -> list[tuple[Any, tuple[Any, ...]]]:
 def _load_cached(dispatcher: Any, args: tuple[Any, ...]) -> bool:
     """Load ``dispatcher``'s code for ``args`` from numba's disk cache (what its first call
     would do); False if the cache does not hold it. Never compiles."""
-    from numba.core.compiler_lock import global_compiler_lock
-
     import inspect
 
     from numba.core import types
+    from numba.core.compiler_lock import global_compiler_lock
 
     sig = tuple(dispatcher.typeof_pyval(a) for a in args)
     # Parameters left out take their default, which numba types as Omitted(default) (as the
