@@ -22,6 +22,7 @@ from codegen_helpers import (
 
 from it2track.codegen import RealType, generate_c
 from it2track.codegen.errorbound import float_error_bound
+from it2track.codegen.generate import SUPPORTED_AGGREGATIONS, SUPPORTED_IMPLICATIONS
 from it2track.fuzzy import (
     Aggregation,
     Defuzzifier,
@@ -114,14 +115,35 @@ def test_paper_mamdani_equals_python(red, host_lib):
     assert check(host_lib, system, x).all()
 
 
-@pytest.mark.parametrize("agg", list(Aggregation), ids=lambda a: a.value)
-@pytest.mark.parametrize("imp", list(Implication), ids=lambda i: i.value)
+_IMPS = sorted(SUPPORTED_IMPLICATIONS, key=lambda i: i.value)
+_AGGS = sorted(SUPPORTED_AGGREGATIONS, key=lambda a: a.value)
+
+
+@pytest.mark.parametrize("agg", _AGGS, ids=lambda a: a.value)
+@pytest.mark.parametrize("imp", _IMPS, ids=lambda i: i.value)
 def test_every_implication_and_aggregation(imp, agg, host_lib):
     system = paper_mamdani(implication=imp, aggregation=agg)
     x = points(system, 1500, seed=2, grid=21)
     check(host_lib, system, x)
     t1 = paper_mamdani(type1=True, implication=imp, aggregation=agg)
     check(host_lib, t1, x)
+
+
+def test_the_other_operators_are_refused_naming_them():
+    """The C carries min/product implication and max/sum/probor aggregation; every other
+    operator of the library is refused by name, with what is supported."""
+    assert {i.value for i in SUPPORTED_IMPLICATIONS} == {"min", "product"}
+    assert {a.value for a in SUPPORTED_AGGREGATIONS} == {"max", "sum", "probor"}
+    for imp in set(Implication) - SUPPORTED_IMPLICATIONS:
+        with pytest.raises(UnsupportedFeatureError,
+                           match=f"implication '{imp.value}' has no C implementation "
+                                 r"\(supported: min, product\)"):
+            generate_c(paper_mamdani(implication=imp))
+    for agg in set(Aggregation) - SUPPORTED_AGGREGATIONS:
+        with pytest.raises(UnsupportedFeatureError,
+                           match=f"aggregation '{agg.value}' has no C implementation "
+                                 r"\(supported: max, probor, sum\)"):
+            generate_c(paper_mamdani(aggregation=agg))
 
 
 @pytest.mark.parametrize("red", REDUCERS, ids=lambda r: r.value.name)
@@ -154,8 +176,8 @@ def test_random_tsk_systems(seed, host_lib):
 def test_random_systems_cover_what_is_carried():
     """The random systems above meet every operator and reducer the tests claim."""
     mams = [random_mamdani(s) for s in range(8)]
-    assert {m.implication for m in mams} == set(Implication)
-    assert {m.aggregation for m in mams} == set(Aggregation)
+    assert {m.implication for m in mams} == SUPPORTED_IMPLICATIONS
+    assert {m.aggregation for m in mams} == SUPPORTED_AGGREGATIONS
     assert len({m.reducer.name for m in mams}) >= 4
     tsks = [random_tsk(s) for s in range(8)]
     assert any(not t.tables.crisp for t in tsks)
