@@ -70,6 +70,14 @@ DEFAULT_TESTS: dict[str, list[str]] = {
                                          "tests/experiments/test_sweep_checksums.py"],
     "it2track.experiments.sweep.plan": ["tests/experiments/test_sweep_store.py",
                                         "tests/experiments/test_sweep_config.py"],
+    "it2track.experiments.stats": ["tests/experiments/test_stats.py",
+                                   "tests/experiments/test_analysis.py"],
+    "it2track.experiments.choices": [
+        "tests/experiments/test_choices.py",
+        "tests/experiments/test_robustness.py::test_variants_one_at_a_time_then_factorial",
+        "tests/experiments/test_robustness.py::test_a_choice_value_is_validated_against_the_loop"],
+    "it2track.io.fcl": ["tests/io/test_io_fcl.py"],
+    "it2track.fuzzy.mamdani": ["tests/fuzzy/test_mamdani.py"],
 }
 
 #: What is copied into the scratch folder (mutmut copies it again into ``mutants/``).
@@ -189,6 +197,8 @@ def prepare(work: Path, module_path: Path, tests: list[str], *, no_jit: bool) ->
         "pytest_add_cli_args_test_selection": tests,
         "pytest_add_cli_args": ["-p", "no:cacheprovider", "-q", "-x"],
         "use_git_change_detection": False,
+        # mutmut copies only src/ and tests/ into mutants/; some tests read these too
+        "also_copy": [name for name in COPY if name not in ("src", "tests", "pyproject.toml")],
         "track_dependencies": False,
     }
     lines = ["", "[tool.mutmut]"]
@@ -328,8 +338,8 @@ _TABLE = ("<!-- BEGIN mutation-scores (tools/mutation.py --table) -->",
           "<!-- END mutation-scores -->")
 _EQUIV = ("<!-- BEGIN equivalent-mutants (tools/mutation.py --table) -->",
           "<!-- END equivalent-mutants -->")
-_HEADER = ("| module | tests | mutants | killed | survived | equivalent | score | measured |\n"
-           "|---|---|---:|---:|---:|---:|---:|---|")
+_HEADER = ("| module | tests | mutants | killed | survived | equivalent | score (first → now) "
+           "| measured |\n|---|---|---:|---:|---:|---:|---:|---|")
 
 
 def _between(text: str, markers: tuple[str, str]) -> tuple[str, str, str]:
@@ -345,10 +355,14 @@ def write_table(outcome: Outcome, equivalents: list[dict[str, str]]) -> None:
             if line.startswith("| `")}
     tests = ", ".join(f"`{t}`" for t in outcome.tests)
     day = datetime.date.today().isoformat()
+    score = f"{outcome.score:.0%}"
+    if outcome.module in rows:  # keep the score first recorded: "first → now"
+        first = rows[outcome.module].split("|")[7].strip().split("→")[0].strip()
+        score = f"{first} → {score}"
     rows[outcome.module] = (
         f"| `{outcome.module}` | {tests} | {len(outcome.mutants)} | {outcome.killed} | "
         f"{outcome.survived - outcome.equivalent} | {outcome.equivalent} | "
-        f"{outcome.score:.0%} | {day}, mutmut {_mutmut_version()} |")
+        f"{score} | {day}, mutmut {_mutmut_version()} |")
     body = "\n" + _HEADER + "\n" + "\n".join(rows[k] for k in sorted(rows)) + "\n"
     text = before + body + after
     before, _, after = _between(text, _EQUIV)

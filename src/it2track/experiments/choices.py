@@ -335,43 +335,43 @@ def apply_settings(loop: LoopConfig, noise_levels: Sequence[float],
     return Variant(choice=choice, value=value, settings=changed, loop=new_loop, **out)
 
 
-def _c(name: str, sets: Sequence[str], default: Sequence[Any],
-       alternatives: Sequence[Sequence[Any]], description: str, doc: str) -> Choice:
-    return Choice(name=name, sets=tuple(sets), default=tuple(default),
-                  alternatives=tuple(tuple(a) for a in alternatives), description=description,
-                  doc=doc)
-
+# (name, sets, default, alternatives, description, doc) of each default choice: data, not a
+# helper called at import, which mutation testing could not reach (docs/guide/mutation.md).
+_DEFAULTS: tuple[tuple[Any, ...], ...] = (
+    ("half_track", ["robot.half_track"], [5.6], [[0.28], [0.056]],
+     "Table 3 prints l = 5.6 m, implausible for a small robot; 0.28 m and 0.056 m are the "
+     "same digits at other scales", "half-track"),
+    ("control_period", ["simulation.ts", "simulation.noise_rate"], [0.01, 100.0],
+     [[0.005, 100.0], [0.001, 100.0], [0.005, 200.0], [0.001, 1000.0]],
+     "the paper gives no control period; de is a per-period difference, so Ts is a hidden "
+     "gain on de; the noise is held at 100 Hz or resampled every period", "control-period"),
+    ("noise_reading", ["noise.sigma"], [SWEEP],
+     [[math.sqrt(0.1)], [math.sqrt(0.1 / 0.01)]],
+     "'0.1 W, 100 Hz': a sweep of sigma (our reading), mean-square power sigma = sqrt(0.1), "
+     "or Simulink band-limited power sigma = sqrt(P / Ts) = sqrt(0.1 / 0.01)",
+     "noise-reading"),
+    ("heading_integrals", ["metrics.heading"], ["true"], [["measured"]],
+     "the error integrals of eqs. 24-27 on the true heading error or on the measured "
+     "(noisy) one the controller sees", "heading-integrals"),
+    ("start_pose", ["simulation.start_pose"], [(0.0, 0.0, 0.0)], [[ON_PATH]],
+     "the robot starts at the origin heading along x, or on the reference with its tangent "
+     "heading (the curved path starts 4 m away)", "start-pose"),
+    ("heading_timing", ["simulation.desired_heading_pose"], ["current"], [["previous"]],
+     "theta_d from the pose of this period, or of the previous one as eqs. 20-21 write "
+     "y(k-1)", "heading-timing"),
+    ("input_gains", ["controllers.ke", "controllers.kde"], [1.0, 1.0],
+     [[0.5, 1.0], [2.0, 1.0], [1.0, 0.5], [1.0, 2.0]],
+     "input scaling gains Ke, Kde: the paper shows none (1, 1)", "input-gains"),
+    ("tuning", ["controllers.tuned"], [False], [[True]],
+     "the paper's untuned controllers, or each tuned like the PD baseline (Ke, Kde and an "
+     "output gain, effort-matched)", "tuning"),
+    ("integral_window", ["simulation.metric_start"], [0.0], [[2.0]],
+     "integrals over the whole run, or after the initial transient (t >= 2 s)",
+     "integral-window"),
+)
 
 #: The open choices ``configs/paper.toml`` lists (a test keeps the two identical).
-DEFAULT_CHOICES: tuple[Choice, ...] = (
-    _c("half_track", ["robot.half_track"], [5.6], [[0.28], [0.056]],
-       "Table 3 prints l = 5.6 m, implausible for a small robot; 0.28 m and 0.056 m are the "
-       "same digits at other scales", "half-track"),
-    _c("control_period", ["simulation.ts", "simulation.noise_rate"], [0.01, 100.0],
-       [[0.005, 100.0], [0.001, 100.0], [0.005, 200.0], [0.001, 1000.0]],
-       "the paper gives no control period; de is a per-period difference, so Ts is a hidden "
-       "gain on de; the noise is held at 100 Hz or resampled every period", "control-period"),
-    _c("noise_reading", ["noise.sigma"], [SWEEP],
-       [[math.sqrt(0.1)], [math.sqrt(0.1 / 0.01)]],
-       "'0.1 W, 100 Hz': a sweep of sigma (our reading), mean-square power sigma = sqrt(0.1), "
-       "or Simulink band-limited power sigma = sqrt(P / Ts) = sqrt(0.1 / 0.01)",
-       "noise-reading"),
-    _c("heading_integrals", ["metrics.heading"], ["true"], [["measured"]],
-       "the error integrals of eqs. 24-27 on the true heading error or on the measured "
-       "(noisy) one the controller sees", "heading-integrals"),
-    _c("start_pose", ["simulation.start_pose"], [(0.0, 0.0, 0.0)], [[ON_PATH]],
-       "the robot starts at the origin heading along x, or on the reference with its tangent "
-       "heading (the curved path starts 4 m away)", "start-pose"),
-    _c("heading_timing", ["simulation.desired_heading_pose"], ["current"], [["previous"]],
-       "theta_d from the pose of this period, or of the previous one as eqs. 20-21 write "
-       "y(k-1)", "heading-timing"),
-    _c("input_gains", ["controllers.ke", "controllers.kde"], [1.0, 1.0],
-       [[0.5, 1.0], [2.0, 1.0], [1.0, 0.5], [1.0, 2.0]],
-       "input scaling gains Ke, Kde: the paper shows none (1, 1)", "input-gains"),
-    _c("tuning", ["controllers.tuned"], [False], [[True]],
-       "the paper's untuned controllers, or each tuned like the PD baseline (Ke, Kde and an "
-       "output gain, effort-matched)", "tuning"),
-    _c("integral_window", ["simulation.metric_start"], [0.0], [[2.0]],
-       "integrals over the whole run, or after the initial transient (t >= 2 s)",
-       "integral-window"),
-)
+DEFAULT_CHOICES: tuple[Choice, ...] = tuple(
+    Choice(name=name, sets=tuple(sets), default=tuple(default),
+           alternatives=tuple(tuple(a) for a in alternatives), description=description, doc=doc)
+    for name, sets, default, alternatives, description, doc in _DEFAULTS)
