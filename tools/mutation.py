@@ -94,7 +94,9 @@ STATUS = {1: "killed", 3: "killed", 0: "survived", 5: "no tests", 33: "no tests"
 KILLED = {"killed", "timeout", "segfault", "caught by type check", "suspicious"}
 SURVIVED = {"survived", "no tests"}
 
-_NAME = re.compile(r"^(?P<module>.+)\.x(?:ǁ(?P<cls>[^ǁ]+)ǁ)?_?(?P<func>.+?)__mutmut_\d+$")
+#: ``module.x_func__mutmut_3`` or ``module.xǁClassǁmethod__mutmut_3`` (a method's name keeps
+#: its leading underscores: ``xǁChoiceǁ__post_init____mutmut_1``).
+_NAME = re.compile(r"^(?P<module>.+)\.x(?:ǁ(?P<cls>[^ǁ]+)ǁ|_)(?P<func>.+?)__mutmut_\d+$")
 
 
 @dataclass
@@ -257,8 +259,9 @@ def _diff(functions: dict[str, str], name: str, module_path: Path) -> str:
     if orig is None or mutant is None:
         return f"# {name} (source not found)"
     real = stem.rsplit("ǁ", 1)[-1].removeprefix("x_")
-    before = orig.replace(f"{stem}__mutmut_orig", real, 1).splitlines(keepends=True)
-    after = mutant.replace(short, real, 1).splitlines(keepends=True)
+    # (a newline at the end, so that a change on a function's last line is a line of its own)
+    before = (orig.replace(f"{stem}__mutmut_orig", real, 1) + "\n").splitlines(keepends=True)
+    after = (mutant.replace(short, real, 1) + "\n").splitlines(keepends=True)
     lines = difflib.unified_diff(before, after, f"{module_path}", f"{module_path}", n=3)
     return f"# {name}\n" + "".join(lines).rstrip()
 

@@ -53,22 +53,36 @@ __all__ = [
 SWEEP = "sweep"
 
 
-def _number(positive: bool) -> Callable[[Any, str], float]:
-    def parse(value: Any, where: str) -> float:
-        if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(
-                value) or (value <= 0 if positive else value < 0):
-            raise ConfigError(f"{where}={value!r} must be a finite number "
-                              + ("> 0" if positive else ">= 0"))
-        return float(value)
-    return parse
+# The parsers are plain functions, not closures made when PATHS is built: a closure made at
+# import could not be reached by mutation testing (docs/guide/mutation.md).
+def _number(value: Any, where: str, *, positive: bool) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(
+            value) or (value <= 0 if positive else value < 0):
+        raise ConfigError(f"{where}={value!r} must be a finite number "
+                          + ("> 0" if positive else ">= 0"))
+    return float(value)
 
 
-def _word(allowed: Sequence[str]) -> Callable[[Any, str], str]:
-    def parse(value: Any, where: str) -> str:
-        if not isinstance(value, str) or value not in allowed:
-            raise ConfigError(f"{where}={value!r} must be one of {list(allowed)}")
-        return value
-    return parse
+def _positive(value: Any, where: str) -> float:
+    return _number(value, where, positive=True)
+
+
+def _non_negative(value: Any, where: str) -> float:
+    return _number(value, where, positive=False)
+
+
+def _word(value: Any, where: str, allowed: Sequence[str]) -> str:
+    if not isinstance(value, str) or value not in allowed:
+        raise ConfigError(f"{where}={value!r} must be one of {list(allowed)}")
+    return value
+
+
+def _timing(value: Any, where: str) -> str:
+    return _word(value, where, [t.value for t in PoseTiming])
+
+
+def _heading(value: Any, where: str) -> str:
+    return _word(value, where, ["true", "measured"])
 
 
 def _pose(value: Any, where: str) -> Any:
@@ -85,7 +99,7 @@ def _sigma(value: Any, where: str) -> Any:
     if value == SWEEP:
         return SWEEP
     try:
-        return _number(False)(value, where)
+        return _non_negative(value, where)
     except ConfigError:
         raise ConfigError(f"{where}={value!r} must be {SWEEP!r} or a noise level >= 0, "
                           "rad") from None
@@ -99,16 +113,16 @@ def _flag(value: Any, where: str) -> bool:
 
 #: Every configuration path a choice may set, with the parser of its values.
 PATHS: dict[str, Callable[[Any, str], Any]] = {
-    "robot.half_track": _number(True),
-    "simulation.ts": _number(True),
-    "simulation.noise_rate": _number(True),
+    "robot.half_track": _positive,
+    "simulation.ts": _positive,
+    "simulation.noise_rate": _positive,
     "simulation.start_pose": _pose,
-    "simulation.desired_heading_pose": _word([t.value for t in PoseTiming]),
-    "simulation.metric_start": _number(False),
+    "simulation.desired_heading_pose": _timing,
+    "simulation.metric_start": _non_negative,
     "noise.sigma": _sigma,
-    "metrics.heading": _word(["true", "measured"]),
-    "controllers.ke": _number(True),
-    "controllers.kde": _number(False),
+    "metrics.heading": _heading,
+    "controllers.ke": _positive,
+    "controllers.kde": _non_negative,
     "controllers.tuned": _flag,
 }
 
