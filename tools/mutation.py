@@ -48,6 +48,7 @@ import signal
 import subprocess
 import sys
 import tempfile
+import textwrap
 import time
 import tomllib
 from collections import Counter
@@ -77,7 +78,11 @@ DEFAULT_TESTS: dict[str, list[str]] = {
         "tests/experiments/test_robustness.py::test_variants_one_at_a_time_then_factorial",
         "tests/experiments/test_robustness.py::test_a_choice_value_is_validated_against_the_loop"],
     "it2track.io.fcl": ["tests/io/test_io_fcl.py", "tests/io/test_io_fcl_edges.py"],
-    "it2track.fuzzy.mamdani": ["tests/fuzzy/test_mamdani.py"],
+    "it2track.fuzzy.mamdani": ["tests/fuzzy/test_mamdani.py", "tests/fuzzy/test_mamdani_edges.py"],
+    "it2track.codegen.errorbound": [
+        "tests/codegen/test_errorbound.py",
+        "tests/codegen/test_codegen_fixed.py::test_rows_term_rounding_and_constants_are_both_needed",
+        "tests/codegen/test_codegen_fixed.py::test_products_term_is_needed"],
 }
 
 #: What is copied into the scratch folder (mutmut copies it again into ``mutants/``).
@@ -245,9 +250,16 @@ def run_mutmut(work: Path, *, jobs: int, budget: float, no_jit: bool) -> tuple[b
 
 def _functions(source: str) -> dict[str, str]:
     """Name -> source text of every function in ``source`` (methods included)."""
+    # (whole lines sliced once: ast.get_source_segment rescans the file for every function,
+    # which takes minutes on a module with a thousand mutants)
     tree = ast.parse(source)
-    return {node.name: ast.get_source_segment(source, node) or ""
-            for node in ast.walk(tree) if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef)}
+    lines = source.splitlines(keepends=True)
+    out = {}
+    for node in ast.walk(tree):
+        if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef) and node.end_lineno:
+            text = "".join(lines[node.lineno - 1:node.end_lineno])
+            out[node.name] = textwrap.dedent(text).rstrip("\n")
+    return out
 
 
 def _diff(functions: dict[str, str], name: str, module_path: Path) -> str:
@@ -398,6 +410,9 @@ def main(argv: list[str] | None = None) -> int:
                         help="scratch folder to use and keep (default: a temporary one)")
     parser.add_argument("--no-jit", action="store_true",
                         help="remove numba decorators and run with NUMBA_DISABLE_JIT=1")
+    parser.add_argument("--collect", type=Path, default=None, metavar="DIR",
+                        help="only read the results of a finished run kept in DIR (--keep), "
+                        "e.g. one whose report was interrupted")
     args = parser.parse_args(argv)
     if args.jobs < 1 or not args.budget > 0:
         parser.error("--jobs must be >= 1 and --budget > 0")
@@ -409,6 +424,16 @@ def main(argv: list[str] | None = None) -> int:
         if not (ROOT / t.split("::")[0]).exists():
             parser.error(f"{t}: no such test file")
     equivalents = load_equivalents()
+    if args.collect is not None:
+        if not (args.collect / "mutants" / module_path).is_file():
+            parser.error(f"--collect {args.collect}: no mutated {module_path} there")
+        outcome = collect(args.collect, module, module_path, tests, equivalents)
+        outcome.complete = bool(outcome.mutants) and not any(
+            m.status == "not checked" for m in outcome.mutants)
+        report(outcome, show=args.show)
+        if args.table and outcome.complete:
+            write_table(outcome, equivalents)
+        return 0
     work = args.keep or Path(tempfile.mkdtemp(prefix="it2track-mutation-"))
     if args.keep and (work / "mutants").exists():
         parser.error(f"--keep {work}: holds a previous run; remove it first")

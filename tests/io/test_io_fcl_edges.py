@@ -158,6 +158,38 @@ CASES = [
      "expected ';', got 'RULE'"),
     ("END_RULEBLOCK\nEND_FUNCTION_BLOCK\n", "END_RULEBLOCK\n", "END_RULEBLOCK",
      "unexpected end of file: expected END_FUNCTION_BLOCK"),
+    ("END_RULEBLOCK\nEND_FUNCTION_BLOCK\n", "", "RULE 2",
+     "unexpected end of file: expected END_RULEBLOCK"),
+    ("RULE 1 : IF x IS lo THEN y IS a;", "RULE 1 : x IS lo THEN y IS a;", "RULE 1",
+     "expected 'IF', got 'x'"),
+    ("RULE 1 : IF x IS lo THEN y IS a;", "RULE 1 : IF x lo THEN y IS a;", "RULE 1",
+     "expected 'IS', got 'lo'"),
+    ("RULE 1 : IF x IS lo THEN y IS a;", "RULE 1 : IF x IS lo y IS a;", "RULE 1",
+     "expected 'THEN', got 'y'"),
+    ("RULE 1 : IF x IS lo THEN y IS a;", "RULE 1 : IF x IS lo THEN y a;", "RULE 1",
+     "expected 'IS', got 'a'"),
+    ("RULE 1 : IF x IS lo THEN y IS a;", "RULE 1 : IF x IS 1 THEN y IS a;", "RULE 1",
+     "expected a term, got '1'"),
+    ("RULE 1 : IF x IS lo THEN y IS a;", "RULE 1 : IF x IS lo THEN y IS 1;", "RULE 1",
+     "expected a term, got '1'"),
+    ("RULE 1 : IF x IS lo THEN y IS a;", "RULE 1 : IF 2 IS lo THEN y IS a;", "RULE 1",
+     "expected an input variable, got '2'"),
+    ("RULE 1 : IF x IS lo THEN y IS a;", "RULE 1 : IF x IS lo THEN 2 IS a;", "RULE 1",
+     "expected an output variable, got '2'"),
+    ("RULE 1 : IF x IS lo THEN y IS a;", "RULE 1 : IF x IS lo THEN y IS a WITH w;", "RULE 1",
+     "expected a weight (a number), got 'w'"),
+    ("TERM lo := (0, 1) (1, 0);", "TERM 1 := (0, 1) (1, 0);", "TERM 1",
+     "expected a term name, got '1'"),
+    ("RULEBLOCK r", "RULEBLOCK 1", "RULEBLOCK 1", "expected a rule block name, got '1'"),
+    ("AND : MIN;", "AND : 1;", "AND : 1", "expected an AND operator, got '1'"),
+    ("METHOD : COG;", "METHOD : 1;", "METHOD : 1",
+     "expected a defuzzification method, got '1'"),
+    ("TERM a := (0, 0) (5, 1) (10, 0);", "TERM a := (0, 0) (5, 1) (10, 0);\n"
+     "    DEFAULT := x;", "DEFAULT", "expected a default value (a number), got 'x'"),
+    ("END_FUZZIFY", "    RANGE := (0 .. z);\nEND_FUZZIFY", "RANGE",
+     "expected the range end (a number), got 'z'"),
+    ("END_FUZZIFY", "    RANGE := (z .. 1);\nEND_FUZZIFY", "RANGE",
+     "expected the range start (a number), got 'z'"),
 ]
 
 
@@ -181,6 +213,11 @@ def test_no_inputs_or_no_outputs():
 def test_an_empty_file_and_a_missing_block_keyword():
     assert refusal("") == (1, "unexpected end of file: expected 'FUNCTION_BLOCK'")
     assert refusal("\n\nFUNCTION f") == (3, "expected 'FUNCTION_BLOCK', got 'FUNCTION'")
+
+
+def test_an_empty_comment_is_a_comment():
+    fls = loads(BASE.replace("FUNCTION_BLOCK f", "FUNCTION_BLOCK f (**)"))
+    assert fls.name == "f"
 
 
 def test_unterminated_comment_names_its_line():
@@ -319,8 +356,10 @@ def test_shapes_of_every_supported_polyline():
         return next(s for s in loads(text).inputs[0].sets if s.name == "lo").upper
 
     assert term("(0, 1) (1, 0)") == Triangle(0, 0, 1)
+    assert term("(0, 0.5) (1, 0)") == Triangle(0, 0, 1, h=0.5)
     assert term("(0, 0) (1, 0.5)") == Triangle(0, 1, 1, h=0.5)
-    assert term("(0, 0) (0.5, 1) (1, 0)") == Triangle(0, 0.5, 1)
-    assert term("(0, 1) (0.5, 1) (1, 0)") == Triangle(0.5, 0.5, 1)
-    assert term("(0, 0) (0.5, 1) (1, 1)") == Triangle(0, 0.5, 0.5)
+    assert term("(0, 0) (0.5, 0.7) (1, 0)") == Triangle(0, 0.5, 1, h=0.7)
+    assert term("(0, 0.6) (0.5, 0.6) (1, 0)") == Triangle(0.5, 0.5, 1, h=0.6)
+    assert term("(0, 0) (0.5, 0.9) (1, 0.9)") == Triangle(0, 0.5, 0.5, h=0.9)
+    assert term("(0.25, 0) (0.5, 1) (0.75, 0)") == Triangle(0.25, 0.5, 0.75)
     assert term("(0, 0) (0.25, 0.8) (0.5, 0.8) (1, 0)") == Trapezoid(0, 0.25, 0.5, 1, h=0.8)
