@@ -420,18 +420,17 @@ def _ruleblock(p: _Parser, ops: dict[str, tuple[str, int]], rules: list[_RuleDat
 
 
 def _universe(var: _Var) -> tuple[float, float]:
+    """RANGE, or the span of the terms' points (singletons have no universe to give: they
+    occur only in the outputs of a COGS system, which has none; every point list spans
+    lo < hi, its x strictly increasing)."""
     if var.range is not None:
         return var.range
     xs: list[float] = []
     for value, _ in var.terms.values():
-        if isinstance(value, float):
-            xs.append(value)
-        else:
-            assert isinstance(value, Triangle | Trapezoid)
-            a, _b, _c, d, _h = value.as_trapezoid()
-            xs += [a, d]
-    lo, hi = min(xs), max(xs)
-    return (lo, hi) if lo < hi else (lo - 1.0, hi + 1.0)
+        assert isinstance(value, Triangle | Trapezoid)
+        a, _b, _c, d, _h = value.as_trapezoid()
+        xs += [a, d]
+    return min(xs), max(xs)
 
 
 def _build(p: _Parser, name: str, inputs: dict[str, _Var], outputs: dict[str, _Var],
