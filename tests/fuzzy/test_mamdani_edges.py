@@ -17,6 +17,9 @@ import numpy as np
 import pytest
 
 from it2track.fuzzy import (
+    EXHAUSTIVE,
+    NIE_TAN,
+    WU_MENDEL,
     Aggregation,
     Defuzzifier,
     Implication,
@@ -26,9 +29,11 @@ from it2track.fuzzy import (
     Output,
     Rule,
     T1Mamdani,
+    TNorm,
     Trapezoid,
     Triangle,
     TypeReduction,
+    ZeroFiringError,
 )
 from it2track.fuzzy.mamdani import defuzzify, set_centroid
 
@@ -248,3 +253,112 @@ def test_select_output_by_name_or_index_and_its_bounds() -> None:
         with pytest.raises(ValueError, match=exactly(
                 f"output={bad!r} must be an output name ['y', 'z'] or an index 0..1")):
             two.select_output(bad)
+
+
+def test_set_centroids_are_the_exact_centroid_intervals_whatever_the_reducer() -> None:
+    small = centroid_interval(SMALL_LO, SMALL_UP, GRID)  # = (1/3, 1)
+    assert small == (Q(1, 3), Q(1))
+    for reducer in (EXHAUSTIVE, NIE_TAN, WU_MENDEL):  # inexact reducers: the exact one
+        cents = hand_system(reducer=reducer).tables.set_centroids[0]
+        assert cents[0].tolist() == pytest.approx([1 / 3, 1.0], abs=1e-15), reducer.name
+
+
+def test_wu_mendel_with_a_lower_mf_zero_on_the_grid_says_so() -> None:
+    x = Input("x", (0, 1), [IT2Set(Triangle(0, 0, 1), Triangle(0, 0, 0.5), "lo")])
+    y = Output("y", (0, 4), [IT2Set(Trapezoid(0, 1, 3, 4), Triangle(2.2, 2.5, 2.8, h=0.5), "s")])
+    s = IT2Mamdani(inputs=[x], outputs=[y], rules=[Rule(["lo"], "s")], resolution=5,
+                   reducer=WU_MENDEL, name="w")
+    with pytest.raises(ZeroFiringError, match=exactly(
+            "IT2Mamdani 'w' has no output at (x=0.25): rules fire there, but the aggregated "
+            "output set is zero on the grid (or, for Wu-Mendel, its lower MF is); raise the "
+            "resolution or use an exact reducer")):
+        s(0.25)
+
+
+def two_outputs(cls: type, **kw: object) -> IT2Mamdani | T1Mamdani:
+    """Rule "lo" (zero above x = 0.2) acts on both outputs; nothing fires at x = 0.5."""
+    x = Input("x", (0, 1), [("lo", Triangle(0, 0, 0.2))])
+    y = Output("y", (0, 4), [("s", Triangle(0, 0, 4))])
+    z = Output("z", (0, 1), [("a", Triangle(0, 0.5, 1))])
+    return cls(inputs=[x], outputs=[y, z], rules=[Rule(["lo"], consequents=["s", "a"])],
+               resolution=5, on_zero_firing=(1.5, 0.25), **kw)  # type: ignore[operator]
+
+
+@pytest.mark.parametrize("kw", [{"type_reduction": TypeReduction.CENTROID},
+                                {"type_reduction": TypeReduction.CENTRE_OF_SETS}])
+def test_each_output_takes_its_own_zero_firing_value(kw: dict) -> None:
+    out = two_outputs(IT2Mamdani, **kw)([0.5, 0.9])
+    assert out.tolist() == [[1.5, 0.25], [1.5, 0.25]]
+    assert two_outputs(T1Mamdani)([0.5]).tolist() == [[1.5, 0.25]]
+
+
+def test_centre_of_sets_zero_firing_policy() -> None:
+    x = Input("x", (0, 1), [IT2Set.type1(Triangle(0, 0, 0.2), "lo")])
+    base = hand_system()
+    cos = IT2Mamdani(inputs=[x], outputs=base.outputs, rules=[Rule(["lo"], "small")],
+                     resolution=5, type_reduction=TypeReduction.CENTRE_OF_SETS,
+                     on_zero_firing=2.0)
+    assert cos([0.5, 0.7]).tolist() == [2.0, 2.0]
+    with pytest.raises(ZeroFiringError, match="no rule"):
+        IT2Mamdani(inputs=[x], outputs=base.outputs, rules=[Rule(["lo"], "small")],
+                   resolution=5, type_reduction=TypeReduction.CENTRE_OF_SETS)(0.5)
+
+
+def test_select_output_keeps_each_rules_weight_negation_and_connective() -> None:
+    x = Input("x", (0, 1), [("lo", Triangle(0, 0, 1))])
+    w = Input("w", (0, 1), [("p", Triangle(0, 1, 1))])
+    y = Output("y", (0, 4), [("s", Triangle(0, 0, 4))])
+    z = Output("z", (0, 1), [("a", Triangle(0, 0.5, 1))])
+    rule = Rule(["lo", "p"], consequents=["s", "a"], weight=0.5, negated=[True, False],
+                connective="or")
+    fls = T1Mamdani(inputs=[x, w], outputs=[y, z], rules=[rule])
+    (kept,) = fls.select_output("z").rules
+    assert (kept.weight, kept.negated, kept.connective.value, kept.consequents) == (
+        0.5, (True, False), "or", ("a",))
+
+
+@pytest.mark.parametrize(("tnorm", "f"), [(TNorm.PRODUCT, Q(3, 10)), (TNorm.MINIMUM, Q(1, 2))])
+def test_a_type1_system_uses_its_tnorm(tnorm: TNorm, f: Q) -> None:
+    # mu = 1/2 and 3/5 -> f = 3/10 (product) or 1/2 (min); the output [1, 3/4, 1/2, 1/4, 0]
+    # on y = 0, 1/2, ..., 2 clipped at f, then the centroid
+    x1 = Input("x1", (0, 1), [("a", Triangle(0, 0, 1))])
+    x2 = Input("x2", (0, 1), [("a", Triangle(0, 0, 1))])
+    y = Output("y", (0, 2), [("s", Triangle(0, 0, 2))])
+    fls = T1Mamdani(inputs=[x1, x2], outputs=[y], rules=[Rule(["a", "a"], "s")], tnorm=tnorm,
+                    resolution=5)
+    grid = [Q(k, 2) for k in range(5)]
+    mu = [min(f, 1 - g / 2) for g in grid]
+    want = sum(m * g for m, g in zip(mu, grid, strict=True)) / sum(mu)
+    assert float(fls(0.5, 0.4)) == pytest.approx(float(want), abs=1e-15)
+
+
+def test_maxima_defuzzifiers_per_column() -> None:
+    y = np.array([0.0, 1.0, 2.0])
+    mu = np.array([[0.0, 1.0], [0.5, 0.0], [0.5, 0.0]])  # maxima 0.5 (a plateau) and 1
+    assert defuzzify(mu, y, Defuzzifier.SOM).tolist() == [1.0, 0.0]
+    assert defuzzify(mu, y, Defuzzifier.LOM).tolist() == [2.0, 0.0]
+    assert defuzzify(mu, y, Defuzzifier.MOM).tolist() == [1.5, 0.0]
+    assert defuzzify(mu, y, Defuzzifier.CENTROID).tolist() == [1.5, 0.0]
+
+
+def test_type1_inputs_with_interval_output_sets_keep_the_outputs_footprint() -> None:
+    # Type-1 antecedents fire a point (fl is fu), but the output sets still have a footprint:
+    # x = 1/4 fires lo 3/4 and hi 1/4; min implication, max aggregation on y = 0..4 give
+    # lower max([3/4, 1/2, 0, 0, 0], [0, 0, 0, 1/4, 1/4]), upper max([3/4, 3/4, 1/2, 1/4, 0],
+    # [0, 1/4, 1/4, 1/4, 1/4]). (A regression: the upper aggregate was used for both.)
+    x = Input("x", (0, 1), [IT2Set.type1(Triangle(0, 0, 1), "lo"),
+                            IT2Set.type1(Triangle(0, 1, 1), "hi")])
+    system = hand_system(inputs=[x])
+    lo = [Q(3, 4), Q(1, 2), Q(0), Q(1, 4), Q(1, 4)]
+    up = [Q(3, 4), Q(3, 4), Q(1, 2), Q(1, 4), Q(1, 4)]
+    lower, upper = system.aggregated(0.25)
+    assert lower.tolist() == [float(v) for v in lo] and upper.tolist() == [float(v) for v in up]
+    left, right = centroid_interval(lo, up, GRID)
+    assert left < right
+    assert system.interval(0.25) == pytest.approx((float(left), float(right)), abs=1e-15)
+    assert system.tables.type1_output == (False,)
+    t1_out = hand_system(inputs=[x], outputs=[Output("y", (0, 4), [
+        IT2Set.type1(Triangle(0, 0, 4), "small"), IT2Set.type1(Triangle(0, 4, 4), "big")])])
+    assert t1_out.tables.type1_output == (True,)
+    yl, yr = t1_out.interval(0.25)
+    assert yl == yr
