@@ -168,13 +168,19 @@ def test_an_unknown_type_reduction_is_named() -> None:
         TypeReduction.from_name("nie-tan")
 
 
-@pytest.mark.parametrize("resolution", [3, 100_000])
-def test_resolution_bounds_are_accepted(resolution: int) -> None:
+def test_resolution_bounds_are_accepted() -> None:
     x = Input("x", (0, 1), [("a", Trapezoid(0, 0, 1, 1))])
     y = Output("y", (0, 2), [("s", Triangle(0, 1, 2))])
-    fls = T1Mamdani(inputs=[x], outputs=[y], rules=[Rule(["a"], "s")], resolution=resolution)
-    assert fls.tables.grids[0].size == resolution
-    assert float(fls(0.5)) == pytest.approx(1.0, abs=1e-12)  # a symmetric triangle
+    fls = T1Mamdani(inputs=[x], outputs=[y], rules=[Rule(["a"], "s")], resolution=3)
+    assert fls.tables.grids[0].tolist() == [0.0, 1.0, 2.0]
+    assert float(fls(0.5)) == 1.0  # a symmetric triangle
+    # 100000 passes the check and goes on to sample the sets (the narrow one, between the
+    # first two of the 100000 grid points, then stops the construction: a fast way to see it)
+    narrow = Output("y", (0, 2), [("s", Triangle(0.5e-5, 1e-5, 1.5e-5))])
+    with pytest.raises(ValueError, match=exactly(
+            "output 'y' set 's' is zero at every one of the 100000 grid points; raise the "
+            "resolution")):
+        T1Mamdani(inputs=[x], outputs=[narrow], rules=[Rule(["a"], "s")], resolution=100_000)
 
 
 @pytest.mark.parametrize("resolution", [2, 100_001, True, 5.0, "5"])
@@ -362,3 +368,23 @@ def test_type1_inputs_with_interval_output_sets_keep_the_outputs_footprint() -> 
     assert t1_out.tables.type1_output == (True,)
     yl, yr = t1_out.interval(0.25)
     assert yl == yr
+
+
+@pytest.mark.parametrize(("kind", "n"), [("centroid", 1100), ("cos", 8300), ("t1", 1100)])
+def test_every_block_of_a_long_batch_is_evaluated(kind: str, n: int) -> None:
+    # batches are cut in blocks (512 points for the aggregates, 4096 for centre-of-sets):
+    # the last points of a batch longer than two blocks equal the same points alone
+    if kind == "t1":
+        x = Input("x", (0, 1), [("lo", Triangle(0, 0, 1)), ("hi", Triangle(0, 1, 1))])
+        y = Output("y", (0, 4), [("small", Triangle(0, 0, 4)), ("big", Triangle(0, 4, 4))])
+        fls: IT2Mamdani | T1Mamdani = T1Mamdani(
+            inputs=[x], outputs=[y], rules=[Rule(["lo"], "small"), Rule(["hi"], "big")],
+            resolution=5)
+    else:
+        tr = TypeReduction.CENTROID if kind == "centroid" else TypeReduction.CENTRE_OF_SETS
+        fls = hand_system(type_reduction=tr)
+    xs = np.linspace(0.0, 1.0, n)
+    whole = fls(xs)
+    tail = fls(xs[-5:])
+    np.testing.assert_array_equal(whole[-5:], tail)
+    assert np.isfinite(whole).all()
