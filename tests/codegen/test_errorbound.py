@@ -17,6 +17,7 @@ import pytest
 
 from it2track.codegen.errorbound import EPS32, float_error_bound, row_errors
 from it2track.fuzzy import (
+    EIASC,
     EKM,
     EXHAUSTIVE,
     KM,
@@ -89,7 +90,8 @@ def test_one_rule_leaves_only_the_arithmetic(y):
     assert b_u.tolist() == pytest.approx([a + EPS * abs(y)] * 2, rel=1e-12)
 
 
-@pytest.mark.parametrize(("reducer", "factor"), [(EXHAUSTIVE, 1.0), (KM, 2.0), (EKM, 2.0)])
+@pytest.mark.parametrize(("reducer", "factor"), [(EXHAUSTIVE, 1.0), (KM, 2.0), (EKM, 2.0),
+                                                (EIASC, 2.0)])
 def test_the_arithmetic_doubles_for_the_iterative_reducers(reducer, factor):
     s = IT2Sugeno(inputs=[Input("x", (-2, 4), [IT2Set.type1(Triangle(0, 1, 3), "t")])],
                   rules=[Rule(["t"], (2.0, 5.0))], reducer=reducer)
@@ -171,15 +173,16 @@ def test_weights_and_not_take_the_general_firing_bound():
 
 def test_nie_tan_bounds_one_centroid_of_the_summed_firing():
     x = Input("x", (0, 4), [IT2Set.type1(A_SET, "a"), IT2Set.type1(B_SET, "b")])
-    s = IT2Sugeno(inputs=[x], rules=[Rule(["a"], (Y_A, 0.0)), Rule(["b"], (Y_B, 3.0))],
+    # consequents of different widths, so that the midpoints are not the left ends shifted
+    s = IT2Sugeno(inputs=[x], rules=[Rule(["a"], (Y_A, 0.0)), Rule(["b"], (Y_B, 4.0))],
                   reducer=NIE_TAN)
     f = [0.75, 0.25]
     big_e = [E_A + EPS * f[0], E_B + EPS * f[1]]
-    # weights fl + fu = 2 f perturbed by 2 E, consequents' midpoints -0.5 and 2.5
-    b = weighted([2 * fi for fi in f], [2 * be for be in big_e], [-0.5, 2.5]) + arith(2, 3.0)
+    # weights fl + fu = 2 f perturbed by 2 E, consequents' midpoints -0.5 and 3
+    b = weighted([2 * fi for fi in f], [2 * be for be in big_e], [-0.5, 3.0]) + arith(2, 4.0)
     b_yl, b_yr, b_u = float_error_bound(s, [[1.5]])
     assert (b_yl[0], b_yr[0]) == pytest.approx((b, b), rel=1e-9)
-    assert b_u[0] == pytest.approx(b + EPS * 3.0, rel=1e-9)
+    assert b_u[0] == pytest.approx(b + EPS * 4.0, rel=1e-9)
 
 
 def test_no_bound_where_nothing_fires():
@@ -199,3 +202,83 @@ def test_inputs_are_clipped_to_the_universe_first():
     beyond = float_error_bound(s, [[9.0]])
     assert np.isfinite(edge[2][0])
     assert [b[0] for b in beyond] == [b[0] for b in edge]
+
+
+def test_a_batch_bounds_each_point_alone():
+    # per-point sums (over rules, not over the batch): two points, each by hand
+    s = T1Sugeno(inputs=[Input("x", (0, 4), [("a", A_SET), ("b", B_SET)])],
+                 rules=[Rule(["a"], Y_A), Rule(["b"], Y_B)])
+    want = []
+    for f in ([0.75, 0.25], [0.5, 0.5]):  # x = 1.5 and x = 2
+        big_e = [E_A + EPS * f[0], E_B + EPS * f[1]]
+        want.append(weighted(f, big_e, [Y_A, Y_B]) + arith(2, 2.0))
+    b_yl, b_yr, _ = float_error_bound(s, [[1.5], [2.0]])
+    assert b_yl.tolist() == pytest.approx(want, rel=1e-9)
+    assert b_yr.tolist() == pytest.approx(want, rel=1e-9)
+
+
+def test_inputs_below_the_universe_are_clipped_too():
+    s = T1Sugeno(inputs=[Input("x", (1, 2), [("a", A_SET), ("b", B_SET)])],
+                 rules=[Rule(["a"], Y_A), Rule(["b"], Y_B)])
+    # x = -3 is evaluated at 1, where a fires 1 (unclipped nothing fires)
+    assert [b[0] for b in float_error_bound(s, [[-3.0]])] == [
+        b[0] for b in float_error_bound(s, [[1.0]])]
+    assert np.isfinite(float_error_bound(s, [[-3.0]])[2][0])
+
+
+def test_interval_firing_upper_and_lower_errors_by_hand():
+    # IT2 set a: upper triangle 0, 1, 3 (e = 22 eps), lower the same at height 1/2 (15 eps).
+    # Rule 1: a WITH 0.5 -> -1, its upper firing error the larger; rule 2: NOT a -> 2, whose
+    # upper firing 1 - lower(a) carries the lower row's error and its lower firing the upper's.
+    a = IT2Set(Triangle(0, 1, 3), Triangle(0, 1, 3, h=0.5), "a")
+    s = IT2Sugeno(inputs=[Input("x", (0, 4), [a])], reducer=EXHAUSTIVE,
+                  rules=[Rule(["a"], Y_A, weight=0.5), Rule(["a"], Y_B, negated=[True])])
+    e_up, e_lo = 22.0 * EPS, 15.0 * EPS
+    up, lo = 0.75, 0.375  # at x = 1.5
+    fu = [0.5 * up, 1.0 - lo]
+    fl = [0.5 * lo, 1.0 - up]
+    eu = [(e_up + 3 * EPS) * 0.5 + EPS * fu[0], (e_lo + EPS + 3 * EPS) + EPS * fu[1]]
+    el = [(e_lo + 3 * EPS) * 0.5 + EPS * fl[0], (e_up + EPS + 3 * EPS) + EPS * fl[1]]
+    assert eu[0] > el[0] and el[1] > eu[1]  # each side is the larger once
+    big_e = [max(u, v) + EPS * f for u, v, f in zip(eu, el, fu, strict=True)]
+    # exact interval of rule outputs -1 and 2: yl weights -1 up and 2 down, yr the reverse
+    yl = (fu[0] * Y_A + fl[1] * Y_B) / (fu[0] + fl[1])
+    yr = (fl[0] * Y_A + fu[1] * Y_B) / (fl[0] + fu[1])
+    sl = sum(fl)
+
+    def bound(c):
+        num = sum(e * abs(y - c) for e, y in zip(big_e, [Y_A, Y_B], strict=True))
+        return num / (sl - 3.0 * sum(big_e)) + arith(2, 2.0)
+
+    b_yl, b_yr, b_u = float_error_bound(s, [[1.5]])
+    assert (b_yl[0], b_yr[0]) == pytest.approx((bound(yl), bound(yr)), rel=1e-9)
+    assert b_u[0] == pytest.approx(0.5 * (bound(yl) + bound(yr)) + EPS * 2.0, rel=1e-9)
+
+
+def test_or_rules_and_unmentioned_inputs_in_the_general_bound():
+    # rule 1: x1 a OR x2 a -> -1 (max); rule 2: x1 b, x2 unmentioned -> 2 (the constant 1 row,
+    # error 0). Each rule: (sum of its rows' errors + 3 n_in eps) + eps f, n_in = 2.
+    x1 = Input("x1", (0, 4), [("a", A_SET), ("b", B_SET)])
+    x2 = Input("x2", (0, 4), [("a", A_SET), ("b", B_SET)])
+    s = T1Sugeno(inputs=[x1, x2], rules=[Rule(["a", "a"], Y_A, connective="or"),
+                                         Rule(["b", None], Y_B)])
+    f = [max(0.75, 0.5), 0.25]  # x1 = 1.5, x2 = 2
+    fire = [(E_A + E_A + 6 * EPS) + EPS * f[0], (E_B + 6 * EPS) + EPS * f[1]]
+    big_e = [fe + EPS * fi for fe, fi in zip(fire, f, strict=True)]
+    b = weighted(f, big_e, [Y_A, Y_B]) + arith(2, 2.0)
+    assert float_error_bound(s, [[1.5, 2.0]])[0][0] == pytest.approx(b, rel=1e-9)
+
+
+@pytest.mark.parametrize("rule_kw", [{"weight": 0.5}, {"negated": [True]}])
+def test_weights_alone_or_not_alone_take_the_general_bound(rule_kw):
+    s = T1Sugeno(inputs=[Input("x", (0, 4), [("a", A_SET), ("b", B_SET)])],
+                 rules=[Rule(["a"], Y_A, **rule_kw), Rule(["b"], Y_B)])
+    if "weight" in rule_kw:
+        f = [0.5 * 0.75, 0.25]
+        fire = [(E_A + 3 * EPS) * 0.5 + EPS * f[0], (E_B + 3 * EPS) + EPS * f[1]]
+    else:
+        f = [1.0 - 0.75, 0.25]
+        fire = [(E_A + EPS + 3 * EPS) + EPS * f[0], (E_B + 3 * EPS) + EPS * f[1]]
+    big_e = [fe + EPS * fi for fe, fi in zip(fire, f, strict=True)]
+    b = weighted(f, big_e, [Y_A, Y_B]) + arith(2, 2.0)
+    assert float_error_bound(s, [[1.5]])[0][0] == pytest.approx(b, rel=1e-9)
