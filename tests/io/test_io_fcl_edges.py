@@ -363,3 +363,32 @@ def test_shapes_of_every_supported_polyline():
     assert term("(0, 0) (0.5, 0.9) (1, 0.9)") == Triangle(0, 0.5, 0.5, h=0.9)
     assert term("(0.25, 0) (0.5, 1) (0.75, 0)") == Triangle(0.25, 0.5, 0.75)
     assert term("(0, 0) (0.25, 0.8) (0.5, 0.8) (1, 0)") == Trapezoid(0, 0.25, 0.5, 1, h=0.8)
+
+
+@pytest.mark.parametrize("first", ["VAR_INPUT", "VAR_OUTPUT", "FUZZIFY", "DEFUZZIFY", "RULEBLOCK",
+                                   "END_FUNCTION_BLOCK"])
+def test_an_unnamed_block_reads_as_a_named_one(first):
+    # the block's first word is not taken for its name: the text after "FUNCTION_BLOCK" reads
+    # the same with and without a name (same system, or the same refusal on the same line)
+    body = BASE.split("\n", 1)[1]
+    body = body[body.index(first):] if first != "VAR_INPUT" else body
+    named, unnamed = "FUNCTION_BLOCK f\n" + body, "FUNCTION_BLOCK\n" + body
+    try:
+        want = loads(named, "c.fcl")
+    except FisFormatError as exc:
+        assert refusal(unnamed) == (exc.line, exc.message)
+    else:
+        got = loads(unnamed, "c.fcl")
+        assert (got.name, want.name) == ("", "f") and got.rules == want.rules
+
+
+def test_a_universe_too_wide_is_blamed_on_its_block():
+    text = BASE.replace("TERM lo := (0, 1) (1, 0);", "TERM lo := (-1e308, 1) (1e308, 0);")
+    assert refusal(text) == (8, "input 'x': universe=(-1e+308, 1e+308) must be finite, "
+                             "lo < hi, with a finite width hi - lo")
+
+
+def test_weights_zero_and_one_are_accepted():
+    text = BASE.replace("THEN y IS a;", "THEN y IS a WITH 0;").replace(
+        "THEN y IS b;", "THEN y IS b WITH 1;")
+    assert [r.weight for r in loads(text).rules] == [0.0, 1.0]
