@@ -388,3 +388,16 @@ def test_every_block_of_a_long_batch_is_evaluated(kind: str, n: int) -> None:
     tail = fls(xs[-5:])
     np.testing.assert_array_equal(whole[-5:], tail)
     assert np.isfinite(whole).all()
+
+
+def test_interval_inputs_with_type1_output_sets_keep_the_firing_interval() -> None:
+    # x = 1/4 fires lo [1/2, 3/4] and hi [0, 1/4] on type-1 output sets: the lower aggregate
+    # comes from the lower firing, max(min(1/2, small), min(0, big))
+    y = Output("y", (0, 4), [IT2Set.type1(Triangle(0, 0, 4), "small"),
+                             IT2Set.type1(Triangle(0, 4, 4), "big")])
+    system = hand_system(outputs=[y])
+    lo = [Q(1, 2), Q(1, 2), Q(1, 2), Q(1, 4), Q(0)]
+    up = [Q(3, 4), Q(3, 4), Q(1, 2), Q(1, 4), Q(1, 4)]
+    left, right = centroid_interval(lo, up, GRID)
+    assert system.tables.type1_output == (True,)
+    assert system.interval(0.25) == pytest.approx((float(left), float(right)), abs=1e-15)
