@@ -48,6 +48,7 @@ import signal
 import subprocess
 import sys
 import tempfile
+import textwrap
 import time
 import tomllib
 from collections import Counter
@@ -70,6 +71,18 @@ DEFAULT_TESTS: dict[str, list[str]] = {
                                          "tests/experiments/test_sweep_checksums.py"],
     "it2track.experiments.sweep.plan": ["tests/experiments/test_sweep_store.py",
                                         "tests/experiments/test_sweep_config.py"],
+    "it2track.experiments.stats": ["tests/experiments/test_stats.py",
+                                   "tests/experiments/test_analysis.py"],
+    "it2track.experiments.choices": [
+        "tests/experiments/test_choices.py",
+        "tests/experiments/test_robustness.py::test_variants_one_at_a_time_then_factorial",
+        "tests/experiments/test_robustness.py::test_a_choice_value_is_validated_against_the_loop"],
+    "it2track.io.fcl": ["tests/io/test_io_fcl.py", "tests/io/test_io_fcl_edges.py"],
+    "it2track.fuzzy.mamdani": ["tests/fuzzy/test_mamdani.py", "tests/fuzzy/test_mamdani_edges.py"],
+    "it2track.codegen.errorbound": [
+        "tests/codegen/test_errorbound.py",
+        "tests/codegen/test_codegen_fixed.py::test_rows_term_rounding_and_constants_are_both_needed",
+        "tests/codegen/test_codegen_fixed.py::test_products_term_is_needed"],
 }
 
 #: What is copied into the scratch folder (mutmut copies it again into ``mutants/``).
@@ -86,7 +99,9 @@ STATUS = {1: "killed", 3: "killed", 0: "survived", 5: "no tests", 33: "no tests"
 KILLED = {"killed", "timeout", "segfault", "caught by type check", "suspicious"}
 SURVIVED = {"survived", "no tests"}
 
-_NAME = re.compile(r"^(?P<module>.+)\.x(?:ǁ(?P<cls>[^ǁ]+)ǁ)?_?(?P<func>.+?)__mutmut_\d+$")
+#: ``module.x_func__mutmut_3`` or ``module.xǁClassǁmethod__mutmut_3`` (a method's name keeps
+#: its leading underscores: ``xǁChoiceǁ__post_init____mutmut_1``).
+_NAME = re.compile(r"^(?P<module>.+)\.x(?:ǁ(?P<cls>[^ǁ]+)ǁ|_)(?P<func>.+?)__mutmut_\d+$")
 
 
 @dataclass
@@ -189,6 +204,8 @@ def prepare(work: Path, module_path: Path, tests: list[str], *, no_jit: bool) ->
         "pytest_add_cli_args_test_selection": tests,
         "pytest_add_cli_args": ["-p", "no:cacheprovider", "-q", "-x"],
         "use_git_change_detection": False,
+        # mutmut copies only src/ and tests/ into mutants/; some tests read these too
+        "also_copy": [name for name in COPY if name not in ("src", "tests", "pyproject.toml")],
         "track_dependencies": False,
     }
     lines = ["", "[tool.mutmut]"]
@@ -233,9 +250,16 @@ def run_mutmut(work: Path, *, jobs: int, budget: float, no_jit: bool) -> tuple[b
 
 def _functions(source: str) -> dict[str, str]:
     """Name -> source text of every function in ``source`` (methods included)."""
+    # (whole lines sliced once: ast.get_source_segment rescans the file for every function,
+    # which takes minutes on a module with a thousand mutants)
     tree = ast.parse(source)
-    return {node.name: ast.get_source_segment(source, node) or ""
-            for node in ast.walk(tree) if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef)}
+    lines = source.splitlines(keepends=True)
+    out = {}
+    for node in ast.walk(tree):
+        if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef) and node.end_lineno:
+            text = "".join(lines[node.lineno - 1:node.end_lineno])
+            out[node.name] = textwrap.dedent(text).rstrip("\n")
+    return out
 
 
 def _diff(functions: dict[str, str], name: str, module_path: Path) -> str:
@@ -247,8 +271,9 @@ def _diff(functions: dict[str, str], name: str, module_path: Path) -> str:
     if orig is None or mutant is None:
         return f"# {name} (source not found)"
     real = stem.rsplit("ǁ", 1)[-1].removeprefix("x_")
-    before = orig.replace(f"{stem}__mutmut_orig", real, 1).splitlines(keepends=True)
-    after = mutant.replace(short, real, 1).splitlines(keepends=True)
+    # (a newline at the end, so that a change on a function's last line is a line of its own)
+    before = (orig.replace(f"{stem}__mutmut_orig", real, 1) + "\n").splitlines(keepends=True)
+    after = (mutant.replace(short, real, 1) + "\n").splitlines(keepends=True)
     lines = difflib.unified_diff(before, after, f"{module_path}", f"{module_path}", n=3)
     return f"# {name}\n" + "".join(lines).rstrip()
 
@@ -328,8 +353,8 @@ _TABLE = ("<!-- BEGIN mutation-scores (tools/mutation.py --table) -->",
           "<!-- END mutation-scores -->")
 _EQUIV = ("<!-- BEGIN equivalent-mutants (tools/mutation.py --table) -->",
           "<!-- END equivalent-mutants -->")
-_HEADER = ("| module | tests | mutants | killed | survived | equivalent | score | measured |\n"
-           "|---|---|---:|---:|---:|---:|---:|---|")
+_HEADER = ("| module | tests | mutants | killed | survived | equivalent | score (first → now) "
+           "| measured |\n|---|---|---:|---:|---:|---:|---:|---|")
 
 
 def _between(text: str, markers: tuple[str, str]) -> tuple[str, str, str]:
@@ -345,10 +370,14 @@ def write_table(outcome: Outcome, equivalents: list[dict[str, str]]) -> None:
             if line.startswith("| `")}
     tests = ", ".join(f"`{t}`" for t in outcome.tests)
     day = datetime.date.today().isoformat()
+    score = f"{outcome.score:.0%}"
+    if outcome.module in rows:  # keep the score first recorded: "first → now"
+        first = rows[outcome.module].split("|")[7].strip().split("→")[0].strip()
+        score = f"{first} → {score}"
     rows[outcome.module] = (
         f"| `{outcome.module}` | {tests} | {len(outcome.mutants)} | {outcome.killed} | "
         f"{outcome.survived - outcome.equivalent} | {outcome.equivalent} | "
-        f"{outcome.score:.0%} | {day}, mutmut {_mutmut_version()} |")
+        f"{score} | {day}, mutmut {_mutmut_version()} |")
     body = "\n" + _HEADER + "\n" + "\n".join(rows[k] for k in sorted(rows)) + "\n"
     text = before + body + after
     before, _, after = _between(text, _EQUIV)
@@ -381,6 +410,9 @@ def main(argv: list[str] | None = None) -> int:
                         help="scratch folder to use and keep (default: a temporary one)")
     parser.add_argument("--no-jit", action="store_true",
                         help="remove numba decorators and run with NUMBA_DISABLE_JIT=1")
+    parser.add_argument("--collect", type=Path, default=None, metavar="DIR",
+                        help="only read the results of a finished run kept in DIR (--keep), "
+                        "e.g. one whose report was interrupted")
     args = parser.parse_args(argv)
     if args.jobs < 1 or not args.budget > 0:
         parser.error("--jobs must be >= 1 and --budget > 0")
@@ -392,6 +424,16 @@ def main(argv: list[str] | None = None) -> int:
         if not (ROOT / t.split("::")[0]).exists():
             parser.error(f"{t}: no such test file")
     equivalents = load_equivalents()
+    if args.collect is not None:
+        if not (args.collect / "mutants" / module_path).is_file():
+            parser.error(f"--collect {args.collect}: no mutated {module_path} there")
+        outcome = collect(args.collect, module, module_path, tests, equivalents)
+        outcome.complete = bool(outcome.mutants) and not any(
+            m.status == "not checked" for m in outcome.mutants)
+        report(outcome, show=args.show)
+        if args.table and outcome.complete:
+            write_table(outcome, equivalents)
+        return 0
     work = args.keep or Path(tempfile.mkdtemp(prefix="it2track-mutation-"))
     if args.keep and (work / "mutants").exists():
         parser.error(f"--keep {work}: holds a previous run; remove it first")

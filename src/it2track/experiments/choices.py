@@ -56,22 +56,36 @@ __all__ = [
 SWEEP = "sweep"
 
 
-def _number(positive: bool) -> Callable[[Any, str], float]:
-    def parse(value: Any, where: str) -> float:
-        if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(
-                value) or (value <= 0 if positive else value < 0):
-            raise ConfigError(f"{where}={value!r} must be a finite number "
-                              + ("> 0" if positive else ">= 0"))
-        return float(value)
-    return parse
+# The parsers are plain functions, not closures made when PATHS is built: a closure made at
+# import could not be reached by mutation testing (docs/guide/mutation.md).
+def _number(value: Any, where: str, *, positive: bool) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(
+            value) or (value <= 0 if positive else value < 0):
+        raise ConfigError(f"{where}={value!r} must be a finite number "
+                          + ("> 0" if positive else ">= 0"))
+    return float(value)
 
 
-def _word(allowed: Sequence[str]) -> Callable[[Any, str], str]:
-    def parse(value: Any, where: str) -> str:
-        if not isinstance(value, str) or value not in allowed:
-            raise ConfigError(f"{where}={value!r} must be one of {list(allowed)}")
-        return value
-    return parse
+def _positive(value: Any, where: str) -> float:
+    return _number(value, where, positive=True)
+
+
+def _non_negative(value: Any, where: str) -> float:
+    return _number(value, where, positive=False)
+
+
+def _word(value: Any, where: str, allowed: Sequence[str]) -> str:
+    if not isinstance(value, str) or value not in allowed:
+        raise ConfigError(f"{where}={value!r} must be one of {list(allowed)}")
+    return value
+
+
+def _timing(value: Any, where: str) -> str:
+    return _word(value, where, [t.value for t in PoseTiming])
+
+
+def _heading(value: Any, where: str) -> str:
+    return _word(value, where, ["true", "measured"])
 
 
 def _pose(value: Any, where: str) -> Any:
@@ -88,7 +102,7 @@ def _sigma(value: Any, where: str) -> Any:
     if value == SWEEP:
         return SWEEP
     try:
-        return _number(False)(value, where)
+        return _non_negative(value, where)
     except ConfigError:
         raise ConfigError(f"{where}={value!r} must be {SWEEP!r} or a noise level >= 0, "
                           "rad") from None
@@ -102,17 +116,17 @@ def _flag(value: Any, where: str) -> bool:
 
 #: Every configuration path a choice may set, with the parser of its values.
 PATHS: dict[str, Callable[[Any, str], Any]] = {
-    "robot.half_track": _number(True),
-    "simulation.ts": _number(True),
-    "simulation.noise_rate": _number(True),
+    "robot.half_track": _positive,
+    "simulation.ts": _positive,
+    "simulation.noise_rate": _positive,
     "simulation.start_pose": _pose,
-    "simulation.desired_heading_pose": _word([t.value for t in PoseTiming]),
-    "simulation.metric_start": _number(False),
+    "simulation.desired_heading_pose": _timing,
+    "simulation.metric_start": _non_negative,
     "noise.sigma": _sigma,
-    "metrics.heading": _word(["true", "measured"]),
-    "controllers.ke": _number(True),
-    "controllers.kde": _number(False),
-    "controllers.output_gain": _number(True),
+    "metrics.heading": _heading,
+    "controllers.ke": _positive,
+    "controllers.kde": _non_negative,
+    "controllers.output_gain": _positive,
     "controllers.tuned": _flag,
 }
 
@@ -403,48 +417,48 @@ def describe_settings(settings: Mapping[str, Any]) -> str:
     return ", ".join(describe_value(p, v) for p, v in settings.items())
 
 
-def _c(name: str, sets: Sequence[str], default: Sequence[Any],
-       alternatives: Sequence[Sequence[Any]], description: str, doc: str) -> Choice:
-    return Choice(name=name, sets=tuple(sets), default=tuple(default),
-                  alternatives=tuple(tuple(a) for a in alternatives), description=description,
-                  doc=doc)
-
+# (name, sets, default, alternatives, description, doc) of each default choice: data, not a
+# helper called at import, which mutation testing could not reach (docs/guide/mutation.md).
+_DEFAULTS: tuple[tuple[Any, ...], ...] = (
+    ("half_track", ["robot.half_track"], [5.6], [[0.28], [0.056]],
+     "Table 3 prints l = 5.6 m, implausible for a small robot; 0.28 m and 0.056 m are the "
+     "same digits at other scales", "half-track"),
+    ("control_period", ["simulation.ts", "simulation.noise_rate"], [0.01, 100.0],
+     [[0.005, 100.0], [0.001, 100.0], [0.005, 200.0], [0.001, 1000.0]],
+     "the paper gives no control period; de is a per-period difference, so Ts is a hidden "
+     "gain on de; the noise is held at 100 Hz or resampled every period", "control-period"),
+    ("noise_reading", ["noise.sigma"], [SWEEP],
+     [[math.sqrt(0.1)], [math.sqrt(0.1 / 0.01)]],
+     "'0.1 W, 100 Hz': a sweep of sigma (our reading), mean-square power sigma = sqrt(0.1), "
+     "or Simulink band-limited power sigma = sqrt(P / Ts) = sqrt(0.1 / 0.01)",
+     "noise-reading"),
+    ("heading_integrals", ["metrics.heading"], ["true"], [["measured"]],
+     "the error integrals of eqs. 24-27 on the true heading error or on the measured "
+     "(noisy) one the controller sees", "heading-integrals"),
+    ("start_pose", ["simulation.start_pose"], [(0.0, 0.0, 0.0)], [[ON_PATH]],
+     "the robot starts at the origin heading along x, or on the reference with its tangent "
+     "heading (the curved path starts 4 m away)", "start-pose"),
+    ("heading_timing", ["simulation.desired_heading_pose"], ["current"], [["previous"]],
+     "theta_d from the pose of this period, or of the previous one as eqs. 20-21 write "
+     "y(k-1)", "heading-timing"),
+    ("input_gains", ["controllers.ke", "controllers.kde"], [1.0, 1.0],
+     [[0.5, 1.0], [2.0, 1.0], [1.0, 0.5], [1.0, 2.0]],
+     "input scaling gains Ke, Kde: the paper shows none (1, 1)", "input-gains"),
+    ("output_gain", ["controllers.output_gain"], [1.0], [[0.5], [2.0]],
+     "the motor mixing (the paper's Fig. 5) is missing: V_R,L = V0 +- g u with g = 1 (ours), "
+     "0.5 or 2 on every untuned fuzzy controller; g scales the turning rate as l / g does (g = "
+     "0.5 is l = 11.2 m, g = 2 is l = 2.8 m, exactly while no wheel voltage saturates)",
+     "output-gain"),
+    ("tuning", ["controllers.tuned"], [False], [[True]],
+     "the paper's untuned controllers, or each tuned like the PD baseline (Ke, Kde and an "
+     "output gain, effort-matched)", "tuning"),
+    ("integral_window", ["simulation.metric_start"], [0.0], [[2.0]],
+     "integrals over the whole run, or after the initial transient (t >= 2 s)",
+     "integral-window"),
+)
 
 #: The open choices the packaged config ``paper`` lists (a test keeps the two identical).
-DEFAULT_CHOICES: tuple[Choice, ...] = (
-    _c("half_track", ["robot.half_track"], [5.6], [[0.28], [0.056]],
-       "Table 3 prints l = 5.6 m, implausible for a small robot; 0.28 m and 0.056 m are the "
-       "same digits at other scales", "half-track"),
-    _c("control_period", ["simulation.ts", "simulation.noise_rate"], [0.01, 100.0],
-       [[0.005, 100.0], [0.001, 100.0], [0.005, 200.0], [0.001, 1000.0]],
-       "the paper gives no control period; de is a per-period difference, so Ts is a hidden "
-       "gain on de; the noise is held at 100 Hz or resampled every period", "control-period"),
-    _c("noise_reading", ["noise.sigma"], [SWEEP],
-       [[math.sqrt(0.1)], [math.sqrt(0.1 / 0.01)]],
-       "'0.1 W, 100 Hz': a sweep of sigma (our reading), mean-square power sigma = sqrt(0.1), "
-       "or Simulink band-limited power sigma = sqrt(P / Ts) = sqrt(0.1 / 0.01)",
-       "noise-reading"),
-    _c("heading_integrals", ["metrics.heading"], ["true"], [["measured"]],
-       "the error integrals of eqs. 24-27 on the true heading error or on the measured "
-       "(noisy) one the controller sees", "heading-integrals"),
-    _c("start_pose", ["simulation.start_pose"], [(0.0, 0.0, 0.0)], [[ON_PATH]],
-       "the robot starts at the origin heading along x, or on the reference with its tangent "
-       "heading (the curved path starts 4 m away)", "start-pose"),
-    _c("heading_timing", ["simulation.desired_heading_pose"], ["current"], [["previous"]],
-       "theta_d from the pose of this period, or of the previous one as eqs. 20-21 write "
-       "y(k-1)", "heading-timing"),
-    _c("input_gains", ["controllers.ke", "controllers.kde"], [1.0, 1.0],
-       [[0.5, 1.0], [2.0, 1.0], [1.0, 0.5], [1.0, 2.0]],
-       "input scaling gains Ke, Kde: the paper shows none (1, 1)", "input-gains"),
-    _c("output_gain", ["controllers.output_gain"], [1.0], [[0.5], [2.0]],
-       "the motor mixing (the paper's Fig. 5) is missing: V_R,L = V0 +- g u with g = 1 (ours), "
-       "0.5 or 2 on every untuned fuzzy controller; g scales the turning rate as l / g does (g = "
-       "0.5 is l = 11.2 m, g = 2 is l = 2.8 m, exactly while no wheel voltage saturates)",
-       "output-gain"),
-    _c("tuning", ["controllers.tuned"], [False], [[True]],
-       "the paper's untuned controllers, or each tuned like the PD baseline (Ke, Kde and an "
-       "output gain, effort-matched)", "tuning"),
-    _c("integral_window", ["simulation.metric_start"], [0.0], [[2.0]],
-       "integrals over the whole run, or after the initial transient (t >= 2 s)",
-       "integral-window"),
-)
+DEFAULT_CHOICES: tuple[Choice, ...] = tuple(
+    Choice(name=name, sets=tuple(sets), default=tuple(default),
+           alternatives=tuple(tuple(a) for a in alternatives), description=description, doc=doc)
+    for name, sets, default, alternatives, description, doc in _DEFAULTS)

@@ -152,6 +152,8 @@ class MamdaniTables:
         sorted).
     set_centroids : tuple of ndarray, shape (S, 2)
         Per output, each set's centroid interval on the grid.
+    type1_output : tuple of bool
+        Per output, whether its sets' lower and upper MFs are equal on the grid.
     implication : Implication
     aggregation : Aggregation
     """
@@ -185,6 +187,8 @@ class MamdaniTables:
         self.grids = tuple(grids)
         self.upper_mf = tuple(uppers)
         self.lower_mf = tuple(lowers)
+        self.type1_output = tuple(bool(np.array_equal(lo, up))
+                                  for lo, up in zip(lowers, uppers, strict=True))
         self.set_centroids = tuple(centroids)
         interval_rules = []
         for rule in system.rules:
@@ -432,7 +436,9 @@ class IT2Mamdani(_MamdaniBase):
             stop = min(start + block, n)
             fl, fu = c.firing_block(x[:, start:stop], self.tnorm)
             agg_u = self._m.aggregate(k, fu, lower=False)
-            agg_l = (agg_u if (fl is fu and t1_out)
+            # (the same firing, fl is fu, comes from type-1 antecedents; the output's sets may
+            # still have a footprint, so only a type-1 output reuses the upper aggregate)
+            agg_l = (agg_u if fl is fu and self._m.type1_output[k]
                      else self._m.aggregate(k, fl, lower=True))
             if self.reducer._left is _exhaustive_left and stop - start <= 64:
                 # few samples, many grid rows: the vectorised form (same bits) is faster
