@@ -428,9 +428,6 @@ class IT2Mamdani(_MamdaniBase):
             return self._undefined(c, x, k, yl, yr)
         y = self._m.grids[k]
         ident = np.arange(y.size)
-        # type-1 output sets: the lower aggregate equals the upper one where the firing does
-        # (type-1 antecedents); with IT2 output sets it never does
-        t1_out = bool(np.array_equal(self._m.lower_mf[k], self._m.upper_mf[k]))
         block = max(1, BLOCK // 8)  # (J, N) aggregates: keep a block's working set small
         for start in range(0, n, block):
             stop = min(start + block, n)
