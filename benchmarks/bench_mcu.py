@@ -1,4 +1,4 @@
-"""What one IT2FLC step costs on a microcontroller, per type reducer (issue 11).
+"""What one IT2FLC step costs on a microcontroller, per type reducer and arithmetic (issues 11, 22).
 
 Run from the repository root (needs the Debian packages gcc-avr, avr-libc, simavr,
 gcc-arm-none-eabi, libnewlib-arm-none-eabi; gcc for the host cross-check)::
@@ -6,14 +6,16 @@ gcc-arm-none-eabi, libnewlib-arm-none-eabi; gcc for the host cross-check)::
     .venv/bin/python benchmarks/bench_mcu.py [--grid 61] [--random 2000] \
         [--figure docs/mcu_costs.png]
 
-Generates float C for the paper's controller (FoU 0.2) with each type reducer (and the type-1
-FLC), cross-compiles it for the ATmega328P (``avr-gcc -mmcu=atmega328p -Os``), runs it on the
-cycle-accurate simavr at 16 MHz and counts the cycles of every call with Timer1 (prescaler 1),
-over a grid of ``[-1, 1]^2`` plus random inputs; checks that the AVR's outputs equal the host's
-float build bit for bit; and reports flash (controller object and a minimal program with the
-software float routines), stack, the float error against the Python double system and the
-Cortex-M4F object size. Cycle counts come from a simulator, so they do not depend on this
-machine or its load.
+Generates float C and integer-only q15 fixed-point C for the paper's controller (FoU 0.2) with
+each type reducer (and the type-1 FLC; the Wu-Mendel bounds have no q15 build), cross-compiles
+it for the ATmega328P (``avr-gcc -mmcu=atmega328p -Os``), runs it on the cycle-accurate simavr
+at 16 MHz and counts the cycles of every call with Timer1 (prescaler 1), over a grid of
+``[-1, 1]^2`` plus random inputs; checks that the AVR's outputs equal the host's build of the
+same C bit for bit; and reports flash (controller object and a minimal program with the
+software float routines, if any), stack, the error against the Python double system beside its
+derived bound, and the Cortex-M4F object size (Debian has no cycle-accurate Cortex-M model, so
+no cycles for it). Cycle counts come from a simulator, so they do not depend on this machine or
+its load.
 """
 
 from __future__ import annotations
@@ -24,7 +26,7 @@ import sys
 import tempfile
 import time
 
-from it2track.codegen.mcu import measure_costs
+from it2track.codegen.costs import measure_costs
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -50,8 +52,8 @@ def main(argv: list[str] | None = None) -> int:
     print()
     print(table.as_markdown())
     print()
-    same = all(r.equals_host_float for r in table.rows)
-    print(f"AVR outputs equal the host float build bit for bit: {same}")
+    same = all(r.equals_host for r in table.rows)
+    print(f"AVR outputs equal the host build of the same C bit for bit: {same}")
     print(f"measured in {elapsed:.1f} s (load average {os.getloadavg()[0]:.2f})")
     if args.figure:
         from it2track.report.mcu import write_mcu_cost_figure

@@ -45,6 +45,25 @@ def test_options_select_real_reducer_and_prefix(tmp_path):
     assert "EIASC" in src and "0.35f" not in src  # float literals are exact float32 values
 
 
+def test_q15_export_names_its_scaling_and_compiles(tmp_path):
+    res = run("--paper", 0.2, "--out", tmp_path, "--real", "q15", "--reducer", "exhaustive")
+    assert res.exit_code == 0, res.output
+    assert "fixed point: in[0] Q15, in[1] Q15; u, yl, yr Q11" in res.output
+    head = (tmp_path / "it2.h").read_text()
+    assert "typedef int16_t it2_real;" in head and "#define IT2_OUT_FRAC 11" in head
+    src = (tmp_path / "it2.c").read_text()
+    assert "float" not in src and "double" not in src
+    if missing_tools(["gcc"]):
+        pytest.skip("compiling needs the Debian package gcc")
+    subprocess.run(["gcc", *STRICT, "-c", "it2.c"], cwd=tmp_path, check=True)
+
+
+def test_q15_refuses_what_fixed_point_does_not_carry(tmp_path):
+    res = run("--paper", 0.2, "--out", tmp_path, "--real", "q15", "--reducer", "wu-mendel")
+    assert res.exit_code == 2 and "Wu-Mendel" in res.output and "Traceback" not in res.output
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_system_file_exports_with_its_own_reducer(tmp_path):
     path = tmp_path / "c.toml"
     save(it2track.heading_fls(0.1, reducer=it2track.fuzzy.EKM), path)

@@ -93,7 +93,7 @@ def _needs_tools(runs):
 
 
 def test_report_carries_the_cycles_of_a_direct_measurement(runs, tmp_path):
-    from it2track.codegen.mcu import measure_costs
+    from it2track.codegen.costs import measure_costs
 
     out, manifest, section = _needs_tools(runs)
     direct = measure_costs(fou=StudyConfig().main_fou, grid=GRID, build_dir=tmp_path)

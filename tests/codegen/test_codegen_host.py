@@ -236,8 +236,10 @@ def test_wu_mendel_zero_lower_firing_is_a_status(host_lib):
         system(np.array([0.3]))
 
 
-@pytest.mark.parametrize("real", list(RealType))
+@pytest.mark.parametrize("real", [r for r in RealType if not r.fixed])
 def test_nan_and_inf_inputs_are_refused(real, host_lib):
+    """(A fixed-point build takes integers: NaN is refused when converting to them, see
+    test_codegen_fixed.)"""
     system = it2track.heading_fls(0.2)
     u, yl, yr, status = host_lib(system, real=real).evaluate(
         np.array([[np.nan, 0.0], [0.0, np.inf], [-np.inf, 0.5], [0.2, 0.1]]))

@@ -38,7 +38,7 @@ def loop_metrics(build_dir):
     for fou in (0.2, 0.0):
         fls = it2track.heading_fls(fou)
         controllers.append(FuzzyHeadingController(fls=fls))
-        for real in RealType:
+        for real in (RealType.DOUBLE, RealType.FLOAT):  # indices below assume this order
             controllers.append(CHeadingController.from_system(
                 fls, real=real, build_dir=str(build_dir)))
     trajectories = [get_trajectory(name) for name in TRAJECTORIES]

@@ -17,6 +17,7 @@ from codegen_helpers import random_system, skip_without
 
 import it2track
 from it2track.codegen import RealType, generate_c
+from it2track.codegen.costs import measure_costs
 from it2track.codegen.host import HostLibrary, build_host_library
 from it2track.codegen.mcu import (
     ARM_FLAGS,
@@ -25,7 +26,6 @@ from it2track.codegen.mcu import (
     arm_sizes,
     avr_sizes,
     cost_grid,
-    measure_costs,
     run_on_avr,
 )
 from it2track.fuzzy import Reducer
@@ -169,23 +169,28 @@ def test_avr_sizes(avr, build_dir):
 
 
 def test_cost_table_and_the_one_millisecond_aim(avr, build_dir):
-    """measure_costs: every reducer measured; the AVR output equals the host float build; the
-    exact exhaustive reducer's worst step stays under 1 ms at 16 MHz (16,000 cycles; measured
-    15,655 on the benchmark's 61 x 61 grid plus 2,000 random points)."""
+    """measure_costs: every reducer measured in float and (but the Wu-Mendel bounds) in q15;
+    the AVR output equals the host build of the same C; each error within its derived bound;
+    the exact exhaustive reducer's worst float step stays under 1 ms at 16 MHz (16,000 cycles;
+    measured 15,655 on the benchmark's 61 x 61 grid plus 2,000 random points)."""
     table = measure_costs(grid=9, n_random=40, arm=False, build_dir=build_dir)
     labels = [r.label for r in table.rows]
-    assert labels[0].startswith("type-1") and len(labels) == 1 + len(Reducer)
+    assert labels[0].startswith("type-1") and len(labels) == 2 * (1 + len(Reducer)) - 1
+    assert "IT2 wu-mendel (approx.), q15" not in labels
     for row in table.rows:
         assert 0 < row.cycles_mean <= row.cycles_max
         assert row.ram == 0 and row.stack > 0, row.label
-        assert row.float_error < 1e-5
+        assert row.error <= row.bound, row.label
+        assert row.error < (1e-5 if row.arithmetic == "float" else 1e-3), row.label
         assert row.us_max == pytest.approx(row.cycles_max / AVR_CLOCK_HZ * 1e6)
-        if row.equals_host_float is not None:
-            assert row.equals_host_float, row.label
+        assert row.equals_host, row.label
     exhaustive = next(r for r in table.rows if r.reducer == "exhaustive")
-    assert exhaustive.cycles_max <= 16_000
-    assert "| IT2 exhaustive |" in table.as_markdown()
+    assert exhaustive.arithmetic == "float" and exhaustive.cycles_max <= 16_000
+    assert "| IT2 exhaustive | float |" in table.as_markdown()
+    assert "| IT2 exhaustive, q15 | q15 |" in table.as_markdown()
     assert "IT2 exhaustive" in table.as_text()
+    with pytest.raises(ValueError, match="arithmetics"):
+        measure_costs(arithmetics=[RealType.DOUBLE], build_dir=build_dir)
 
 
 def test_measure_costs_refuses_a_bad_grid():

@@ -351,3 +351,23 @@ def test_uncertain_parameter_sets_of_new_terms_are_compiled():
         fls = IT2Sugeno(inputs=[Input("a", (-1, 1), sets), Input("b", (-1, 1), sets)],
                         rules=rules, reducer=reducer, on_zero_firing=0.0)
         check(fls, points(1500, 80, spread=1.2))
+
+
+def test_extended_specialisation_is_chosen_per_system():
+    """The paper's systems run the basic specialisation (the new kinds' code pruned before
+    compiling); every new kind, t-norm and wtsum asks for the extended one, and the
+    closed-loop kernel (basic only) leaves such controllers to the numpy loop."""
+    from it2track.tracking import FuzzyHeadingController
+    from it2track.tracking import compiled as loop_kernels
+
+    assert not kernels.extended(heading_fls(0.2))
+    assert not kernels.extended(heading_fls(0.0, tnorm=TNorm.MINIMUM))
+    assert not kernels.extended(gaussian_system(Reducer.KM.value))
+    assert all(kernels.extended(two_term_system(k, it2=False)) for k in range(len(TERMS))
+               if {MFKind(int(v)) for v in two_term_system(k, it2=False).tables.mf_kind}
+               != {MFKind.TRAPEZOID})
+    assert kernels.extended(two_term_system(19, it2=True))  # a ramp's lagged lower MF
+    tri = dataclasses.replace(heading_fls(0.0), tnorm=TNorm.EINSTEIN_PRODUCT)
+    assert kernels.extended(tri)
+    assert loop_kernels.supported(FuzzyHeadingController(fls=heading_fls(0.2))) is None
+    assert "extended" in loop_kernels.supported(FuzzyHeadingController(fls=tri))

@@ -5,15 +5,16 @@ from __future__ import annotations
 
 import pytest
 
-from it2track.codegen.mcu import CostRow, CostTable
+from it2track.codegen.costs import CostRow, CostTable
 from it2track.report.mcu import mcu_cost_figure, write_mcu_cost_figure
 
 
 def _table(arm: bool = True) -> CostTable:
     rows = tuple(
-        CostRow(label=label, reducer=red, exact=exact, cycles_max=cmax, cycles_mean=cmax * 0.8,
-                flash=flash, program_flash=flash + 1100, ram=0, stack=300, float_error=2e-6,
-                equals_host_float=True, arm_text=flash // 2 if arm else None)
+        CostRow(label=label, reducer=red, arithmetic="float", exact=exact, cycles_max=cmax,
+                cycles_mean=cmax * 0.8, flash=flash, program_flash=flash + 1100, ram=0,
+                stack=300, error=2e-6, bound=1.2e-4, equals_host=True,
+                arm_text=flash // 2 if arm else None)
         for label, red, exact, cmax, flash in [
             ("type-1 FLC (FoU 0)", "type-1", True, 6075, 1654),
             ("IT2 exhaustive", "exhaustive", True, 15655, 3040),

@@ -21,7 +21,7 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
-from it2track.codegen.mcu import CostRow, CostTable
+from it2track.codegen.costs import CostRow, CostTable
 from it2track.codegen.tools import MCU_PACKAGES
 from it2track.report import mcu_job
 from it2track.report.html.mcu import mcu_section
@@ -72,11 +72,15 @@ def _table() -> CostTable:
     # shows
     spec = [("type-1 FLC (FoU 0)", "type-1", True, 6075, 4556.4, 1654, 2776, 0, 155, 808),
             ("IT2 exhaustive", "exhaustive", True, 15655, 12577.0, 3040, 4162, 2, 347, 1472),
+            ("IT2 exhaustive, q15", "exhaustive", True, 6049, 5248.0, 8688, 8940, 1, 235, 2216),
             ("IT2 km", "km", True, 27607, 18943.0, 3558, 4762, 0, 335, 1760),
             ("IT2 nie-tan (approx.)", "nie-tan", False, 9352, 7700.0, 2002, 3124, 0, 223, None)]
-    rows = tuple(CostRow(label=label, reducer=red, exact=exact, cycles_max=cmax,
-                         cycles_mean=cmean, flash=flash, program_flash=prog, ram=ram,
-                         stack=stack, float_error=2e-6, equals_host_float=True, arm_text=arm)
+    rows = tuple(CostRow(label=label, reducer=red, arithmetic="q15" if "q15" in label else "float",
+                         exact=exact, cycles_max=cmax, cycles_mean=cmean, flash=flash,
+                         program_flash=prog, ram=ram, stack=stack,
+                         error=2.6e-4 if "q15" in label else 2e-6,
+                         bound=2.9e-4 if "q15" in label else 1.2e-4, equals_host=True,
+                         arm_text=arm)
                  for label, red, exact, cmax, cmean, flash, prog, ram, stack, arm in spec)
     return CostTable(rows=rows, n_points=441, fou=0.2, tools=TOOLS)
 
@@ -98,15 +102,20 @@ def test_measured_section_shows_the_tables_numbers():
            "name": "mcu_costs.png"}
     text = str(mcu_section(costs, ref))
     cells = _cells(text)
-    assert list(cells) == ["type-1 FLC (FoU 0)", "IT2 exhaustive", "IT2 km",
-                           "IT2 nie-tan (approx.)"]
+    assert list(cells) == ["type-1 FLC (FoU 0)", "IT2 exhaustive", "IT2 exhaustive, q15",
+                           "IT2 km", "IT2 nie-tan (approx.)"]
     # controller, cycles worst, mean, us worst, us mean, % of 10 ms, flash, program, RAM,
-    # stack, M4F
+    # stack, M4F, error, bound
     assert cells["IT2 exhaustive"] == ["IT2 exhaustive ●", "15,655", "12,577", "978", "786",
-                                       "9.8 %", "3,040", "4,162", "2", "347", "1,472"]
+                                       "9.8 %", "3,040", "4,162", "2", "347", "1,472",
+                                       "2.0e-06", "1.2e-04"]
+    # the fixed-point build is not what the study simulates: no marker
+    assert cells["IT2 exhaustive, q15"] == ["IT2 exhaustive, q15", "6,049", "5,248", "378",
+                                            "328", "3.8 %", "8,688", "8,940", "1", "235",
+                                            "2,216", "2.6e-04", "2.9e-04"]
     assert cells["type-1 FLC (FoU 0)"][1:6] == ["6,075", "4,556", "380", "285", "3.8 %"]
     assert cells["IT2 km"][0] == "IT2 km" and cells["IT2 km"][3] == "1,725"  # 27607 / 16
-    assert cells["IT2 nie-tan (approx.)"][-1] == "—"  # no Cortex-M4F size
+    assert cells["IT2 nie-tan (approx.)"][-3] == "—"  # no Cortex-M4F size
     # the figure with its number, the toolchain versions, the commands that re-measure
     assert '<figure id="fig-mcu_costs">' in text and "Figure 7." in text
     assert 'src="data:image/png;base64,AAAA"' in text
@@ -182,7 +191,11 @@ def test_table_round_trips_through_json_and_csv(tmp_path):
             ex["m4f_text_bytes"]) == ("15655", "2", "347", "1472")
     assert float(ex["avr_us_worst"]) == table.rows[1].us_max == pytest.approx(15655 / 16)
     assert float(ex["period_share_worst"]) == pytest.approx(15655 / 16e6 / 0.01)
-    assert rows[3]["m4f_text_bytes"] == "" and ex["inputs"] == "441"
+    assert rows[4]["m4f_text_bytes"] == "" and ex["inputs"] == "441"
+    q = rows[2]
+    assert (q["arithmetic"], q["error_vs_double"], q["error_bound"], q["equals_host"]) == (
+        "q15", "0.00026", "0.00029", "True")
+    assert ex["arithmetic"] == "float" and float(ex["error_bound"]) == 1.2e-4
 
 
 def test_missing_tools_finish_the_job_without_a_process(monkeypatch, tmp_path):

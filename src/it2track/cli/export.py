@@ -36,8 +36,10 @@ def export() -> None:
               "(0 = the type-1 FLC).")
 @click.option("--out", "out_text", required=True, type=click.Path(),
               help="Directory for <prefix>.h and <prefix>.c (created if missing).")
-@click.option("--real", type=click.Choice(["float", "double"]), default="double",
-              show_default=True, help="C arithmetic type (float for 8-bit AVR / Cortex-M4F).")
+@click.option("--real", type=click.Choice(["float", "double", "q15"]), default="double",
+              show_default=True, help="C arithmetic: float or double, or q15 -- integer-only "
+              "fixed point with int16_t inputs and outputs (for an 8-bit AVR without an FPU; "
+              "the header gives each value's Q format).")
 @click.option("--reducer", type=click.Choice(REDUCERS), default=None,
               help="Type reducer compiled in (default: the system's own).")
 @click.option("--prefix", default="it2", show_default=True,
@@ -51,7 +53,9 @@ def c_command(system: Path | None, fou: float | None, out_text: str, real: str,
     """Generate C99 for the controller in SYSTEM (.t2fis, .fis or .toml) or --paper FOU.
 
     The code needs no heap and no library beyond <math.h> (for Gaussian sets); one call,
-    <prefix>_eval(in, &u, &yl, &yr), evaluates a step and returns a status (0 = OK).
+    <prefix>_eval(in, &u, &yl, &yr), evaluates a step and returns a status (0 = OK). With
+    --real q15 everything is integer arithmetic: the inputs and outputs are int16_t in the Q
+    formats the header defines (<PREFIX>_IN_FRAC_i, <PREFIX>_OUT_FRAC).
     """
     from ..codegen import RealType, check_prefix, check_supported, generate_c, write_c
     from ..io import UnsupportedFeatureError
@@ -122,6 +126,10 @@ def c_command(system: Path | None, fou: float | None, out_text: str, real: str,
         click.echo(f"wrote {path}")
     click.echo(f"{code.n_inputs} inputs, {code.n_rules} rules, {real}, reducer {code.reducer}: "
                f"call {prefix}_eval(in, &u, &yl, &yr) (returns {prefix.upper()}_OK = 0)")
+    if code.fixed is not None:
+        fracs = ", ".join(f"in[{i}] Q{f}" for i, f in enumerate(code.fixed.in_frac))
+        click.echo(f"fixed point: {fracs}; u, yl, yr Q{code.fixed.out_frac} "
+                   f"(value = integer / 2^frac)")
 
 
 def _check_system_file(path: Path) -> None:

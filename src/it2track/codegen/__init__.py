@@ -12,14 +12,20 @@ returning ``<PREFIX>_OK`` (0) or an error status (NaN/inf input, zero firing wit
 configured ``on_zero_firing``, non-convergence of an iterative reducer within its fixed bound,
 zero lower firing for the Wu-Mendel bounds); on an error the outputs are 0. Inputs are clipped
 to their universes; the zero-firing value and every type reducer behave as in Python.
+``<prefix>_real`` is ``double``, ``float`` or, for the integer-only fixed-point build
+(``RealType.Q15``), ``int16_t`` in the Q formats the header defines and
+:class:`FixedFormat` (``CCode.fixed``) converts to and from.
 
-Submodules: :mod:`.generate` (the generator), :mod:`.host` (compile with the system C compiler
-and call through ctypes), :mod:`.controller` (a heading controller backed by the compiled C),
-:mod:`.errorbound` (the float build's error bound), :mod:`.mcu` (cross-compile, run on the
-simulated ATmega328P, measure cycles and sizes).
+Submodules: :mod:`.generate` (the float generator), :mod:`.fixedpoint` (the fixed-point
+scaling and integer tables), :mod:`.lowering` (what both share), :mod:`.host` (compile with the
+system C compiler and call through ctypes), :mod:`.controller` (a heading controller backed by
+the compiled C), :mod:`.errorbound` (the float and fixed-point builds' error bounds),
+:mod:`.mcu` (cross-compile, run on the simulated ATmega328P, measure sizes), :mod:`.costs`
+(the cost table of every reducer and arithmetic).
 """
 
 from .controller import CHeadingController
+from .fixedpoint import FixedFormat
 from .generate import (
     SUPPORTED_FEATURES,
     CCode,
@@ -34,6 +40,7 @@ __all__ = [
     "SUPPORTED_FEATURES",
     "CCode",
     "CHeadingController",
+    "FixedFormat",
     "RealType",
     "check_prefix",
     "check_supported",

@@ -18,25 +18,13 @@ import re
 from dataclasses import dataclass
 from typing import Any
 
-import jinja2
 import numpy as np
 
 from .. import __version__
-from ..fuzzy import (
-    EIASC,
-    EKM,
-    EXHAUSTIVE,
-    KM,
-    NIE_TAN,
-    WU_MENDEL,
-    IT2Sugeno,
-    MFKind,
-    T1Sugeno,
-    TNorm,
-    TypeReducer,
-    WeightedDefuzzifier,
-)
+from ..fuzzy import IT2Sugeno, MFKind, T1Sugeno, TNorm, WeightedDefuzzifier
 from ..io.errors import UnsupportedFeatureError
+from .fixedpoint import FixedFormat, fixed_context
+from .lowering import TITLES, dependencies, environment, reducer_of, row_label
 
 __all__ = [
     "SUPPORTED_FEATURES",
@@ -54,11 +42,6 @@ SUPPORTED_SYSTEMS: tuple[type, ...] = (IT2Sugeno, T1Sugeno)
 #: Membership row kinds with a C implementation.
 SUPPORTED_KINDS = frozenset({MFKind.TRAPEZOID, MFKind.GAUSSIAN, MFKind.UM_GAUSSIAN_UPPER,
                              MFKind.UM_GAUSSIAN_LOWER})
-#: The built-in reducers, by name (a reducer is accepted only if it *is* one of these, up to
-#: its iteration cap).
-_REDUCERS: dict[str, TypeReducer] = {
-    r.name: r for r in (EXHAUSTIVE, KM, EKM, EIASC, NIE_TAN, WU_MENDEL)
-}
 _IDENT = re.compile(r"[a-z][a-z0-9_]{0,30}")
 #: C keywords and library names a prefix must not be (``prefix_*`` names are then safe).
 _RESERVED = frozenset({
@@ -70,10 +53,23 @@ _RESERVED = frozenset({
 
 
 class RealType(enum.Enum):
-    """The C arithmetic type of the generated code (``it2_real``)."""
+    """The arithmetic of the generated code and the type of its values (``it2_real``):
+    ``DOUBLE`` and ``FLOAT`` floating point, ``Q15`` integer-only fixed point with ``int16_t``
+    values (see :mod:`it2track.codegen.fixedpoint`)."""
 
     DOUBLE = "double"
     FLOAT = "float"
+    Q15 = "q15"
+
+    @property
+    def fixed(self) -> bool:
+        """True for a fixed-point (integer) build."""
+        return self is RealType.Q15
+
+    @property
+    def width(self) -> int:
+        """Bits of ``it2_real``."""
+        return {RealType.DOUBLE: 64, RealType.FLOAT: 32, RealType.Q15: 16}[self]
 
     @classmethod
     def from_name(cls, name: str) -> RealType:
@@ -81,7 +77,8 @@ class RealType(enum.Enum):
         for member in cls:
             if key == member.value:
                 return member
-        raise ValueError(f"unknown real type {name!r}; choose 'float' or 'double'")
+        raise ValueError(f"unknown real type {name!r}; choose "
+                         f"{', '.join(repr(m.value) for m in cls)}")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -100,6 +97,9 @@ class CCode:
         File names, ``<prefix>.h`` and ``<prefix>.c``.
     header, source : str
         The text of the two files.
+    fixed : FixedFormat or None
+        For a fixed-point build, its scaling (how real values map to the integers of the
+        interface); None for float and double.
     """
 
     prefix: str
@@ -111,6 +111,7 @@ class CCode:
     source_name: str
     header: str
     source: str
+    fixed: FixedFormat | None = None
 
     def files(self) -> dict[str, str]:
         """File name -> text, header first."""
@@ -135,24 +136,6 @@ def check_prefix(prefix: str) -> str:
             "letters, digits or '_', and not a C keyword"
         )
     return prefix
-
-
-def _reducer_of(system: IT2Sugeno | T1Sugeno) -> TypeReducer | None:
-    if type(system) is T1Sugeno:
-        return None
-    assert isinstance(system, IT2Sugeno)
-    red = system.reducer
-    known = _REDUCERS.get(red.name)
-    same = known is not None and (
-        red._left is known._left and red._right is known._right
-        and red._approx is known._approx and red.exact == known.exact
-    )
-    if not same:
-        raise UnsupportedFeatureError(
-            f"type reducer {red!r} is not one of it2track's built-in reducers "
-            f"({', '.join(_REDUCERS)}); C generation needs one of them"
-        )
-    return red
 
 
 def check_supported(system: object) -> None:
@@ -192,7 +175,7 @@ def check_supported(system: object) -> None:
     if isinstance(system, T1Sugeno) and system.defuzzifier is not WeightedDefuzzifier.AVERAGE:
         raise UnsupportedFeatureError(
             f"defuzzifier {system.defuzzifier!r} has no C implementation (weighted average only)")
-    _reducer_of(system)
+    reducer_of(system)
 
 
 def _literal(value: float, real: RealType) -> str:
@@ -224,29 +207,6 @@ def _key(value: float, real: RealType) -> str:
     u = int(np.array(f, dtype=np.float32).view(np.uint32))
     k = (~u & 0xFFFFFFFF) if u & 0x80000000 else (u | 0x80000000)
     return f"0x{k:08X}UL"
-
-
-def _label(system: IT2Sugeno | T1Sugeno, row: int) -> str:
-    tables = system.tables
-    inp = system.inputs[int(tables.mf_input[row])]
-    for s in inp.sets:
-        if s.upper is tables.mfs[row] or s.upper == tables.mfs[row]:
-            return f"row {row}: {inp.name} {s.name} upper"
-        if s.lower is tables.mfs[row] or s.lower == tables.mfs[row]:
-            return f"row {row}: {inp.name} {s.name} lower"
-    return f"row {row}: {inp.name}"  # pragma: no cover - every row belongs to a set
-
-
-def _environment() -> jinja2.Environment:
-    env = jinja2.Environment(
-        loader=jinja2.PackageLoader("it2track.codegen", "templates"),
-        undefined=jinja2.StrictUndefined,
-        trim_blocks=True,
-        lstrip_blocks=True,
-        keep_trailing_newline=True,
-        autoescape=False,
-    )
-    return env
 
 
 def generate_c(
@@ -283,8 +243,18 @@ def generate_c(
     if not isinstance(real, RealType):
         raise ValueError(f"real={real!r} must be a RealType")
     check_supported(system)
+    if real.fixed:
+        context, fmt = fixed_context(system, prefix, real.value, real.width)
+        env = environment()
+        header = env.get_template("controller_fixed.h.j2").render(**context)
+        source = env.get_template("controller_fixed.c.j2").render(**context)
+        return CCode(
+            prefix=prefix, real=real, reducer=context["reducer"], n_inputs=system.n_inputs,
+            n_rules=system.n_rules, header_name=f"{prefix}.h", source_name=f"{prefix}.c",
+            header=header, source=source, fixed=fmt,
+        )
     context = _context(system, real, prefix)
-    env = _environment()
+    env = environment()
     env.globals["combine"] = _combiner(system.tnorm, prefix, real)
     env.globals["scombine"] = _s_combiner(getattr(system.tables, "snorm", None), prefix)
     header = env.get_template("controller.h.j2").render(**context)
@@ -308,35 +278,6 @@ def _combiner(tnorm: TNorm, prefix: str, real: RealType) -> Any:
     return combine
 
 
-_GROUP = {MFKind.TRAPEZOID: 0, MFKind.GAUSSIAN: 1, MFKind.UM_GAUSSIAN_UPPER: 2,
-          MFKind.UM_GAUSSIAN_LOWER: 2}
-
-
-def _dependencies(tables: Any) -> list[int]:
-    """For each row, the upper row it is only ever read together with as a lower row (so it
-    need not be evaluated where that upper row is 0), or ``n_rows`` (the constant-1 row: none).
-
-    A row qualifies if it is never an upper row, every rule reads it as the lower partner of
-    the same upper row, and that row is of the same table (evaluated in the same loop)."""
-    n_rows = tables.n_rows
-    uppers = set(tables.upper_rows_s.ravel().tolist())
-    partners: dict[int, set[int]] = {}
-    for lower, upper in zip(tables.lower_rows_s.ravel().tolist(),
-                            tables.upper_rows_s.ravel().tolist(), strict=True):
-        partners.setdefault(lower, set()).add(upper)
-    out = []
-    for k in range(n_rows):
-        ups = partners.get(k, set())
-        if k in uppers or len(ups) != 1:
-            out.append(n_rows)
-            continue
-        (u,) = ups
-        same = u != n_rows and _GROUP[MFKind(int(tables.mf_kind[u]))] == _GROUP[
-            MFKind(int(tables.mf_kind[k]))]
-        out.append(u if same else n_rows)
-    return out
-
-
 def _s_combiner(snorm: Any, prefix: str) -> Any:
     from ..fuzzy.norms import SNorm
 
@@ -355,7 +296,7 @@ def _context(system: IT2Sugeno | T1Sugeno, real: RealType, prefix: str) -> dict[
     lit = lambda v: _literal(v, real)  # noqa: E731
     key = lambda v: _key(v, real)  # noqa: E731
     n_in, n_rules, n_rows = system.n_inputs, system.n_rules, tables.n_rows
-    reducer = _reducer_of(system)
+    reducer = reducer_of(system)
     red_name = "type-1" if reducer is None else reducer.name
     features = frozenset(getattr(tables, "features", frozenset()))
     general = bool(features & {"not", "or", "weights"})
@@ -373,14 +314,14 @@ def _context(system: IT2Sugeno | T1Sugeno, real: RealType, prefix: str) -> dict[
         )
     lo = [float(v) for v in tables.lo]
     hi = [float(v) for v in tables.hi]
-    dep = _dependencies(tables)
+    dep = dependencies(tables)
     trap, gauss, umg = [], [], []
     h1 = True
     for k in range(n_rows):
         kind = MFKind(int(tables.mf_kind[k]))
         p = [float(v) for v in tables.mf_params[k]]
         i = int(tables.mf_input[k])
-        label = _label(system, k)
+        label = row_label(system, k)
         if kind is MFKind.TRAPEZOID:
             a, wl, d, wr, h = p
             left_sh = math.isinf(a)
@@ -426,13 +367,6 @@ def _context(system: IT2Sugeno | T1Sugeno, real: RealType, prefix: str) -> dict[
         "y1l": lit(float(y_lo.min())), "yml": lit(float(y_lo.max())),
         "y1r": lit(float(y_hi.min())), "ymr": lit(float(y_hi.max())),
     }
-    titles = {
-        "type-1": "type-1 weighted average", "exhaustive": "exhaustive (exact, non-iterative)",
-        "km": "Karnik-Mendel (exact, iterative)", "ekm": "enhanced Karnik-Mendel (exact, "
-        "iterative)", "eiasc": "EIASC (exact, iterative)", "nie-tan": "Nie-Tan (closed-form "
-        "approximation)", "wu-mendel": "Wu-Mendel uncertainty bounds (closed-form "
-        "approximation)",
-    }
     needs_exp = bool(gauss or umg)
     kind_name = type(system).__name__
     description = (
@@ -467,8 +401,8 @@ def _context(system: IT2Sugeno | T1Sugeno, real: RealType, prefix: str) -> dict[
         "type1": type1, "crisp": crisp, "type1_exact": type1_exact,
         "y_lo": [lit(v) for v in y_lo], "y_hi": [lit(v) for v in y_hi],
         "need_ord_hi": need_hi_gather, "need_hi_gather": need_hi_gather, "ord_hi": ord_hi,
-        "reducer": red_name, "reducer_title": titles[red_name].split(" (")[0],
-        "reducer_text": titles[red_name],
+        "reducer": red_name, "reducer_title": TITLES[red_name].split(" (")[0],
+        "reducer_text": TITLES[red_name],
         "km_tol_l": lit(km_tol_l), "km_tol_r": lit(km_tol_r), "max_iter": max_iter,
         "max_iter_text": f"{max_iter} iterations" if iterative else "(not iterative)",
         "wm": wm, "tnorm": system.tnorm.value,

@@ -109,26 +109,21 @@ class HostLibrary:
         object.__setattr__(self, "_fn", fn)
 
     @property
-    def dtype(self) -> type[np.floating[Any]]:
+    def dtype(self) -> type[np.generic]:
+        """The numpy type of ``<prefix>_real`` (float32, float64, or the fixed-point integer)."""
+        if self.code.fixed is not None:
+            return self.code.fixed.dtype
         return np.float32 if self.code.real is RealType.FLOAT else np.float64
 
-    def evaluate(self, x: ArrayLike) -> tuple[NDArray[Any], NDArray[Any], NDArray[Any],
-                                              NDArray[np.intc]]:
-        """Evaluate a batch.
-
-        Parameters
-        ----------
-        x : array_like, shape (N, n_inputs)
-            Converted to the library's real type (float32 or float64) first.
-
-        Returns
-        -------
-        u, yl, yr : ndarray, shape (N,)
-            In the library's real type.
-        status : ndarray of intc, shape (N,)
-            The status of each call (0 = OK).
-        """
-        arr = np.ascontiguousarray(np.asarray(x, dtype=self.dtype))
+    def evaluate_raw(self, x: ArrayLike) -> tuple[NDArray[Any], NDArray[Any], NDArray[Any],
+                                                  NDArray[np.intc]]:
+        """Evaluate a batch in the library's own type: ``x`` must already be of
+        :attr:`dtype` (for a fixed-point build the integers of its Q formats), and ``u, yl,
+        yr`` come back in it, exactly as the C returned them."""
+        arr = np.ascontiguousarray(x)
+        if arr.dtype != np.dtype(self.dtype):
+            raise ValueError(f"x must be of dtype {np.dtype(self.dtype).name}, got "
+                             f"{arr.dtype.name}")
         if arr.ndim != 2 or arr.shape[1] != self.code.n_inputs:
             raise ValueError(f"x must have shape (N, {self.code.n_inputs}), got {arr.shape}")
         n = arr.shape[0]
@@ -139,3 +134,31 @@ class HostLibrary:
         if n:
             self._fn(n, arr, u, yl, yr, status)
         return u, yl, yr, status
+
+    def evaluate(self, x: ArrayLike) -> tuple[NDArray[Any], NDArray[Any], NDArray[Any],
+                                              NDArray[np.intc]]:
+        """Evaluate a batch.
+
+        Parameters
+        ----------
+        x : array_like, shape (N, n_inputs)
+            Real inputs: converted to the library's real type (float32 or float64) first, or,
+            for a fixed-point build, to its integers (:meth:`FixedFormat.to_int
+            <it2track.codegen.fixedpoint.FixedFormat.to_int>`).
+
+        Returns
+        -------
+        u, yl, yr : ndarray, shape (N,)
+            In the library's real type; for a fixed-point build, the integers converted to
+            float64 values.
+        status : ndarray of intc, shape (N,)
+            The status of each call (0 = OK).
+        """
+        fmt = self.code.fixed
+        if fmt is not None:
+            u, yl, yr, status = self.evaluate_raw(fmt.to_int(x))
+            return fmt.to_real(u), fmt.to_real(yl), fmt.to_real(yr), status
+        arr = np.asarray(x, dtype=self.dtype)
+        if arr.ndim != 2 or arr.shape[1] != self.code.n_inputs:
+            raise ValueError(f"x must have shape (N, {self.code.n_inputs}), got {arr.shape}")
+        return self.evaluate_raw(arr)

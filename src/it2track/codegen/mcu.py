@@ -14,8 +14,8 @@ report:
   ``arm-none-eabi-size``; Cortex-M4F with ``-mcpu=cortex-m4 -mthumb -mfloat-abi=hard
   -mfpu=fpv4-sp-d16``), the stack frames (``-fstack-usage``) and the flash of a minimal AVR
   program around one call (with the start-up code and the software float routines it pulls in).
-- :func:`measure_costs`: all of it per type reducer for the paper's controller, as a
-  :class:`CostTable`.
+- :func:`~it2track.codegen.costs.measure_costs` (in :mod:`.costs`): all of it per type reducer
+  and arithmetic for the paper's controller, as a :class:`~it2track.codegen.costs.CostTable`.
 
 Tools missing raise :class:`~it2track.codegen.tools.ToolMissingError` naming the Debian
 packages (``gcc-avr``, ``avr-libc``, ``simavr``, ``gcc-arm-none-eabi``,
@@ -24,22 +24,20 @@ packages (``gcc-avr``, ``avr-libc``, ``simavr``, ``gcc-arm-none-eabi``,
 
 from __future__ import annotations
 
-import dataclasses
 import os
 import re
 import secrets
 import subprocess
 import tempfile
-from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import jinja2
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..fuzzy import IT2Sugeno, Reducer, T1Sugeno
-from .generate import CCode, RealType, generate_c
+from .generate import CCode
 from .tools import ARM_TOOLS, AVR_TOOLS, BuildError, require, run_tool
 
 __all__ = [
@@ -51,12 +49,9 @@ __all__ = [
     "CONTROL_PERIOD_S",
     "AvrRun",
     "CodeSize",
-    "CostRow",
-    "CostTable",
     "arm_sizes",
     "avr_sizes",
     "cost_grid",
-    "measure_costs",
     "run_on_avr",
 ]
 
@@ -110,20 +105,22 @@ class AvrRun:
 
     Attributes
     ----------
-    x : ndarray of float32, shape (N, n_inputs)
-        The inputs as the AVR saw them.
+    x : ndarray, shape (N, n_inputs)
+        The inputs as the AVR saw them: float32, or for a fixed-point build its integers.
     status : ndarray of int, shape (N,)
     cycles : ndarray of int, shape (N,)
         CPU cycles of one ``<prefix>_eval`` call (the empty measurement subtracted).
-    u, yl, yr : ndarray of float32, shape (N,)
+    u, yl, yr : ndarray, shape (N,)
+        The outputs as the AVR returned them: float32, or the fixed-point integers (convert
+        with :meth:`~it2track.codegen.fixedpoint.FixedFormat.to_real`).
     """
 
-    x: NDArray[np.float32]
+    x: NDArray[Any]
     status: NDArray[np.int64]
     cycles: NDArray[np.int64]
-    u: NDArray[np.float32]
-    yl: NDArray[np.float32]
-    yr: NDArray[np.float32]
+    u: NDArray[Any]
+    yl: NDArray[Any]
+    yr: NDArray[Any]
 
 
 def run_on_avr(code: CCode, x: ArrayLike, *, build_dir: str | os.PathLike[str] | None = None,
@@ -135,7 +132,8 @@ def run_on_avr(code: CCode, x: ArrayLike, *, build_dir: str | os.PathLike[str] |
     code : CCode
         Generated code; a DOUBLE build computes in float on the AVR as well.
     x : array_like, shape (N, n_inputs)
-        Inputs; rounded to float32.
+        Real inputs; rounded to float32, or for a fixed-point build converted to its integers
+        (:meth:`~it2track.codegen.fixedpoint.FixedFormat.to_int`).
     build_dir : path, optional
         Where to build (a fresh sub-folder per call; default: the temp dir).
     timeout : float
@@ -149,13 +147,20 @@ def run_on_avr(code: CCode, x: ArrayLike, *, build_dir: str | os.PathLike[str] |
         If compiling fails or simavr's output is incomplete.
     """
     require(AVR_TOOLS)
-    pts = np.ascontiguousarray(np.asarray(x, dtype=np.float32))
-    if pts.ndim != 2 or pts.shape[1] != code.n_inputs:
-        raise ValueError(f"x must have shape (N, {code.n_inputs}), got {pts.shape}")
-    if len(pts) > 65535:
-        raise ValueError(f"at most 65535 points per run, got {len(pts)}")
-    if not np.all(np.isfinite(pts)):
+    fmt = code.fixed
+    arr = np.asarray(x, dtype=np.float64)
+    if arr.ndim != 2 or arr.shape[1] != code.n_inputs:
+        raise ValueError(f"x must have shape (N, {code.n_inputs}), got {arr.shape}")
+    if len(arr) > 65535:
+        raise ValueError(f"at most 65535 points per run, got {len(arr)}")
+    if not np.all(np.isfinite(arr)):
         raise ValueError("x must be finite (it is printed as C constants)")
+    pts: NDArray[Any] = np.ascontiguousarray(
+        fmt.to_int(arr) if fmt is not None else arr.astype(np.float32))
+
+    def literal(v: Any) -> str:
+        return str(int(v)) if fmt is not None else float(v).hex() + "f"
+
     work = _workdir(build_dir, f"avr-{code.prefix}")
     _write_code(code, work)
     outs = []
@@ -163,8 +168,8 @@ def run_on_avr(code: CCode, x: ArrayLike, *, build_dir: str | os.PathLike[str] |
         chunk = pts[start:start + CHUNK]
         main = _env().get_template("avr_bench.c.j2").render(
             p=code.prefix, header_name=code.header_name, n_in=code.n_inputs,
-            n_points=len(chunk),
-            points=[[float(v).hex() + "f" for v in row] for row in chunk])
+            n_points=len(chunk), fixed=fmt is not None,
+            points=[[literal(v) for v in row] for row in chunk])
         (work / "bench.c").write_text(main)
         elf = work / "bench.elf"
         run_tool(["avr-gcc", *AVR_FLAGS, "-o", str(elf), "bench.c", code.source_name, "-lm"],
@@ -184,7 +189,9 @@ def run_on_avr(code: CCode, x: ArrayLike, *, build_dir: str | os.PathLike[str] |
     if not np.array_equal(table[:, 0], np.arange(len(table)) % CHUNK):
         raise BuildError("simavr results out of order")
 
-    def as_float(col: NDArray[np.int64]) -> NDArray[np.float32]:
+    def as_float(col: NDArray[np.int64]) -> NDArray[Any]:
+        if fmt is not None:
+            return col.astype(np.uint16).view(np.int16)
         return col.astype(np.uint32).view(np.float32)
 
     return AvrRun(x=pts, status=table[:, 1], cycles=table[:, 2], u=as_float(table[:, 3]),
@@ -300,190 +307,3 @@ def cost_grid(n: int, *, lo: float = -1.0, hi: float = 1.0, n_random: int = 0,
     g = np.stack(np.meshgrid(axis, axis, indexing="ij"), axis=-1).reshape(-1, 2)
     r = np.random.default_rng(seed).uniform(lo, hi, size=(n_random, 2))
     return np.concatenate([g, r]).astype(np.float32)
-
-
-@dataclass(frozen=True, kw_only=True)
-class CostRow:
-    """One controller's cost (see :class:`CostTable`).
-
-    ``flash``, ``ram`` and ``stack`` are the AVR controller object's (:class:`CodeSize`
-    ``flash``, ``ram``, ``stack``); ``program_flash`` the minimal AVR program's; ``arm_text``
-    the Cortex-M4F object's flash (None when not measured).
-    """
-
-    label: str
-    reducer: str
-    exact: bool
-    cycles_max: int
-    cycles_mean: float
-    flash: int
-    program_flash: int
-    ram: int
-    stack: int
-    float_error: float
-    equals_host_float: bool
-    arm_text: int | None
-
-    @property
-    def us_max(self) -> float:
-        """Worst step in microseconds at 16 MHz."""
-        return self.cycles_max / AVR_CLOCK_HZ * 1e6
-
-    @property
-    def us_mean(self) -> float:
-        return self.cycles_mean / AVR_CLOCK_HZ * 1e6
-
-    @property
-    def period_share(self) -> float:
-        """Worst step as a fraction of the paper's 10 ms control period."""
-        return self.us_max * 1e-6 / CONTROL_PERIOD_S
-
-
-@dataclass(frozen=True, kw_only=True)
-class CostTable:
-    """What the controller costs on the microcontrollers, one row per controller.
-
-    Attributes
-    ----------
-    rows : tuple of CostRow
-    n_points : int
-        Inputs measured per controller (the grid plus random points).
-    fou : float
-        FoU width of the paper's controller measured.
-    tools : dict of str -> str
-        Versions of the compilers and simulator used.
-    """
-
-    rows: tuple[CostRow, ...]
-    n_points: int
-    fou: float
-    tools: dict[str, str]
-
-    def as_text(self) -> str:
-        """The table as aligned plain text (what ``benchmarks/bench_mcu.py`` prints)."""
-        head = (f"{'controller':<28} {'cycles max':>10} {'mean':>8} {'us max':>8} "
-                f"{'% of 10ms':>9} {'AVR flash':>9} {'program':>8} {'stack':>5} "
-                f"{'float err':>9} {'M4 text':>7}")
-        lines = [head, "-" * len(head)]
-        for r in self.rows:
-            lines.append(
-                f"{r.label:<28} {r.cycles_max:>10d} {r.cycles_mean:>8.0f} {r.us_max:>8.0f} "
-                f"{100 * r.period_share:>8.1f}% {r.flash:>9d} {r.program_flash:>8d} "
-                f"{r.stack:>5d} {r.float_error:>9.1e} "
-                f"{'-' if r.arm_text is None else r.arm_text:>7}")
-        return "\n".join(lines)
-
-    def as_markdown(self) -> str:
-        """The table in Markdown (README)."""
-        lines = ["| controller | AVR cycles, worst | mean | µs worst @16 MHz | % of 10 ms | "
-                 "AVR flash (object / program) | stack | float error vs double | "
-                 "Cortex-M4F text |",
-                 "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
-        for r in self.rows:
-            lines.append(
-                f"| {r.label} | {r.cycles_max:,} | {r.cycles_mean:,.0f} | {r.us_max:,.0f} | "
-                f"{100 * r.period_share:.1f} % | {r.flash:,} / {r.program_flash:,} B | "
-                f"{r.stack} B | {r.float_error:.1e} | "
-                f"{'-' if r.arm_text is None else f'{r.arm_text:,} B'} |")
-        return "\n".join(lines)
-
-
-def _version(tool: str) -> str:
-    try:
-        proc = subprocess.run([tool, "--version"], capture_output=True, text=True, timeout=30,
-                              check=False)
-    except (OSError, subprocess.TimeoutExpired):
-        return "?"
-    first = (proc.stdout or proc.stderr).strip().splitlines()
-    return first[0] if first else "?"
-
-
-def _simavr_version() -> str:
-    try:
-        out = subprocess.run(["dpkg-query", "-W", "-f=${Version}", "simavr"],
-                             capture_output=True, text=True, timeout=30, check=False)
-        return f"simavr {out.stdout.strip()}" if out.returncode == 0 else "simavr"
-    except (OSError, subprocess.TimeoutExpired):
-        return "simavr"
-
-
-def measure_costs(
-    *,
-    fou: float = 0.2,
-    reducers: Sequence[Reducer] | None = None,
-    grid: int = 21,
-    n_random: int = 0,
-    include_type1: bool = True,
-    arm: bool = True,
-    build_dir: str | os.PathLike[str] | None = None,
-) -> CostTable:
-    """Measure the paper's controller (FoU ``fou``) per type reducer on the simulated AVR.
-
-    For each reducer: AVR cycles per step (worst and mean over a ``grid x grid`` grid of
-    ``[-1, 1]^2`` plus ``n_random`` random points), flash and stack, the largest ``|u|``
-    difference of the AVR float result from the Python (double) system, whether the AVR's
-    outputs equal the host's float build bit for bit (when ``gcc`` is present), and the
-    Cortex-M4F code size (``arm``). ``include_type1`` adds the type-1 FLC (FoU 0).
-
-    Returns
-    -------
-    CostTable
-
-    Raises
-    ------
-    ToolMissingError
-        If avr-gcc, avr-libc or simavr (or, with ``arm``, the ARM toolchain) is missing.
-    """
-    from ..paper import heading_fls
-
-    require(AVR_TOOLS)
-    if arm:
-        require(ARM_TOOLS)
-    reds = list(Reducer) if reducers is None else list(reducers)
-    x = cost_grid(grid, n_random=n_random)
-    x64 = x.astype(np.float64)
-    systems: list[tuple[str, IT2Sugeno | T1Sugeno]] = []
-    if include_type1:
-        systems.append(("type-1 FLC (FoU 0)", heading_fls(0.0)))
-    base = heading_fls(fou)
-    assert isinstance(base, IT2Sugeno)
-    for red in reds:
-        label = f"IT2 {red.value.name}" + ("" if red.value.exact else " (approx.)")
-        systems.append((label, dataclasses.replace(base, reducer=red.value)))
-    host_ok = True
-    try:
-        require(("gcc",))
-    except Exception:
-        host_ok = False
-    rows = []
-    for label, fls in systems:
-        code = generate_c(fls, real=RealType.FLOAT)
-        run = run_on_avr(code, x, build_dir=build_dir)
-        if np.any(run.status != 0):
-            raise BuildError(f"{label}: the AVR returned error statuses "
-                             f"{sorted(set(run.status.tolist()))}")
-        ref = np.asarray(fls(x64[:, 0], x64[:, 1]), dtype=np.float64)
-        err = float(np.max(np.abs(run.u.astype(np.float64) - ref)))
-        same = False
-        if host_ok:
-            from .host import HostLibrary, build_host_library
-
-            where = Path(build_dir) if build_dir is not None else Path(tempfile.gettempdir())
-            lib = HostLibrary(code, build_host_library(code, where))
-            hu, hyl, hyr, _ = lib.evaluate(x)
-            same = bool(np.array_equal(hu.view(np.uint32), run.u.view(np.uint32))
-                        and np.array_equal(hyl.view(np.uint32), run.yl.view(np.uint32))
-                        and np.array_equal(hyr.view(np.uint32), run.yr.view(np.uint32)))
-        size = avr_sizes(code, build_dir=build_dir)
-        arm_text = arm_sizes(code, build_dir=build_dir).flash if arm else None
-        red_name = code.reducer
-        rows.append(CostRow(
-            label=label, reducer=red_name, exact=red_name not in ("nie-tan", "wu-mendel"),
-            cycles_max=int(run.cycles.max()), cycles_mean=float(run.cycles.mean()),
-            flash=size.flash, program_flash=int(size.program_flash or 0), ram=size.ram,
-            stack=size.stack,
-            float_error=err, equals_host_float=same, arm_text=arm_text))
-    tools = {"avr-gcc": _version("avr-gcc"), "simavr": _simavr_version()}
-    if arm:
-        tools["arm-none-eabi-gcc"] = _version("arm-none-eabi-gcc")
-    return CostTable(rows=tuple(rows), n_points=len(x), fou=fou, tools=tools)

@@ -22,7 +22,7 @@ TOOL_PACKAGES: dict[str, str] = {
     "arm-none-eabi-size": "binutils-arm-none-eabi",
     "newlib": "libnewlib-arm-none-eabi",
 }
-#: What the microcontroller measurement (:func:`it2track.codegen.mcu.measure_costs`) needs:
+#: What the microcontroller measurement (:func:`it2track.codegen.costs.measure_costs`) needs:
 #: the AVR build and simulation, and the Cortex-M4F build.
 AVR_TOOLS = ("avr-gcc", "avr-size", "avr-libc", "simavr")
 ARM_TOOLS = ("arm-none-eabi-gcc", "arm-none-eabi-size", "newlib")

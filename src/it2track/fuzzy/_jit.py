@@ -22,7 +22,7 @@ import math
 
 import numpy as np
 
-from ._jit_lib import MINIMUM, PRODUCT, _compiled, _curve, _tnorm, exp, fmax, fmin
+from ._jit_lib import MINIMUM, _compiled, _curve, _tnorm, exp, fmax, fmin
 
 # Header of a packed system (see kernels.pack); offsets point into the same array.
 N_IN, N_ROWS, N_RULES, REDUCER, TNORM, MAX_ITER, HAS_ZERO, ZERO = 0, 1, 2, 3, 4, 5, 6, 7
@@ -46,8 +46,10 @@ def scratch_rows(P: np.ndarray) -> int:
 
 
 @_compiled()
-def _memberships(P, X, L, S):
-    """Rows ``S[0:M]`` = memberships of the points ``X[:, :L]``; ``S[M]`` = 1."""
+def _memberships(P, X, L, S, ext):
+    """Rows ``S[0:M]`` = memberships of the points ``X[:, :L]``; ``S[M]`` = 1. The kinds of
+    :mod:`.curves`, :mod:`.shapes` and MATLAB's lagged lower MFs only where ``ext`` is not
+    None (see :func:`eval_block`)."""
     n_rows = int(P[N_ROWS])
     o_kind, o_par, o_inp = int(P[O_KIND]), int(P[O_PAR]), int(P[O_INP])
     for k in range(n_rows):
@@ -74,44 +76,32 @@ def _memberships(P, X, L, S):
                 v = X[i, j]
                 z = ((v - (b if v <= mid else a)) - 0.0) / c
                 S[k, j] = d * exp((-0.5 * z) * z)
-        elif kind == 19:  # scaled and lagged row a (MATLAB's type-2 lower MF)
-            up = int(a)  # (row, scale peak, lag, peak)
-            for j in range(L):
-                S[k, j] = b * fmin(fmax((S[up, j] / d - c) / (1.0 - c), 0.0), 1.0)
-        else:  # one scalar function for the other shapes: compiled once, small
-            for j in range(L):
-                S[k, j] = _curve(kind, a, b, c, d, h, X[i, j])
+        elif ext is not None:  # (pruned at compile time when ext is None)
+            if kind == 19:  # scaled and lagged row a (MATLAB's type-2 lower MF)
+                up = int(a)  # (row, scale peak, lag, peak)
+                for j in range(L):
+                    S[k, j] = b * fmin(fmax((S[up, j] / d - c) / (1.0 - c), 0.0), 1.0)
+            else:  # one scalar function for the other shapes
+                for j in range(L):
+                    S[k, j] = _curve(kind, a, b, c, d, h, X[i, j])
     for j in range(L):
         S[n_rows, j] = 1.0
 
 
 @_compiled()
-def _firing(P, L, S, flb, fub):
-    n_in, n_rows, n_rules = int(P[N_IN]), int(P[N_ROWS]), int(P[N_RULES])
+def _firing(P, L, S, flb, fub, ext):
+    """Rule firing ``S[flb + r]``, ``S[fub + r]``; the t-norms other than product and minimum
+    only where ``ext`` is not None (see :func:`eval_block`)."""
+    n_in, n_rules = int(P[N_IN]), int(P[N_RULES])
     o_ur, o_lr = int(P[O_UR]), int(P[O_LR])
-    code = int(P[TNORM])
-    prod = code == PRODUCT
+    if ext is not None:  # (pruned at compile time when ext is None)
+        code = int(P[TNORM])
+        if code > MINIMUM:
+            _firing_mentioned(P, L, S, flb, fub, code)
+            return
+    prod = P[TNORM] == 0.0
     for r in range(n_rules):
         b = r * n_in
-        if code > MINIMUM:
-            # AND over the inputs the rule mentions only (tables' fold for the t-norms whose
-            # identity is not exact): the first one copied, the others folded left to right.
-            first = True
-            for i in range(n_in):
-                u = int(P[o_ur + b + i])
-                lw = int(P[o_lr + b + i])
-                if u == n_rows:
-                    continue
-                if first:
-                    for j in range(L):
-                        S[fub + r, j] = S[u, j]
-                        S[flb + r, j] = S[lw, j]
-                    first = False
-                else:
-                    for j in range(L):
-                        S[fub + r, j] = _tnorm(code, S[fub + r, j], S[u, j])
-                        S[flb + r, j] = _tnorm(code, S[flb + r, j], S[lw, j])
-            continue
         u = int(P[o_ur + b])
         lw = int(P[o_lr + b])
         for j in range(L):
@@ -128,6 +118,31 @@ def _firing(P, L, S, flb, fub):
                 for j in range(L):
                     S[fub + r, j] = fmin(S[fub + r, j], S[u, j])
                     S[flb + r, j] = fmin(S[flb + r, j], S[lw, j])
+
+
+@_compiled()
+def _firing_mentioned(P, L, S, flb, fub, code):
+    """AND over the inputs each rule mentions only (tables' fold for the t-norms whose identity
+    is not exact): the first one copied, the others folded left to right."""
+    n_in, n_rows, n_rules = int(P[N_IN]), int(P[N_ROWS]), int(P[N_RULES])
+    o_ur, o_lr = int(P[O_UR]), int(P[O_LR])
+    for r in range(n_rules):
+        b = r * n_in
+        first = True
+        for i in range(n_in):
+            u = int(P[o_ur + b + i])
+            lw = int(P[o_lr + b + i])
+            if u == n_rows:
+                continue
+            if first:
+                for j in range(L):
+                    S[fub + r, j] = S[u, j]
+                    S[flb + r, j] = S[lw, j]
+                first = False
+            else:
+                for j in range(L):
+                    S[fub + r, j] = _tnorm(code, S[fub + r, j], S[u, j])
+                    S[flb + r, j] = _tnorm(code, S[flb + r, j], S[lw, j])
 
 
 @_compiled(inline=True)
@@ -405,15 +420,21 @@ def _wu_mendel(P, L, S, flb, fub, tb, yl, yr):
 
 
 @_compiled()
-def eval_block(P, X, L, S, yl, yr, st):
+def eval_block(P, X, L, S, yl, yr, st, ext=None):
     """``yl[:L]``, ``yr[:L]`` and ``st[:L]`` (status) of the clipped points ``X[:, :L]``;
-    ``S`` is scratch of :func:`scratch_rows` rows and at least ``L`` columns."""
+    ``S`` is scratch of :func:`scratch_rows` rows and at least ``L`` columns.
+
+    ``ext`` (None or True) chooses the specialisation: left out, numba prunes the branches of
+    the kinds of :mod:`.curves`/:mod:`.shapes`, MATLAB's lagged lower MFs, the t-norms other
+    than product/minimum and ``wtsum`` before compiling, so that systems without them (the
+    paper's) compile and run exactly the code they did before those existed;
+    :func:`it2track.fuzzy.kernels.extended` says which systems need ``ext=True``."""
     n_rows, n_rules = int(P[N_ROWS]), int(P[N_RULES])
     flb = n_rows + 1
     fub = flb + n_rules
     tb = fub + n_rules
-    _memberships(P, X, L, S)
-    _firing(P, L, S, flb, fub)
+    _memberships(P, X, L, S, ext)
+    _firing(P, L, S, flb, fub, ext)
     red = int(P[REDUCER])
     for j in range(L):
         st[j] = OK
@@ -434,7 +455,7 @@ def eval_block(P, X, L, S, yl, yr, st):
                 u = S[num, j] / S[den, j]
                 yl[j] = u
                 yr[j] = u
-        else:  # as numpy's where(den != 0, num, nan)
+        elif ext is not None:  # wtsum, as numpy's where(den != 0, num, nan)
             for j in range(L):
                 nj, dj = S[num, j], S[den, j]
                 u = nj if dj != 0.0 else math.nan
@@ -500,9 +521,10 @@ def clip_input(P, i, v):
 
 
 @_compiled()
-def scalar2(P, a, b):
+def scalar2(P, a, b, ext=None):
     """Crisp output of a two-input system at ``(a, b)``; NaN where the reference raises
-    (a non-finite input, zero firing without a value, ...): the caller then asks it."""
+    (a non-finite input, zero firing without a value, ...): the caller then asks it. ``ext``
+    as in :func:`eval_block`."""
     if not (math.isfinite(a) and math.isfinite(b)):
         return math.nan
     rows = int(P[N_ROWS]) + 1 + 2 * int(P[N_RULES]) + WORK_ROWS
@@ -512,7 +534,11 @@ def scalar2(P, a, b):
     X[0, 0] = clip_input(P, 0, a)
     X[1, 0] = clip_input(P, 1, b)
     st = np.empty(1, dtype=np.int8)
-    eval_block(P, X, 1, S, buf[rows + 2 : rows + 3], buf[rows + 3 : rows + 4], st)
+    yl, yr = buf[rows + 2 : rows + 3], buf[rows + 3 : rows + 4]
+    if ext is None:  # (one basic specialisation of eval_block: ext left out, as everywhere)
+        eval_block(P, X, 1, S, yl, yr, st)
+    else:
+        eval_block(P, X, 1, S, yl, yr, st, ext)
     if st[0] != OK:
         return math.nan
     return (buf[rows + 2] + buf[rows + 3]) * 0.5
@@ -522,10 +548,11 @@ BLOCK = 256  # points per block (the block's scratch stays in the L1/L2 cache)
 
 
 @_compiled()
-def batch(P, X, out_a, out_b, status, crisp, first, last):
+def batch(P, X, out_a, out_b, status, crisp, first, last, ext=None):
     """Evaluate the clipped points ``X[:, first:last]`` (X: n_inputs x N): ``crisp`` writes
     ``(yl + yr) / 2`` to ``out_a``, otherwise ``yl`` and ``yr`` to ``out_a``/``out_b``;
-    ``status`` per point. Releases the GIL: threads may run disjoint ranges at once."""
+    ``status`` per point; ``ext`` as in :func:`eval_block`. Releases the GIL: threads may run
+    disjoint ranges at once."""
     n_in = X.shape[0]
     rows = int(P[N_ROWS]) + 1 + 2 * int(P[N_RULES]) + WORK_ROWS
     S = np.empty((rows, BLOCK))
@@ -538,7 +565,10 @@ def batch(P, X, out_a, out_b, status, crisp, first, last):
         for i in range(n_in):
             for j in range(L):
                 xb[i, j] = X[i, a + j]
-        eval_block(P, xb, L, S, yl, yr, st)
+        if ext is None:  # (ext left out: the one basic specialisation, see scalar2)
+            eval_block(P, xb, L, S, yl, yr, st)
+        else:
+            eval_block(P, xb, L, S, yl, yr, st, ext)
         for j in range(L):
             status[a + j] = st[j]
             if crisp:

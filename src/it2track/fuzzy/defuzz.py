@@ -64,7 +64,7 @@ def output_grid(universe: tuple[float, float], n: int, sampling: Sampling) -> Fl
     """
     lo, hi = universe
     if sampling is Sampling.MIDPOINTS:
-        out: FloatArray = lo + (np.arange(n) + 0.5) * ((hi - lo) / n)
+        out: FloatArray = lo + (np.arange(n, dtype=np.float64) + 0.5) * ((hi - lo) / n)
         return out
     return np.linspace(lo, hi, n)
 

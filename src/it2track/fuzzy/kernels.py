@@ -15,7 +15,8 @@ triangles, trapezoids and Gaussians of :mod:`.membership`, every class of :mod:`
 :mod:`.shapes` but ``Discrete``, and MATLAB's scaled and lagged lower MFs), tables with no
 rule-language ``features``, every t-norm, the six built-in reducers (matched by their kernels,
 so a custom :class:`~.reducers.TypeReducer` goes to numpy) with their ``max_iter``, and both
-zero-firing policies.
+zero-firing policies. The new shapes, t-norms and ``wtsum`` are compiled only for the systems
+that use them (:func:`extended`).
 
 Engine choice: the environment variable ``IT2TRACK_ENGINE`` is ``auto`` (default: compiled
 where supported and numba is importable), ``numpy`` (never compile; numba is not even
@@ -47,7 +48,7 @@ from .kinds import MFKind
 from .norms import WeightedDefuzzifier
 from .rules import TNorm
 
-__all__ = ["ENGINE_ENV", "engine", "interval", "output", "pack", "supported"]
+__all__ = ["ENGINE_ENV", "engine", "extended", "interval", "output", "pack", "supported"]
 
 FloatArray = NDArray[np.float64]
 
@@ -56,6 +57,9 @@ ENGINE_ENV = "IT2TRACK_ENGINE"
 _ENGINES = ("auto", "numpy", "compiled")
 #: Membership kinds the kernels implement (codes in ``_jit._memberships``).
 _KINDS = frozenset(MFKind) - {MFKind.OTHER}
+#: ... of which these need no extended specialisation (see :func:`extended`).
+_BASIC_KINDS = frozenset({MFKind.TRAPEZOID, MFKind.GAUSSIAN, MFKind.UM_GAUSSIAN_UPPER,
+                          MFKind.UM_GAUSSIAN_LOWER})
 #: t-norm codes of the kernels (``_jit.PRODUCT`` ...).
 _TNORMS = {TNorm.PRODUCT: 0, TNorm.MINIMUM: 1, TNorm.BOUNDED_DIFFERENCE: 2,
            TNorm.DRASTIC_PRODUCT: 3, TNorm.EINSTEIN_PRODUCT: 4, TNorm.HAMACHER_PRODUCT: 5,
@@ -137,6 +141,23 @@ def supported(system: Any) -> str | None:
     return None
 
 
+def extended(system: Any) -> bool:
+    """True if ``system`` (one :func:`supported` accepts) needs the kernels' extended
+    specialisation: a membership kind of :mod:`.curves`/:mod:`.shapes` (or MATLAB's lagged
+    lower MF), a t-norm other than product/minimum, or ``wtsum``.
+
+    The kernels are compiled twice over, lazily: without these (``ext`` left out: numba
+    prunes their branches, so a system like the paper's compiles exactly the code it did
+    before they existed) and, the first time a system needs them, with them.
+    """
+    t = system.tables
+    return bool(
+        not {MFKind(int(k)) for k in t.mf_kind} <= _BASIC_KINDS
+        or _TNORMS[system.tnorm] > 1
+        or (_compiled_as(system) == "t1" and system.defuzzifier is not WeightedDefuzzifier.AVERAGE)
+    )
+
+
 def pack(system: Any) -> FloatArray:
     """The system as one flat float64 array (layout: the constants at the top of ``_jit``).
 
@@ -192,9 +213,13 @@ def _entry(system: Any) -> FloatArray | None:
     except KeyError:
         pass
     packed = None
+    ext = False
     if engine() != "numpy" and supported(system) is None and load_jit() is not None:
         packed = pack(system)
-    object.__setattr__(system, "_kernel_pack", packed)  # immutable system: a derived cache
+        ext = extended(system)
+    # immutable system: derived caches (set before the pack, which output() looks up first)
+    object.__setattr__(system, "_kernel_ext", ext)
+    object.__setattr__(system, "_kernel_pack", packed)
     return packed
 
 
@@ -226,7 +251,10 @@ def output(system: Any, xs: tuple[Any, ...]) -> float | None:
         b = _float(b)
         if b is None:
             return None
-    u: float = _jit.scalar2(packed, a, b)
+    if system.__dict__["_kernel_ext"]:
+        u: float = _jit.scalar2(packed, a, b, True)
+    else:
+        u = _jit.scalar2(packed, a, b)  # (ext left out: the basic specialisation)
     return u if u == u else None  # NaN: the reference raises
 
 
@@ -247,7 +275,8 @@ def interval(
     out_b = out_a if crisp else np.empty(n)
     status = np.empty(n, dtype=np.int8)
     bounds = _split(n, threads() if n >= _PARALLEL_MIN else 1, _jit.BLOCK)
-    run_threads([(_jit.batch, (packed, x, out_a, out_b, status, crisp, a, b))
+    ext = (True,) if system.__dict__["_kernel_ext"] else ()  # (left out: basic, see extended)
+    run_threads([(_jit.batch, (packed, x, out_a, out_b, status, crisp, a, b, *ext))
                  for a, b in bounds])  # fmt: skip
     if status.any():
         return None

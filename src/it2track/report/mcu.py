@@ -1,9 +1,10 @@
 """Figure: what one IT2FLC step costs on a microcontroller (from a
-:class:`~it2track.codegen.mcu.CostTable`).
+:class:`~it2track.codegen.costs.CostTable`).
 
 Left: the worst and mean time of one controller step on the ATmega328P at 16 MHz (simavr cycle
-counts) per type reducer, against the 1 ms aim and the paper's 10 ms control period. Right: the
-code size on the ATmega328P (controller object, tables included) and on the Cortex-M4F.
+counts) per type reducer and arithmetic (float plain, q15 fixed point hatched), against the
+1 ms aim and the paper's 10 ms control period. Right: the code size on the ATmega328P
+(controller object, tables included) and on the Cortex-M4F.
 """
 
 from __future__ import annotations
@@ -15,7 +16,8 @@ from pathlib import Path
 from matplotlib.figure import Figure
 
 from ..atomicfile import atomic_open
-from ..codegen.mcu import CONTROL_PERIOD_S, CostTable
+from ..codegen.costs import CostTable
+from ..codegen.mcu import CONTROL_PERIOD_S
 
 __all__ = ["mcu_cost_figure", "write_mcu_cost_figure"]
 
@@ -28,8 +30,12 @@ def mcu_cost_figure(table: CostTable) -> Figure:
     fig = Figure(figsize=(9.0, 0.42 * len(rows) + 2.2), layout="constrained")
     ax, bx = fig.subplots(1, 2, width_ratios=[1.6, 1.0], sharey=True)
     colors = ["#4c72b0" if r.exact else "#dd8452" for r in rows]
-    ax.barh(ypos, [r.us_max for r in rows], color=colors, height=0.62,
-            label="worst step")
+    bars = ax.barh(ypos, [r.us_max for r in rows], color=colors, height=0.62,
+                   label="worst step")
+    for bar, r in zip(bars.patches, rows, strict=True):
+        if r.arithmetic != "float":
+            bar.set_hatch("///")
+            bar.set_edgecolor("white")
     ax.scatter([r.us_mean for r in rows], ypos, color="black", marker="|", s=160, zorder=3,
                label="mean step")
     for y, r in zip(ypos, rows, strict=True):
@@ -60,8 +66,8 @@ def mcu_cost_figure(table: CostTable) -> Figure:
     for a in (ax, bx):
         a.spines[["top", "right"]].set_visible(False)
     fig.suptitle(f"What the IT2FLC costs on a microcontroller (paper controller, FoU "
-                 f"{table.fou:g}; {table.n_points:,} inputs; blue exact, orange approximate)",
-                 fontsize=10)
+                 f"{table.fou:g}; {table.n_points:,} inputs)\nblue: exact reducers, orange: "
+                 "approximate; hatched: q15 fixed point", fontsize=10)
     return fig
 
 

@@ -1,7 +1,7 @@
 """The study controller's cost on microcontrollers, measured in the background for the report.
 
 ``it2track reproduce`` starts a :class:`McuJob` before its simulations: a child Python process
-(``python -m it2track.report.mcu_job``) runs :func:`it2track.codegen.mcu.measure_costs` for the
+(``python -m it2track.report.mcu_job``) runs :func:`it2track.codegen.costs.measure_costs` for the
 paper's controller with the study's main FoU (every type reducer and the type-1 FLC: cycles on
 the simulated ATmega328P, AVR flash, RAM and stack, Cortex-M4F code size) and draws the cost
 figure (:mod:`it2track.report.mcu`). Nearly all of its work is done by the cross-compilers and
@@ -37,7 +37,7 @@ from pathlib import Path
 from typing import Any
 
 from ..atomicfile import atomic_write_bytes, atomic_write_text
-from ..codegen.mcu import CostRow, CostTable
+from ..codegen.costs import CostRow, CostTable
 from ..codegen.tools import MCU_TOOLS, missing_tools
 from ..fuzzy.kernels import ENGINE_ENV
 
@@ -156,14 +156,16 @@ def cost_rows(table: CostTable) -> list[dict[str, Any]]:
     """One dict per controller of ``table``: the columns of ``mcu_costs.csv`` (the Cortex-M4F
     size empty when it was not measured)."""
     return [{
-        "controller": r.label, "reducer": r.reducer, "exact": r.exact,
+        "controller": r.label, "reducer": r.reducer, "arithmetic": r.arithmetic,
+        "exact": r.exact,
         "avr_cycles_worst": r.cycles_max, "avr_cycles_mean": r.cycles_mean,
         "avr_us_worst": r.us_max, "avr_us_mean": r.us_mean,
         "period_share_worst": r.period_share,
         "avr_flash_bytes": r.flash, "avr_program_flash_bytes": r.program_flash,
         "avr_ram_bytes": r.ram, "avr_stack_bytes": r.stack,
-        "m4f_text_bytes": "" if r.arm_text is None else r.arm_text, "float_error": r.float_error,
-        "equals_host_float": r.equals_host_float, "inputs": table.n_points,
+        "m4f_text_bytes": "" if r.arm_text is None else r.arm_text,
+        "error_vs_double": r.error, "error_bound": r.bound, "equals_host": r.equals_host,
+        "inputs": table.n_points,
     } for r in table.rows]
 
 
@@ -365,7 +367,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument("--build-dir", type=Path, required=True)
     ap.add_argument("--svg", action="store_true")
     args = ap.parse_args(argv)
-    from ..codegen.mcu import measure_costs
+    from ..codegen.costs import measure_costs
     from ..codegen.tools import BuildError, ToolMissingError
 
     started = time.perf_counter()

@@ -44,6 +44,9 @@ def supported(controller: HeadingController) -> str | None:
         return None
     if type(controller) is FuzzyHeadingController:
         why = fuzzy_kernels.supported(controller.fls)
+        if why is None and fuzzy_kernels.extended(controller.fls):
+            why = ("its membership kinds, t-norm or defuzzifier need the fuzzy kernels' "
+                   "extended specialisation, which the closed-loop kernel does not compile")
         return None if why is None else f"its fuzzy system: {why}"
     return f"{type(controller).__name__} is not a built-in heading controller"
 
@@ -73,6 +76,8 @@ def _pack_controllers(controllers: Sequence[HeadingController]) -> tuple[FloatAr
 
 def _plant_vector(engine: _Engine) -> FloatArray:
     d = engine.drive
+    if d is None:
+        raise ValueError("the compiled engine runs the kinematic robot only")
     nodes = [v for speed, head in zip(d._node_speed, d._node_heading, strict=True)
              for v in (*speed, *head)]  # fmt: skip
     return np.array([*d._wheel, *d._heading, *nodes], dtype=np.float64)

@@ -34,12 +34,14 @@ STUDY_REDUCER = "exhaustive"
 def _rows(costs: McuCosts) -> list[dict[str, Any]]:
     assert costs.table is not None
     return [{
-        "controller": r.label, "study": r.reducer in (STUDY_REDUCER, "type-1"),
+        "controller": r.label,
+        "study": r.reducer in (STUDY_REDUCER, "type-1") and r.arithmetic == "float",
         "cycles_max": f"{r.cycles_max:,}", "cycles_mean": f"{r.cycles_mean:,.0f}",
         "us_max": f"{r.us_max:,.0f}", "us_mean": f"{r.us_mean:,.0f}",
         "share": f"{100 * r.period_share:.1f} %", "flash": f"{r.flash:,}",
         "program": f"{r.program_flash:,}", "ram": f"{r.ram:,}", "stack": f"{r.stack:,}",
         "arm": "—" if r.arm_text is None else f"{r.arm_text:,}",
+        "error": f"{r.error:.1e}", "bound": f"{r.bound:.1e}",
     } for r in costs.table.rows]
 
 
@@ -63,9 +65,10 @@ def mcu_section(costs: McuCosts, figure: Mapping[str, Any] | None = None) -> Mar
                    f"Left: worst (bar) and mean (tick) time of one step of the paper's controller "
                    f"(FoU {table.fou:g}) on the ATmega328P at {AVR_CLOCK_HZ / 1e6:g} MHz, per "
                    f"type reducer, over the {table.n_points:,} measured inputs; the dashed line "
-                   "marks 1 ms. Right: flash of the controller object (code and tables) on the "
-                   "ATmega328P and the Cortex-M4F. Blue: exact reducers; orange: approximate.")}
-    exact = None if table is None else all(r.equals_host_float for r in table.rows)
+                   "marks 1 ms. Rows marked q15 are the integer-only fixed-point build. Right: "
+                   "flash of the controller object (code and tables) on the ATmega328P and the "
+                   "Cortex-M4F. Blue: exact reducers; orange: approximate.")}
+    exact = None if table is None else all(r.equals_host for r in table.rows)
     return render(
         "sections/mcu.html.j2",
         status=costs.status.value,
