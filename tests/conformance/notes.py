@@ -17,10 +17,10 @@ _SUM = (
 )
 _JUGGLER = (
     "fuzzylite's .fll of MATLAB's juggler.fis names all nine output terms out1mf, so every "
-    "rule names one term (fuzzylite 6 binds the first, pyfuzzylite 8 the last: it2track "
-    "refuses the .fll as ambiguous). MATLAB's rules index the nine planes; it2track reads "
-    "the .fis so, and with the terms renamed apart pyfuzzylite agrees with it to 1e-16. The "
-    "reference is wrong."
+    "rule names one term (pyfuzzylite 8 binds the last, as it2track reads the .fll, with a "
+    "warning; fuzzylite 6 bound the first). MATLAB's rules index the nine planes; it2track "
+    "reads the .fis so, and with the terms renamed apart pyfuzzylite agrees with it to 1e-16. "
+    "The reference is wrong."
 )
 _ROBOT = (
     "jFuzzyLogic steps along the output range by repeated addition, so its last grid point "

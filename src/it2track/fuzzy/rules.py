@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .hedges import Hedge
 from .membership import MembershipFunction
 from .norms import Connective, TNorm
 from .sets import IT2Set
@@ -216,6 +217,14 @@ class Rule:
     negated : sequence of bool, optional
         Per input, True for ``x is not A`` (default: none negated). Only mentioned inputs can
         be negated.
+    hedges : sequence of sequence of Hedge, optional
+        Per input, the :class:`~it2track.fuzzy.hedges.Hedge` s of its proposition, outermost
+        first, applied to the set's membership before ``negated`` (``x is not very A`` is
+        ``1 - very(mu_A)``). Default: none. Only mentioned inputs can have hedges.
+    consequent_hedges : sequence of sequence of Hedge, optional
+        Per output, hedges (outermost first) applied to the rule's weighted firing strength
+        for that output (fuzzylite's hedged conclusion ``then y is very B``; Octave's hedged
+        Sugeno consequent). Default: none. Only outputs the rule acts on can have hedges.
 
     Attributes
     ----------
@@ -236,6 +245,8 @@ class Rule:
     weight: float
     connective: Connective
     negated: tuple[bool, ...]
+    hedges: tuple[tuple[Hedge, ...], ...]
+    consequent_hedges: tuple[tuple[Hedge, ...], ...]
 
     def __init__(
         self,
@@ -246,6 +257,8 @@ class Rule:
         weight: float = 1.0,
         connective: Connective | str = Connective.AND,
         negated: Sequence[bool] | None = None,
+        hedges: Sequence[Sequence[Hedge]] | None = None,
+        consequent_hedges: Sequence[Sequence[Hedge]] | None = None,
     ) -> None:
         ant = tuple(antecedent)
         where = f"rule {list(ant)!r}"
@@ -271,7 +284,11 @@ class Rule:
         for label, flag in zip(ant, neg, strict=True):
             if flag and label is None:
                 raise ValueError(f"{where}: an input the rule does not mention cannot be negated")
+        ant_hedges = _hedges(hedges, ant, f"{where}: hedges", "input")
+        cons_hedges = _hedges(consequent_hedges, cons, f"{where}: consequent_hedges", "output")
         object.__setattr__(self, "antecedent", ant)
+        object.__setattr__(self, "hedges", ant_hedges)
+        object.__setattr__(self, "consequent_hedges", cons_hedges)
         object.__setattr__(self, "consequents", cons)
         object.__setattr__(self, "weight", float(weight))
         object.__setattr__(self, "connective", connective)
@@ -284,9 +301,39 @@ class Rule:
 
     @property
     def plain(self) -> bool:
-        """True for an AND rule of weight 1 with no negation (the paper's rule form)."""
+        """True for an AND rule of weight 1 with no negation or hedge (the paper's rule form)."""
         return (self.weight == 1.0 and self.connective is Connective.AND
-                and not any(self.negated))
+                and not any(self.negated) and not self.hedged)
+
+    @property
+    def hedged(self) -> bool:
+        """True if any proposition or conclusion of the rule has a hedge."""
+        return any(self.hedges) or any(self.consequent_hedges)
+
+    def with_consequents(self, consequents: Sequence[object],
+                         outputs: Sequence[int] | None = None) -> Rule:
+        """This rule with other consequents: one per output, or one per output of
+        ``outputs`` (indices into this rule's outputs, whose conclusion hedges it keeps)."""
+        picked = range(len(self.consequents)) if outputs is None else outputs
+        return Rule(self.antecedent, consequents=consequents, weight=self.weight,
+                    connective=self.connective, negated=self.negated, hedges=self.hedges,
+                    consequent_hedges=[self.consequent_hedges[k] for k in picked])
+
+
+def _hedges(value: Sequence[Sequence[Hedge]] | None, slots: tuple[object, ...], what: str,
+            kind: str) -> tuple[tuple[Hedge, ...], ...]:
+    if value is None:
+        return ((),) * len(slots)
+    try:
+        out = tuple(tuple(h) for h in value)
+    except TypeError:
+        raise ValueError(f"{what}={value!r} must hold a sequence of Hedge per {kind}") from None
+    if len(out) != len(slots) or not all(isinstance(h, Hedge) for hs in out for h in hs):
+        raise ValueError(f"{what}={value!r} must hold a sequence of Hedge per {kind}")
+    for slot, hs in zip(slots, out, strict=True):
+        if hs and slot is None:
+            raise ValueError(f"{what}: an {kind} the rule does not mention cannot have hedges")
+    return out
 
 
 def rules_from_table(

@@ -198,8 +198,7 @@ class _SystemBase:
         if self.n_outputs == 1:
             return self
         rules = tuple(
-            Rule(r.antecedent, r.consequents[k], weight=r.weight, connective=r.connective,
-                 negated=r.negated)
+            r.with_consequents([r.consequents[k]], [k])
             for r in self.rules if r.consequents[k] is not None
         )
         return replace(self, rules=rules, outputs=(names[k],) if self.outputs else (),

@@ -25,6 +25,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .hedges import Hedged, apply_hedges
 from .kinds import MFKind, Row
 from .membership import (
     Gaussian,
@@ -41,7 +42,7 @@ from .sets import ScaledLagged
 __all__ = ["FEATURES", "MFKind", "SystemTables"]
 
 #: Every name :attr:`SystemTables.features` can hold (see the class docstring).
-FEATURES = frozenset({"not", "or", "weights", "linear", "outputs"})
+FEATURES = frozenset({"not", "or", "weights", "linear", "outputs", "hedges"})
 
 FloatArray = NDArray[np.float64]
 
@@ -151,7 +152,9 @@ class SystemTables:
         Rule-language features beyond zero-order AND rules of weight 1 with one output that
         these tables use, from :data:`FEATURES`: ``"not"`` (a negated antecedent),
         ``"or"`` (an OR rule over two or more inputs), ``"weights"`` (a weight other than 1),
-        ``"linear"`` (a first-order consequent), ``"outputs"`` (more than one output). An
+        ``"linear"`` (a first-order consequent), ``"outputs"`` (more than one output),
+        ``"hedges"`` (a hedged proposition -- its rows are :class:`~it2track.fuzzy.hedges.Hedged`
+        -- or a hedged conclusion, applied to the weighted firing of that rule). An
         evaluator that does not implement one of them must refuse the tables or fall back on
         the numpy evaluation. The empty set is exactly the paper's rule form.
     """
@@ -206,8 +209,14 @@ class SystemTables:
                     upper_rows[r, i] = lower_rows[r, i] = -1
                     continue
                 s = inputs[i].sets[inputs[i].set_index(label)]
-                upper_rows[r, i] = row_of(s.upper, i)
-                lower_rows[r, i] = row_of(s.lower, i)
+                mf_up, mf_lo = s.upper, s.lower
+                hedges = rule.hedges[i]
+                if hedges:  # hedged rows (a 'not' among the hedges swaps the bounds)
+                    if sum(not h.increasing for h in hedges) % 2:
+                        mf_up, mf_lo = mf_lo, mf_up
+                    mf_up, mf_lo = Hedged(mf_up, hedges), Hedged(mf_lo, hedges)
+                upper_rows[r, i] = row_of(mf_up, i)
+                lower_rows[r, i] = row_of(mf_lo, i)
         n_rows = len(mfs)
         # Row n_rows is the constant 1 used for inputs a rule does not mention.
         upper_rows[upper_rows < 0] = n_rows
@@ -272,7 +281,11 @@ class SystemTables:
             dtype=bool,
         )
         self.weight = np.array([rule.weight for rule in rules], dtype=np.float64)
+        self.consequent_hedges = tuple(rule.consequent_hedges[output] for rule in rules)
         features = set()
+        if any(rule.hedges[i] for rule in rules for i in range(n_in)) or any(
+                self.consequent_hedges):
+            features.add("hedges")
         if self.negated.any():
             features.add("not")
         if self.is_or.any():
@@ -304,7 +317,10 @@ class SystemTables:
         self.coef_hi_s = np.ascontiguousarray(coef_hi[self.perm])
         # The firing features: rows of an extended membership array [m, 1, 0, 1 - m] that each
         # (possibly negated) antecedent reads; unmentioned inputs of OR rules read the 0 row.
-        self.general_firing = bool(self.features & {"not", "or", "weights"})
+        self.general_firing = bool(self.features & {"not", "or", "weights", "hedges"})
+        self.consequent_hedges_s = [(s, self.consequent_hedges[r])
+                                    for s, r in enumerate(self.perm.tolist())
+                                    if self.consequent_hedges[r]]
         one, zero, comp = n_rows, n_rows + 1, n_rows + 2
         up_ext = np.where(self.negated_s, comp + self.lower_rows_s, self.upper_rows_s)
         lo_ext = np.where(self.negated_s, comp + self.upper_rows_s, self.lower_rows_s)
@@ -459,8 +475,18 @@ class SystemTables:
                 f *= self.weight_s[:, None]
             result.append(f)
             if self.type1_firing:
-                return f, f
+                result.append(f)
+                break
         fu, fl = result
+        for s, hedges in self.consequent_hedges_s:  # a 'not' among them swaps the bounds
+            if fl is fu:
+                fu[s] = apply_hedges(hedges, fu[s])
+                continue
+            up, lo = fu[s].copy(), fl[s].copy()
+            if sum(not h.increasing for h in hedges) % 2:
+                up, lo = lo, up
+            fu[s] = apply_hedges(hedges, up)
+            fl[s] = apply_hedges(hedges, lo)
         return fl, fu
 
     def consequents_block(self, x: FloatArray) -> tuple[FloatArray, FloatArray]:

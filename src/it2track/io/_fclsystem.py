@@ -12,6 +12,7 @@ from ..fuzzy import (
     Aggregation,
     AnySystem,
     Consequent,
+    Hedge,
     HybridSystem,
     Implication,
     Input,
@@ -79,10 +80,12 @@ def _variable(b: Builder, cls: type[Input], var: FclVar, universe: tuple[float, 
 
 
 def _rule(b: Builder, rule: RuleNode, antecedent: list[str | None], cons: list[Consequent],
-          op: str, negated: list[bool]) -> Rule:
+          op: str, negated: list[bool], hedges: list[tuple[Hedge, ...]],
+          cons_hedges: list[tuple[Hedge, ...]]) -> Rule:
     made: Rule = b.guarded(rule.line, lambda: Rule(antecedent, consequents=cons,
                                                    weight=rule.weight, connective=op,
-                                                   negated=negated))
+                                                   negated=negated, hedges=hedges,
+                                                   consequent_hedges=cons_hedges))
     return made
 
 
@@ -144,7 +147,7 @@ def build(parser: Parser, fb: FunctionBlock) -> AnySystem:
     parts = []
     for kind, run in itertools.groupby(kinds, key=lambda item: item[1]):
         names = [name for name, _ in run]
-        mine = [p for p in parsed if any(v in names for v, _ in p[0].conclusions)]
+        mine = [p for p in parsed if any(c[0] in names for c in p[0].conclusions)]
         if not mine:
             raise b.error(fb.outputs[names[0]].block_line, f"no rule concludes {names}")
         parts.append(_part(b, fb, inputs, names, kind, mine))
@@ -200,16 +203,20 @@ def _assemble(b: Builder, fb: FunctionBlock, outputs: dict[str, FclVar], inputs:
             values[name] = {t.name: b.consequent(t, in_names) for t in var.terms.values()}
     built: list[Rule] = []
     users: dict[tuple[str, str], tuple[int, str]] = {}
+    shared = False
     for rule, op, props in rules:
         antecedent: list[str | None] = [None] * len(in_names)
         negated = [False] * len(in_names)
+        hedges: list[tuple[Hedge, ...]] = [()] * len(in_names)
         for prop in props:
             if prop.term not in fb.inputs[prop.variable].terms:
                 raise b.error(rule.line, f"input {prop.variable!r} has no term {prop.term!r}")
             k = in_names.index(prop.variable)
             antecedent[k], negated[k] = prop.term, prop.negated
+            hedges[k] = tuple(Hedge(h) for h in prop.hedges)
         cons: list[Consequent] = [None] * len(out_names)
-        for vname, term in rule.conclusions:
+        cons_hedges: list[tuple[Hedge, ...]] = [()] * len(out_names)
+        for vname, term, written in rule.conclusions:
             if vname not in outputs:
                 raise b.error(rule.line, f"rule concludes {vname!r}, which is not an output")
             if term not in outputs[vname].terms:
@@ -218,20 +225,15 @@ def _assemble(b: Builder, fb: FunctionBlock, outputs: dict[str, FclVar], inputs:
             if cons[k] is not None:
                 raise b.error(rule.line, f"rule concludes {vname!r} twice")
             cons[k] = values[vname][term] if sugeno else term
+            cons_hedges[k] = tuple(Hedge(h) for h in written)
             # jFuzzyLogic accumulates singletons by their value (x): equal values are one
+            # term, its degree the ACCU of the rules' (T1Sugeno's aggregation)
             key = (vname, repr(cons[k]))
-            if sugeno and accu.value is not Aggregation.SUM and key in users:
-                first, first_term = users[key]
-                same = f"term {term!r}" if first_term == term else (
-                    f"term {term!r} (the value of {first_term!r})")
-                raise b.error(rule.line, f"{same} of {vname!r} is concluded by this rule and the "
-                              f"one at line {first}: with ACCU : "
-                              f"{accu.token.text if accu.token else 'MAX'} that is not a "
-                              "weighted average of rules (use ACCU : NSUM, or one rule per value)")
+            shared = shared or key in users
             users.setdefault(key, (rule.line, term))
         if not 0.0 <= rule.weight <= 1.0:
             raise b.error(rule.line, f"rule weight {rule.weight:g} must be in [0, 1]")
-        built.append(_rule(b, rule, antecedent, cons, op, negated))
+        built.append(_rule(b, rule, antecedent, cons, op, negated, hedges, cons_hedges))
     defaults = [var.default for var in outputs.values()]
     numbers = [None if d is None or math.isnan(d[0]) else d[0] for d in defaults]
     if any(v is None for v in numbers) and any(v is not None for v in numbers):
@@ -246,6 +248,8 @@ def _assemble(b: Builder, fb: FunctionBlock, outputs: dict[str, FclVar], inputs:
     if sugeno:
         if len(out_names) > 1 or out_names != ["output1"]:
             options["outputs"] = tuple(out_names)
+        if shared and accu.value is not Aggregation.SUM:
+            options["aggregation"] = accu.value
         made: AnySystem = b.guarded(None, lambda: T1Sugeno(**options))
         return made
     sets_of = []

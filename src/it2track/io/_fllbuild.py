@@ -17,6 +17,7 @@ from ..fuzzy import (
     AnySystem,
     Consequent,
     Defuzzifier,
+    Hedge,
     HybridSystem,
     Implication,
     Input,
@@ -193,9 +194,9 @@ class _Builder:
             else:
                 name, value = self.mf(t, universe)
             if name in terms:
-                raise self.error(t.line, f"duplicate term {name!r} (first at line "
-                                 f"{terms[name][1]}): a rule naming it is ambiguous (fuzzylite "
-                                 "6 binds the first, pyfuzzylite 8 the last)")
+                self.doc.warn(t.line, f"duplicate term {name!r} (first at line "
+                              f"{terms[name][1]}): rules naming it take this one")
+                del terms[name]
             terms[name] = (value, t.line)
         if not terms:
             raise self.error(section.line, f"OutputVariable {section.name}: no term")
@@ -254,7 +255,7 @@ class _ParsedRule:
     item: Item
     op: str
     props: list[Proposition]
-    conclusions: list[tuple[str, str]]
+    conclusions: list[tuple[str, str, tuple[str, ...]]]
     weight: float
     ops: tuple[tuple[Any, int], tuple[Any, int], tuple[Any, int]]  # conj, disj, imp: line
 
@@ -275,7 +276,16 @@ def _rules(b: _Builder, doc: Document, inputs: list[Input], outputs: list[_Outpu
                b.operator(block, "implication", Implication))
         (conj, conj_line), (disj, disj_line), _ = ops
         for item in block.rules:
-            condition, conclusions, weight = b.doc.rule(item)
+            condition, written, weight = b.doc.rule(item)
+            # A hedged conclusion is fuzzylite's: its hedges modify the rule's activation
+            # degree, and fuzzylite hands the modified degree on to the conclusions after it
+            # (Consequent.modify), so each conclusion's hedges are its own (outermost) and
+            # those of the conclusions before it.
+            conclusions: list[tuple[str, str, tuple[str, ...]]] = []
+            carried: tuple[str, ...] = ()
+            for variable, term, hedges in written:
+                carried = hedges + carried
+                conclusions.append((variable, term, carried))
             _check_names(b, item, condition, inputs, outputs)
             try:
                 op, props = flatten(condition, tnorm=conj or TNorm.MINIMUM,
@@ -298,7 +308,7 @@ def _part(b: _Builder, inputs: list[Input], outputs: list[_Output], rules: list[
           name: str) -> AnySystem:
     """The system of a run of outputs of one kind, with the rules concluding them."""
     names = {o.section.name for o in outputs}
-    mine = [r for r in rules if any(v in names for v, _ in r.conclusions)]
+    mine = [r for r in rules if any(c[0] in names for c in r.conclusions)]
     if not mine:
         raise b.error(outputs[0].section.line, f"no rule concludes {sorted(names)}")
     kind = outputs[0].kind
@@ -359,10 +369,12 @@ def _mf_output(b: _Builder, out: _Output) -> Output:
 
 
 def _rule(b: _Builder, inputs: list[Input], outputs: list[_Output], item: Item, op: str,
-          props: list[Proposition], conclusions: list[tuple[str, str]], weight: float) -> Rule:
+          props: list[Proposition], conclusions: list[tuple[str, str, tuple[str, ...]]],
+          weight: float) -> Rule:
     names = [i.name for i in inputs]
     antecedent: list[str | None] = [None] * len(inputs)
     negated = [False] * len(inputs)
+    hedges: list[tuple[Hedge, ...]] = [()] * len(inputs)
     for prop in props:
         if prop.variable not in names:
             raise b.error(item.line, f"the rule names {prop.variable!r}, which is not an input")
@@ -370,9 +382,11 @@ def _rule(b: _Builder, inputs: list[Input], outputs: list[_Output], item: Item, 
         if prop.term not in {s.name for s in inputs[k].sets}:
             raise b.error(item.line, f"input {prop.variable!r} has no term {prop.term!r}")
         antecedent[k], negated[k] = prop.term, prop.negated
+        hedges[k] = tuple(Hedge(h) for h in prop.hedges)
     out_names = [o.section.name for o in outputs]
     consequents: list[Consequent] = [None] * len(outputs)
-    for variable, term in conclusions:
+    cons_hedges: list[tuple[Hedge, ...]] = [()] * len(outputs)
+    for variable, term, written in conclusions:
         if variable not in out_names:
             raise b.error(item.line, f"the rule concludes {variable!r}, which is not an output")
         k = out_names.index(variable)
@@ -382,8 +396,10 @@ def _rule(b: _Builder, inputs: list[Input], outputs: list[_Output], item: Item, 
             raise b.error(item.line, f"the rule concludes {variable!r} twice")
         consequents[k] = outputs[k].terms[term][0] if outputs[k].kind == "sugeno" else term
         outputs[k].uses[term] = outputs[k].uses.get(term, 0) + 1
+        cons_hedges[k] = tuple(Hedge(h) for h in written)
     return b.guarded(item.line, lambda: Rule(antecedent, consequents=consequents, weight=weight,
-                                             connective=op, negated=negated))
+                                             connective=op, negated=negated, hedges=hedges,
+                                             consequent_hedges=cons_hedges))
 
 
 def _output_options(b: _Builder, outputs: list[_Output], implications: dict[Any, int]

@@ -108,9 +108,6 @@ def flatten(condition: Condition, *, tnorm: TNorm, snorm: SNorm
     _gather(pushed, op, props)
     seen: set[str] = set()
     for prop in props:
-        if prop.hedges:
-            raise ValueError(f"the hedge {' '.join(prop.hedges)!r} on {prop.variable!r} is not "
-                             "supported")
         if prop.variable in seen:
             raise ValueError(f"input {prop.variable!r} appears twice in the condition: "
                              "it2track's rules name each input once")
