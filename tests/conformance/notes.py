@@ -41,6 +41,17 @@ NOTES: dict[str, str] = {
         "consequents see inputs 3.7e-8 apart. Both are right for their ranges; the file's "
         "own, pi/4, is it2track's."
     ),
+    "pyfuzzylite/fuzzylite/examples/mamdani/laundry.fll": (
+        "MeanOfMaximum on a tie. At Load = Dirt = 3.75 the chained rule 'if Detergent is "
+        "more_than_usual then Cycle is long' fires 0.725 (Dirt's Discrete 'high' interpolated "
+        "to 0.7250000000000001 by both engines), and Cycle's 'long' (Discrete 10 0 20 1) is "
+        "0.725 exactly at the midpoint 17.25, so in exact arithmetic 17.25 is in the plateau "
+        "of maxima and the mean is the reference's 18.62. it2track evaluates 'long' as a ramp, "
+        "(17.25 - 10) / 10 = 0.725 correctly rounded, one ulp below the firing, and starts "
+        "the plateau one cell later: 18.63. The reference is right; the difference is one "
+        "cell of the 1000-point grid, from rounding a discontinuous defuzzifier (the same "
+        "file at resolution 500, fuzzylite/examples/mamdani/Laundry.fll, agrees)."
+    ),
     "jfuzzylogic/fcl/robot.fcl": _ROBOT,
     "jfuzzylogic/fcl/robot_optimized.fcl": _ROBOT,
 }

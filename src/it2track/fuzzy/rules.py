@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .conditions import Condition, Is, Join, Modified, Not, inputs_of
 from .hedges import Hedge
 from .membership import MembershipFunction
 from .norms import Connective, TNorm
@@ -225,6 +226,10 @@ class Rule:
         Per output, hedges (outermost first) applied to the rule's weighted firing strength
         for that output (fuzzylite's hedged conclusion ``then y is very B``; Octave's hedged
         Sugeno consequent). Default: none. Only outputs the rule acts on can have hedges.
+    condition : Condition, optional
+        A general condition (:mod:`.conditions`: nested AND/OR/NOT, hedges, explicit norms)
+        in place of the one-connective antecedent; then ``antecedent`` is all ``None`` (one
+        per input) and ``negated``/``hedges`` are not given. Evaluated by numpy.
 
     Attributes
     ----------
@@ -247,6 +252,7 @@ class Rule:
     negated: tuple[bool, ...]
     hedges: tuple[tuple[Hedge, ...], ...]
     consequent_hedges: tuple[tuple[Hedge, ...], ...]
+    condition: Condition | None
 
     def __init__(
         self,
@@ -259,6 +265,7 @@ class Rule:
         negated: Sequence[bool] | None = None,
         hedges: Sequence[Sequence[Hedge]] | None = None,
         consequent_hedges: Sequence[Sequence[Hedge]] | None = None,
+        condition: Condition | None = None,
     ) -> None:
         ant = tuple(antecedent)
         where = f"rule {list(ant)!r}"
@@ -286,6 +293,9 @@ class Rule:
                 raise ValueError(f"{where}: an input the rule does not mention cannot be negated")
         ant_hedges = _hedges(hedges, ant, f"{where}: hedges", "input")
         cons_hedges = _hedges(consequent_hedges, cons, f"{where}: consequent_hedges", "output")
+        if condition is not None:
+            _check_condition(condition, ant, neg, ant_hedges, where)
+        object.__setattr__(self, "condition", condition)
         object.__setattr__(self, "antecedent", ant)
         object.__setattr__(self, "hedges", ant_hedges)
         object.__setattr__(self, "consequent_hedges", cons_hedges)
@@ -303,7 +313,7 @@ class Rule:
     def plain(self) -> bool:
         """True for an AND rule of weight 1 with no negation or hedge (the paper's rule form)."""
         return (self.weight == 1.0 and self.connective is Connective.AND
-                and not any(self.negated) and not self.hedged)
+                and not any(self.negated) and not self.hedged and self.condition is None)
 
     @property
     def hedged(self) -> bool:
@@ -317,7 +327,21 @@ class Rule:
         picked = range(len(self.consequents)) if outputs is None else outputs
         return Rule(self.antecedent, consequents=consequents, weight=self.weight,
                     connective=self.connective, negated=self.negated, hedges=self.hedges,
-                    consequent_hedges=[self.consequent_hedges[k] for k in picked])
+                    consequent_hedges=[self.consequent_hedges[k] for k in picked],
+                    condition=self.condition)
+
+
+def _check_condition(condition: object, ant: tuple[str | None, ...], neg: tuple[bool, ...],
+                     hedges: tuple[tuple[Hedge, ...], ...], where: str) -> None:
+    if not isinstance(condition, Is | Not | Join | Modified):
+        raise ValueError(f"{where}: condition={condition!r} must be an Is, Not, Join or Modified")
+    if any(a is not None for a in ant) or any(neg) or any(hedges):
+        raise ValueError(f"{where}: with a condition, give the antecedent as None per input "
+                         "and no negated= or hedges=")
+    for prop in inputs_of(condition):
+        if not (isinstance(prop.input, int) and 0 <= prop.input < len(ant)):
+            raise ValueError(f"{where}: condition names input {prop.input!r}; the rule has "
+                             f"{len(ant)} inputs")
 
 
 def _hedges(value: Sequence[Sequence[Hedge]] | None, slots: tuple[object, ...], what: str,

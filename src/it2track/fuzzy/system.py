@@ -108,7 +108,7 @@ class _SystemBase:
                     f"rule {k} {rule.antecedent!r} has {len(rule.antecedent)} antecedents for "
                     f"{len(self.inputs)} inputs"
                 )
-            if all(label is None for label in rule.antecedent):
+            if all(label is None for label in rule.antecedent) and rule.condition is None:
                 raise ValueError(f"rule {k} mentions no input")
             if len(rule.consequents) != n_out:
                 raise ValueError(

@@ -65,6 +65,8 @@ class Builder:
         self.p = parser
         self.fb = fb
         self.error = parser.error
+        #: rule line -> its condition as a tree, where the flat form cannot hold it (_chain)
+        self.trees: dict[int, Any] = {}
 
     def guarded(self, line: int | None, make: Callable[[], Any], what: str = "") -> Any:
         prefix = f"{what}: " if what else ""

@@ -24,6 +24,7 @@ from ..fuzzy import (
     T1Tsukamoto,
     TNorm,
 )
+from ._chain import Chain
 from ._fclbuild import ACCU, AND, MAMDANI, OR, PARTNER_OF_OR, SUGENO, Builder
 from ._fclparse import Block, FclVar, FunctionBlock, Parser, RuleNode, Tok
 from ._ruletree import DUALS, flatten, propositions
@@ -85,7 +86,8 @@ def _rule(b: Builder, rule: RuleNode, antecedent: list[str | None], cons: list[C
     made: Rule = b.guarded(rule.line, lambda: Rule(antecedent, consequents=cons,
                                                    weight=rule.weight, connective=op,
                                                    negated=negated, hedges=hedges,
-                                                   consequent_hedges=cons_hedges))
+                                                   consequent_hedges=cons_hedges,
+                                                   condition=b.trees.get(rule.line)))
     return made
 
 
@@ -126,20 +128,36 @@ def build(parser: Parser, fb: FunctionBlock) -> AnySystem:
         sets = [(t.name, b.mf(t, universe)) for t in var.terms.values()]
         inputs.append(_variable(b, Input, var, universe, sets))
     parsed: list[tuple[RuleNode, str, list, Block, TNorm, SNorm]] = []
+    accus = {name: ACCU.get(var.accu.upper) if var.accu is not None else next(
+        (_op(b, blk, "ACCU", ACCU) for blk in fb.blocks if blk.ops.get("ACCU")), None)
+        for name, var in fb.outputs.items()}
+    chain = Chain(list(fb.inputs), accus)
     for block in fb.blocks:
         and_, or_ = _op(b, block, "AND", AND), _op(b, block, "OR", OR)
         and_ = and_ or PARTNER_OF_OR.get(or_) or TNorm.MINIMUM
         or_ = or_ or DUALS.get(and_) or SNorm.MAXIMUM
         for rule in block.rules:
+            chained = False
             for prop in propositions(rule.condition):
-                if prop.variable not in fb.inputs:
-                    what = "an output (a chained system)" if prop.variable in fb.outputs else (
-                        "not an input")
-                    raise b.error(rule.line, f"rule names {prop.variable!r}, which is {what}")
+                if prop.variable in fb.outputs:
+                    chained = True  # fuzzylite's chained engine: see _chain
+                elif prop.variable not in fb.inputs:
+                    raise b.error(rule.line, f"rule names {prop.variable!r}, which is not an "
+                                  "input")
             try:
+                if chained:
+                    raise ValueError("chained")
                 op, props = flatten(rule.condition, tnorm=and_, snorm=or_)
-            except ValueError as exc:
-                raise b.error(rule.line, str(exc)) from None
+            except ValueError:  # nested AND/OR, an input named twice, a chained output
+                op, props = "and", []
+                try:
+                    b.trees[rule.line] = chain.condition(rule.condition, and_, or_)
+                except ValueError as exc:
+                    raise b.error(rule.line, str(exc)) from None
+            if not 0.0 <= rule.weight <= 1.0:
+                raise b.error(rule.line, f"rule weight {rule.weight:g} must be in [0, 1]")
+            chain.concludes(b.trees.get(rule.line) or chain.condition(rule.condition, and_, or_),
+                            rule.weight, rule.conclusions)
             parsed.append((rule, op, props, block, and_, or_))
     if not parsed:
         raise b.error(fb.line, f"FUNCTION_BLOCK {fb.name}: no RULE")
@@ -204,7 +222,9 @@ def _assemble(b: Builder, fb: FunctionBlock, outputs: dict[str, FclVar], inputs:
     built: list[Rule] = []
     users: dict[tuple[str, str], tuple[int, str]] = {}
     shared = False
-    for rule, op, props in rules:
+    queue = list(rules)
+    while queue:
+        rule, op, props = queue.pop(0)
         antecedent: list[str | None] = [None] * len(in_names)
         negated = [False] * len(in_names)
         hedges: list[tuple[Hedge, ...]] = [()] * len(in_names)
@@ -216,6 +236,7 @@ def _assemble(b: Builder, fb: FunctionBlock, outputs: dict[str, FclVar], inputs:
             hedges[k] = tuple(Hedge(h) for h in prop.hedges)
         cons: list[Consequent] = [None] * len(out_names)
         cons_hedges: list[tuple[Hedge, ...]] = [()] * len(out_names)
+        again = []  # a second conclusion on one output: the same rule again (jFuzzyLogic)
         for vname, term, written in rule.conclusions:
             if vname not in outputs:
                 raise b.error(rule.line, f"rule concludes {vname!r}, which is not an output")
@@ -223,7 +244,8 @@ def _assemble(b: Builder, fb: FunctionBlock, outputs: dict[str, FclVar], inputs:
                 raise b.error(rule.line, f"output {vname!r} has no term {term!r}")
             k = out_names.index(vname)
             if cons[k] is not None:
-                raise b.error(rule.line, f"rule concludes {vname!r} twice")
+                again.append((vname, term, written))
+                continue
             cons[k] = values[vname][term] if sugeno else term
             cons_hedges[k] = tuple(Hedge(h) for h in written)
             # jFuzzyLogic accumulates singletons by their value (x): equal values are one
@@ -231,8 +253,8 @@ def _assemble(b: Builder, fb: FunctionBlock, outputs: dict[str, FclVar], inputs:
             key = (vname, repr(cons[k]))
             shared = shared or key in users
             users.setdefault(key, (rule.line, term))
-        if not 0.0 <= rule.weight <= 1.0:
-            raise b.error(rule.line, f"rule weight {rule.weight:g} must be in [0, 1]")
+        if again:
+            queue.insert(0, (dataclasses.replace(rule, conclusions=again), op, props))
         built.append(_rule(b, rule, antecedent, cons, op, negated, hedges, cons_hedges))
     defaults = [var.default for var in outputs.values()]
     numbers = [None if d is None or math.isnan(d[0]) else d[0] for d in defaults]

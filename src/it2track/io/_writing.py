@@ -123,14 +123,20 @@ def fmt_rule(system: AnySystem, rule: Rule, out_indices: Sequence[int]) -> str:
 
 
 def refuse_hedges(system: object, fmt: str, *, hedges: bool = True) -> None:
-    """Refuse a system whose rules have hedges (with ``hedges``), or a T1Sugeno that groups
-    its rules by value (``aggregation``): ``fmt`` cannot carry them."""
+    """Refuse a system whose rules have hedges (with ``hedges``) or a general condition, or
+    a T1Sugeno that groups its rules by value (``aggregation``): ``fmt`` cannot carry them."""
     for part in getattr(system, "systems", (system,)):
         if isinstance(part, T1Sugeno) and part.aggregation is not None:
             raise UnsupportedFeatureError(
                 f"the T1Sugeno aggregation {part.aggregation.value!r} (rules grouped by "
                 f"consequent value, jFuzzyLogic's ACCU) cannot be written to {fmt}")
-        for r, rule in enumerate(getattr(part, "rules", ()) if hedges else ()):
+        for r, rule in enumerate(getattr(part, "rules", ())):
+            if rule.condition is not None:
+                raise UnsupportedFeatureError(
+                    f"rule {r + 1} has a general condition (nested AND/OR, or a chained "
+                    f"output's degree), which it2track cannot write to {fmt}")
+            if not hedges:
+                continue
             if rule.hedged:
                 raise UnsupportedFeatureError(
                     f"rule {r + 1} has hedges (very, somewhat, ...), which the {fmt} format "
