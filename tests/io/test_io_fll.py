@@ -14,6 +14,7 @@ from io_systems import random_system
 from it2track.fuzzy import (
     Aggregation,
     Defuzzifier,
+    FootedTrapezoid,
     HybridSystem,
     Implication,
     Input,
@@ -158,8 +159,6 @@ MALFORMED = [
      "Triangle needs 3 parameters"),
     ("term: dark Triangle 0.0 0.0 0.6", "term: dark Triangle 0.0 0.0 x", "term: dark",
      "bad number 'x'"),
-    ("term: dark Triangle 0.0 0.0 0.6", "term: dark Triangle 0.2 0.2 0.6", "term: dark",
-     "left shoulder at x=0.2 inside the range"),
     ("activation: General", "activation: Highest 2", "activation:", "Highest 2 is not supported"),
     ("lock-previous: false", "lock-previous: true", "lock-previous", "needs state"),
     ("  enabled: true\n  range: 0.0 1.0", "  enabled: false\n  range: 0.0 1.0", "enabled: false",
@@ -221,3 +220,14 @@ def test_a_duplicated_term_name_binds_the_last_with_a_warning() -> None:
     once = loads(SUGENO.replace("term: flat Constant 7", "term: flat Constant 9"), "fll")
     x = np.linspace(0, 1, 11)
     np.testing.assert_array_equal(twice(x, x[::-1]), once(x, x[::-1]))
+
+
+def test_a_shoulder_inside_the_range_is_zero_beyond_its_foot_as_in_fuzzylite() -> None:
+    text = MAMDANI.replace("term: dark Triangle 0.0 0.0 0.6", "term: dark Triangle 0.2 0.2 0.6")
+    fls = loads(text, "fll")
+    dark = fls.inputs[0].sets[0].upper
+    assert isinstance(dark, FootedTrapezoid)
+    np.testing.assert_allclose(dark(np.array([0.1, 0.2, 0.4, 0.7])), [0.0, 1.0, 0.5, 0.0],
+                               rtol=0, atol=1e-15)
+    again = loads(dumps(fls, "fll"), "fll")
+    assert again.inputs == fls.inputs

@@ -32,6 +32,7 @@ from .mamdani import (
     set_centroid,
 )
 from .membership import (
+    FootedTrapezoid,
     Gaussian,
     MembershipFunction,
     PiecewiseLinear,
@@ -118,6 +119,7 @@ __all__ = [
     "Cosine",
     "Defuzzifier",
     "Discrete",
+    "FootedTrapezoid",
     "FuzzySystem",
     "Gaussian",
     "GaussianProduct",

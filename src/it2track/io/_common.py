@@ -18,6 +18,7 @@ import numpy as np
 from ..fuzzy import (
     AnySystem,
     Consequent,
+    FootedTrapezoid,
     Input,
     IT2Set,
     Linear,
@@ -37,6 +38,7 @@ __all__ = [
     "FUZZYLITE_FIS_NAMES",
     "build_input",
     "build_rules",
+    "footed",
     "guard",
     "linear_from",
     "mf_from_matlab",
@@ -153,6 +155,14 @@ def shoulder_problem(mf: MembershipFunction, universe: tuple[float, float], labe
                     "(constant beyond the peak) cannot represent; move the shoulder to the range "
                     "end")
     return None
+
+
+def footed(mf: MembershipFunction, universe: tuple[float, float]) -> MembershipFunction:
+    """``mf`` as the tools read it: a triangle/trapezoid with a shoulder inside the universe
+    (:func:`shoulder_problem`) is 0 beyond its foot there, a :class:`FootedTrapezoid`."""
+    if isinstance(mf, PiecewiseLinear) and shoulder_problem(mf, universe, "", "") is not None:
+        return FootedTrapezoid(*mf.as_trapezoid())
+    return mf
 
 
 def widened(mf: MembershipFunction, universe: tuple[float, float]) -> MembershipFunction:

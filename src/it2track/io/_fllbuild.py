@@ -35,7 +35,7 @@ from ..fuzzy import (
 from ..fuzzy.conditions import Condition as CoreCondition
 from ..fuzzy.terms import from_fuzzylite, fuzzylite_consequent
 from ._chain import Chain
-from ._common import shoulder_problem
+from ._common import footed
 from ._flldoc import Document, Item, Section, show
 from ._ruletree import Condition, Proposition, flatten, propositions
 from .errors import FisFormatError
@@ -124,10 +124,7 @@ class _Builder:
     def mf(self, item: Item, universe: tuple[float, float]) -> tuple[str, MembershipFunction]:
         name, kind, params = self.term(item, universe)
         mf = self.guarded(item.line, lambda: from_fuzzylite(kind, params), f"term {name!r}")
-        problem = shoulder_problem(mf, universe, f"term {name!r} {kind}", f"fuzzylite's {kind}")
-        if problem:
-            raise self.error(item.line, problem)
-        return name, mf
+        return name, footed(mf, universe)  # 0 beyond a foot inside the range, as fuzzylite
 
     def consequent(self, line: int, name: str, kind: str, params: list[float], n_inputs: int
                    ) -> Consequent:
