@@ -1,7 +1,8 @@
 """Where it2track's output differs from a file's reference, which is right and why.
 
 Every file the harness finds differing must have a note here, and every note must belong to a
-file that differs (the conformance test checks both). Each note names the evidence; the
+file that differs (the conformance test checks both). Every refused file's reason matches one
+of :data:`REFUSALS`, which says why it stays refused. Each note names the evidence; the
 claims about pyfuzzylite are re-checked by ``test_conformance.py`` where pyfuzzylite is
 installed.
 """
@@ -55,3 +56,68 @@ NOTES: dict[str, str] = {
     "jfuzzylogic/fcl/robot.fcl": _ROBOT,
     "jfuzzylogic/fcl/robot_optimized.fcl": _ROBOT,
 }
+
+
+#: (a fragment of the refusal message, the cause, why it2track leaves it refused)
+REFUSALS: list[tuple[str, str, str]] = [
+    ("no VAR_OUTPUT", "not a fuzzy system: a function block without outputs",
+     "jFuzzyLogic's membership-function unit tests (junit_gauss.fcl, ...) and scarledOLD.fcl "
+     "declare inputs only; jFuzzyLogic's tests read the terms' memberships directly. Nothing "
+     "maps inputs to an output, so there is no system to evaluate or compare."),
+    ("has no DEFUZZIFY block", "not a fuzzy system: an output without terms",
+     "The file declares an output it never defines (jFuzzyLogic fills it from a Java test). "
+     "There is no output set or value to evaluate."),
+    ("has no FUZZIFY block", "term parameters given by other variables",
+     ""),
+    ("no TERM", "not a fuzzy system: no rules, no terms",
+     "noRules.fcl has an output with no term and no rule, a parser test of jFuzzyLogic."),
+    ("no rule has a consequent for output", "an output no rule concludes",
+     "arm.fcl declares an output (torque2) that no rule concludes. it2track's systems need a "
+     "rule per output; reading the file without it would change the file."),
+    ("needs state", "state: keep the previous output",
+     "DEFAULT := NC / lock-previous keep the last output where no rule fires: the output "
+     "depends on the previous call. it2track's systems are functions of their inputs "
+     "(bit-for-bit reproducible whatever the batch); state belongs to the caller's loop."),
+    ("which needs state", "state: keep the previous output", ""),
+    ("(state)", "state: keep the previous output", ""),
+    ("never evaluates text", "a formula in text (fuzzylite's Function)",
+     "Evaluating a formula from a file means running text as code; it2track never does "
+     "(hostile input is normal input)."),
+    ("rule mentions no input", "a chained rule lost in a .fis export",
+     "fuzzylite wrote the chained rules of Laundry/SimpleDimmerChained/SimpleDimmerInverse "
+     "to .fis with antecedent index 0 (a .fis cannot name an output in a condition): the "
+     ".fis rule says nothing about when it fires, so it cannot be read as its .fll/.fcl twin "
+     "(which it2track reads and agrees with)."),
+    ("has a fraction", "Octave's hedges in a .fis",
+     "Octave writes a hedge as the rule index's fraction and means a power (2.3: set 2 to "
+     "the power 3; on a Sugeno conclusion, the firing to the power 1/3), while fuzzylite, "
+     "whose .fll is the reference, reads .3 as its own 'extremely' (contrast intensification). "
+     "The file has two readings; it2track evaluates both hedge families "
+     "(it2track.fuzzy.Hedge and Hedge.power) but will not guess which one the file means."),
+    ("values given by variables", "term parameters given by other variables",
+     "jFuzzyLogic lets a term's points be other inputs' values (GAUSS meanGood stdGood: "
+     "cinthia.fcl's inputs without terms of their own), so the sets change with every "
+     "evaluation; it2track's sets are fixed when the system is built."),
+    ("a singleton is the value of a COGS output", "a singleton set in a centroid output",
+     "A singleton has no area; sampled on a centroid's grid it counts only where a grid "
+     "point (jFuzzyLogic builds its grid by repeated addition) hits it exactly, so its "
+     "contribution is an accident of rounding. it2track takes singletons as COGS values."),
+    ("centroid_integral", "Octave's centroid_integral defuzzifier",
+     "Octave's own integral of the aggregated set; it2track's centroids are on the output "
+     "grid (MATLAB's 101 points), so this would be a different number."),
+    ("unexpected character", "syntax jFuzzyLogic alone accepts",
+     "junit_functions.fcl writes DEFAULT = 0 (the standard's is :=) in an output whose terms "
+     "are non-linear formulas (FUNCTION ... SIN(inVar)), which it2track would refuse next as "
+     "formulas in text."),
+    ("feet and peak must satisfy", "a zero-width triangle",
+     "TRIAN 0 0 0 is a point with no area (see the singleton case)."),
+]
+
+
+def refusal_cause(detail: str) -> tuple[str, str] | None:
+    """``(cause, why)`` of a refusal message, or None."""
+    why_of = {cause: why for _, cause, why in REFUSALS if why}
+    for fragment, cause, _ in REFUSALS:
+        if fragment in detail:
+            return cause, why_of[cause]
+    return None

@@ -17,7 +17,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 from catalog import FILES, REFERENCES, examples, twins
 from harness import check, results
 from make_table import PAGE, render
-from notes import NOTES
+from notes import NOTES, refusal_cause
 
 from it2track.fuzzy import Aggregation
 from it2track.io import FisFormatWarning, load
@@ -31,6 +31,7 @@ def test_example_agrees_differs_as_noted_or_is_refused_with_its_line(example) ->
     if result.status == "refused":
         assert example.path not in NOTES, "a refused file needs no note"
         assert result.detail, "a refusal says why"
+        assert refusal_cause(result.detail), f"notes.REFUSALS has no cause for {result.detail}"
         return
     if example.path in NOTES:
         assert result.status == "differs", f"the note on {example.path} is stale: it agrees"

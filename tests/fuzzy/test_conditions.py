@@ -175,3 +175,16 @@ def test_fcl_nested_condition_and_a_second_conclusion_on_one_output() -> None:
     den = f1 + 0.5 * b_lo + 0.5 * b_lo
     assert float(fls(1.0, 2.0)) == pytest.approx(num / den, rel=1e-15)
     assert len(fls.rules) == 3
+
+
+def test_fis_show_writes_conditions_and_hedges() -> None:
+    from it2track.cli.fis import rule_text
+
+    fls = loads(CHAINED, "fll")
+    assert rule_text(fls, fls.rules[4]) == "if very ((x is hi)) then q = 9"  # p is very B
+    hedged = fls.rules[4].condition
+    assert isinstance(hedged, Modified) and [str(h) for h in hedged.hedges] == ["very"]
+    tree = T1Sugeno(inputs=_inputs(), rules=[Rule([None] * 3, 1.0, condition=Join(
+        "or", (Is(0, "lo", (Hedge("very"),)), Not(Is(1, "hi"))), SNorm.PROBOR))])
+    assert rule_text(tree, tree.rules[0]) == (
+        "if (a is very lo) or [probor] (not (b is hi)) then 1")
