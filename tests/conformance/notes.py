@@ -23,6 +23,15 @@ _JUGGLER = (
     "reads the .fis so, and with the terms renamed apart pyfuzzylite agrees with it to 1e-16. "
     "The reference is wrong."
 )
+_OCTAVE_HEDGES = (
+    "Octave writes a hedge as a rule index's fraction and means a power (fuzzy-logic-toolkit's "
+    "get_mf_index_and_hedge, evalmf, eval_rules_sugeno): 2.3 is set 2 to the power 3 on an "
+    "antecedent and the rule's firing to the power 1/3 on a Sugeno conclusion, each "
+    "conclusion on its own. fuzzylite read .3 as its own 'extremely' (2 mu^2 below 1/2) when "
+    "it wrote the .fll reference, and hands a hedged conclusion's degree on to the next. "
+    "it2track reads the Octave file as Octave evaluates it; pyfuzzylite given Octave's powers "
+    "(and one rule per conclusion) agrees with it to 4e-16. The reference is wrong."
+)
 _ROBOT = (
     "jFuzzyLogic steps along the output range by repeated addition, so its last grid point "
     "is 1.0000000000000007, just beyond the range end 1, where the right shoulder "
@@ -34,6 +43,10 @@ _ROBOT = (
 NOTES: dict[str, str] = {
     "fuzzylite/examples/original/mamdani/octave/mamdani_tip_calculator.fis": _SUM,
     "fuzzylite/examples/original/takagi-sugeno/matlab/juggler.fis": _JUGGLER,
+    "fuzzylite/examples/original/mamdani/octave/investment_portfolio.fis": _OCTAVE_HEDGES,
+    "fuzzylite/examples/original/takagi-sugeno/octave/sugeno_tip_calculator.fis":
+        _OCTAVE_HEDGES,
+    "octave/inst/sugeno_tip_calculator.fis": _OCTAVE_HEDGES,
     "fuzzylite/examples/takagi-sugeno/matlab/juggler.fis": _JUGGLER,
     "fuzzylite/examples/original/takagi-sugeno/matlab/sltbu.fis": (
         "MATLAB's file gives its ranges as [-pi/4 pi/4]; fuzzylite's copy of it (sltbu_fl, "
@@ -88,12 +101,6 @@ REFUSALS: list[tuple[str, str, str]] = [
      "to .fis with antecedent index 0 (a .fis cannot name an output in a condition): the "
      ".fis rule says nothing about when it fires, so it cannot be read as its .fll/.fcl twin "
      "(which it2track reads and agrees with)."),
-    ("has a fraction", "Octave's hedges in a .fis",
-     "Octave writes a hedge as the rule index's fraction and means a power (2.3: set 2 to "
-     "the power 3; on a Sugeno conclusion, the firing to the power 1/3), while fuzzylite, "
-     "whose .fll is the reference, reads .3 as its own 'extremely' (contrast intensification). "
-     "The file has two readings; it2track evaluates both hedge families "
-     "(it2track.fuzzy.Hedge and Hedge.power) but will not guess which one the file means."),
     ("values given by variables", "term parameters given by other variables",
      "jFuzzyLogic lets a term's points be other inputs' values (GAUSS meanGood stdGood: "
      "cinthia.fcl's inputs without terms of their own), so the sets change with every "
