@@ -188,3 +188,19 @@ def test_fis_show_writes_conditions_and_hedges() -> None:
         "or", (Is(0, "lo", (Hedge("very"),)), Not(Is(1, "hi"))), SNorm.PROBOR))])
     assert rule_text(tree, tree.rules[0]) == (
         "if (a is very lo) or [probor] (not (b is hi)) then 1")
+
+
+def test_c_generation_and_kernels_refuse_trees_and_hedges_naming_them() -> None:
+    from it2track.codegen.generate import check_supported
+    from it2track.fuzzy.kernels import supported
+
+    tree = T1Sugeno(inputs=_inputs(), rules=[
+        Rule([None] * 3, 1.0, condition=Join("and", (Is(0, "lo"), Is(1, "hi")))),
+        Rule(["hi", None, None], 0.0)])
+    hedged = T1Sugeno(inputs=_inputs(), rules=[
+        Rule(["lo", None, None], 1.0, hedges=[[Hedge("very")], [], []]),
+        Rule(["hi", None, None], 0.0)])
+    for fls, feature in ((tree, "tree"), (hedged, "hedges")):
+        with pytest.raises(UnsupportedFeatureError, match=feature):
+            check_supported(fls)
+        assert feature in (supported(fls) or "")

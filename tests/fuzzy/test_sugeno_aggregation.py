@@ -116,3 +116,18 @@ def test_fcl_singletons_of_one_value_accumulate_by_accu() -> None:
 def test_writers_refuse_the_aggregation(fmt: str) -> None:
     with pytest.raises(UnsupportedFeatureError, match="aggregation"):
         dumps(loads(FCL, "fcl"), fmt)
+
+
+def test_c_generation_refuses_the_aggregation() -> None:
+    from it2track.codegen.fixedpoint import check_fixed_supported
+    from it2track.codegen.generate import check_supported
+
+    fls = T1Sugeno(inputs=[Input("x", (0, 4), [("lo", Triangle(0, 0, 4)),
+                                               ("hi", Triangle(0, 4, 4))])],
+                   rules=[Rule(["lo"], 1.0), Rule(["hi"], 1.0)],
+                   aggregation=Aggregation.MAXIMUM)
+    with pytest.raises(UnsupportedFeatureError, match="consequent value"):
+        check_supported(fls)
+    with pytest.raises(UnsupportedFeatureError, match="consequent value"):
+        check_fixed_supported(fls, "exhaustive")
+    check_supported(T1Sugeno(inputs=fls.inputs, rules=fls.rules))  # without it: generated

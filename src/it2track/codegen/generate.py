@@ -153,6 +153,10 @@ def check_supported(system: object) -> None:
             "(IT2Sugeno, T1Sugeno) are supported"
         )
     assert isinstance(system, IT2Sugeno | T1Sugeno)
+    if getattr(system, "aggregation", None) is not None:
+        raise UnsupportedFeatureError(
+            f"system {system.name!r} groups its rules by consequent value (T1Sugeno "
+            "aggregation, jFuzzyLogic's ACCU), which C generation does not implement")
     tables = system.tables
     features = frozenset(getattr(tables, "features", frozenset()))
     extra = sorted(features - SUPPORTED_FEATURES)
