@@ -21,6 +21,7 @@ from it2track.fuzzy import (
     TNorm,
     Trapezoid,
     Triangle,
+    ZeroFiringError,
 )
 from it2track.paper import heading_fls
 
@@ -30,6 +31,12 @@ SETTINGS = settings(max_examples=150, deadline=None)
 inputs = st.floats(-1.5, 1.5, allow_nan=False, allow_infinity=False)
 fous = st.floats(0.0, 1.55, allow_nan=False)
 unit = st.floats(0.0, 1.0, allow_nan=False)
+
+
+#: t-norms positive wherever both arguments are: the paper's sets (every input in some set's
+#: support on both inputs) then always fire a rule. Bounded difference, the drastic product and
+#: the nilpotent minimum can be 0 for positive arguments (see test_zero_firing_norms).
+POSITIVE_TNORMS = (TNorm.PRODUCT, TNorm.MINIMUM, TNorm.EINSTEIN_PRODUCT, TNorm.HAMACHER_PRODUCT)
 
 
 @functools.cache
@@ -79,7 +86,23 @@ def test_firing_is_ordered_in_unit_interval(w, e, de, tnorm):
     lower, upper = paper(w, tnorm=tnorm).firing(e, de)
     assert lower.shape == upper.shape == (9,)
     assert np.all(lower >= 0.0) and np.all(lower <= upper) and np.all(upper <= 1.0)
-    assert upper.sum() > 0.0  # the paper's sets cover the universe
+    if tnorm in POSITIVE_TNORMS:
+        assert upper.sum() > 0.0  # the paper's sets cover the universe
+
+
+def test_zero_firing_norms():
+    """At e = de = 0.5 the type-1 paper sets give Z = P = 0.375 on each input: every rule's
+    bounded difference is max(0, 0.375 + 0.375 - 1) = 0 and the nilpotent minimum (0 where
+    a + b <= 1) is 0, so no rule fires; the drastic product is 0 unless an argument is 1. The
+    product fires the four rules on Z, P at 0.375**2."""
+    for tnorm in (TNorm.BOUNDED_DIFFERENCE, TNorm.NILPOTENT_MINIMUM, TNorm.DRASTIC_PRODUCT):
+        lower, upper = paper(0.0, tnorm=tnorm).firing(0.5, 0.5)
+        assert upper.tolist() == [0.0] * 9 and lower.tolist() == [0.0] * 9, tnorm
+        with pytest.raises(ZeroFiringError, match="no rule"):
+            paper(0.0, tnorm=tnorm)(0.5, 0.5)
+    _, upper = paper(0.0).firing(0.5, 0.5)
+    assert sorted(upper.tolist())[-4:] == pytest.approx([0.375 ** 2] * 4, rel=1e-15)
+    assert sorted(upper.tolist())[:5] == [0.0] * 5
 
 
 @SETTINGS
@@ -112,7 +135,14 @@ def test_type1_output_inside_the_it2_interval_of_its_centre_sets(w, e, de):
        tnorm=st.sampled_from(list(TNorm)))
 def test_paper_controller_is_odd(w, e, de, red, tnorm):
     fls = paper(w, red, tnorm)
-    assert abs(float(fls(e, de)) + float(fls(-e, -de))) <= 1e-12
+    try:
+        u = float(fls(e, de))
+    except ZeroFiringError:  # only a norm that can vanish; then at (-e, -de) as well
+        assert tnorm not in POSITIVE_TNORMS
+        with pytest.raises(ZeroFiringError):
+            fls(-e, -de)
+        return
+    assert abs(u + float(fls(-e, -de))) <= 1e-12
 
 
 @SETTINGS
@@ -120,7 +150,13 @@ def test_paper_controller_is_odd(w, e, de, red, tnorm):
        tnorm=st.sampled_from(list(TNorm)))
 def test_scalar_path_equals_array_path(w, e, de, tnorm):
     fls = paper(w, tnorm=tnorm)
-    fast = fls(e, de)
+    try:
+        fast = fls(e, de)
+    except ZeroFiringError:  # the array path refuses the same point
+        assert tnorm not in POSITIVE_TNORMS
+        with pytest.raises(ZeroFiringError):
+            fls(np.array([e]), np.array([de]))
+        return
     assert type(fast) is float
     assert fast == float(fls(np.array([e]), np.array([de]))[0])
 
