@@ -123,7 +123,8 @@ def apply_hedges(hedges: Sequence[Hedge], mu: ArrayLike) -> FloatArray:
 
 @dataclass(frozen=True)
 class Hedged:
-    """A membership function with hedges applied: ``hedges[0](hedges[1](... mf(x)))``.
+    """A membership function with hedges applied, the last one first:
+    ``hedges[0](hedges[1](mf(x)))`` for two.
 
     Parameters
     ----------
