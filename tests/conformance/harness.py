@@ -27,7 +27,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).parent))
 from catalog import FILES, OUTPUT_NAMES, Example, examples
 
-from it2track.fuzzy import HybridSystem, Rule
+from it2track.fuzzy import HybridSystem
 from it2track.io import FisFormatError, load
 
 #: agreement bound, relative to the output's range
@@ -67,8 +67,8 @@ def _single(system, k: int):
             k -= part.n_outputs
     if system.n_outputs == 1:
         return system
-    rules = [Rule(r.antecedent, r.consequents[k], weight=r.weight, connective=r.connective,
-                  negated=r.negated) for r in system.rules if r.consequents[k] is not None]
+    rules = [r.with_consequents([r.consequents[k]], [k])
+             for r in system.rules if r.consequents[k] is not None]
     outputs = system.outputs
     if outputs:
         outputs = (outputs[k],)

@@ -20,7 +20,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).parent))
 from catalog import FILES
 from harness import TOLERANCE, Result, results
-from notes import NOTES
+from notes import NOTES, refusal_cause
 
 from it2track.io import load
 
@@ -123,6 +123,15 @@ def render(found: list[Result]) -> str:
     for r in found:
         if r.status == "differs":
             lines += [f"- `{r.example.path}` ({r.detail}): {NOTES.get(r.example.path, '')}"]
+    causes: dict[str, tuple[str, list[str]]] = {}
+    for r in found:
+        if r.status == "refused":
+            cause, why = refusal_cause(r.detail) or ("(no cause recorded)", "")
+            causes.setdefault(cause, (why, []))[1].append(r.example.path)
+    lines += ["", "## Why the remaining files stay refused", "",
+              "| cause | files | why it2track leaves it refused |", "|---|---|---|"]
+    for cause, (why, paths) in sorted(causes.items(), key=lambda kv: -len(kv[1][1])):
+        lines.append(f"| {cause} | {len(paths)} | {why} |")
     lines += ["", "## Refused files", "",
               "Each is refused with a `FisFormatError` naming the file, the line and the "
               "feature:", "", "| file | reason |", "|---|---|"]

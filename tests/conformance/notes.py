@@ -1,7 +1,8 @@
 """Where it2track's output differs from a file's reference, which is right and why.
 
 Every file the harness finds differing must have a note here, and every note must belong to a
-file that differs (the conformance test checks both). Each note names the evidence; the
+file that differs (the conformance test checks both). Every refused file's reason matches one
+of :data:`REFUSALS`, which says why it stays refused. Each note names the evidence; the
 claims about pyfuzzylite are re-checked by ``test_conformance.py`` where pyfuzzylite is
 installed.
 """
@@ -17,10 +18,19 @@ _SUM = (
 )
 _JUGGLER = (
     "fuzzylite's .fll of MATLAB's juggler.fis names all nine output terms out1mf, so every "
-    "rule names one term (fuzzylite 6 binds the first, pyfuzzylite 8 the last: it2track "
-    "refuses the .fll as ambiguous). MATLAB's rules index the nine planes; it2track reads "
-    "the .fis so, and with the terms renamed apart pyfuzzylite agrees with it to 1e-16. The "
-    "reference is wrong."
+    "rule names one term (pyfuzzylite 8 binds the last, as it2track reads the .fll, with a "
+    "warning; fuzzylite 6 bound the first). MATLAB's rules index the nine planes; it2track "
+    "reads the .fis so, and with the terms renamed apart pyfuzzylite agrees with it to 1e-16. "
+    "The reference is wrong."
+)
+_OCTAVE_HEDGES = (
+    "Octave writes a hedge as a rule index's fraction and means a power (fuzzy-logic-toolkit's "
+    "get_mf_index_and_hedge, evalmf, eval_rules_sugeno): 2.3 is set 2 to the power 3 on an "
+    "antecedent and the rule's firing to the power 1/3 on a Sugeno conclusion, each "
+    "conclusion on its own. fuzzylite read .3 as its own 'extremely' (2 mu^2 below 1/2) when "
+    "it wrote the .fll reference, and hands a hedged conclusion's degree on to the next. "
+    "it2track reads the Octave file as Octave evaluates it; pyfuzzylite given Octave's powers "
+    "(and one rule per conclusion) agrees with it to 4e-16. The reference is wrong."
 )
 _ROBOT = (
     "jFuzzyLogic steps along the output range by repeated addition, so its last grid point "
@@ -33,6 +43,10 @@ _ROBOT = (
 NOTES: dict[str, str] = {
     "fuzzylite/examples/original/mamdani/octave/mamdani_tip_calculator.fis": _SUM,
     "fuzzylite/examples/original/takagi-sugeno/matlab/juggler.fis": _JUGGLER,
+    "fuzzylite/examples/original/mamdani/octave/investment_portfolio.fis": _OCTAVE_HEDGES,
+    "fuzzylite/examples/original/takagi-sugeno/octave/sugeno_tip_calculator.fis":
+        _OCTAVE_HEDGES,
+    "octave/inst/sugeno_tip_calculator.fis": _OCTAVE_HEDGES,
     "fuzzylite/examples/takagi-sugeno/matlab/juggler.fis": _JUGGLER,
     "fuzzylite/examples/original/takagi-sugeno/matlab/sltbu.fis": (
         "MATLAB's file gives its ranges as [-pi/4 pi/4]; fuzzylite's copy of it (sltbu_fl, "
@@ -41,6 +55,76 @@ NOTES: dict[str, str] = {
         "consequents see inputs 3.7e-8 apart. Both are right for their ranges; the file's "
         "own, pi/4, is it2track's."
     ),
+    "pyfuzzylite/fuzzylite/examples/mamdani/laundry.fll": (
+        "MeanOfMaximum on a tie. At Load = Dirt = 3.75 the chained rule 'if Detergent is "
+        "more_than_usual then Cycle is long' fires 0.725 (Dirt's Discrete 'high' interpolated "
+        "to 0.7250000000000001 by both engines), and Cycle's 'long' (Discrete 10 0 20 1) is "
+        "0.725 exactly at the midpoint 17.25, so in exact arithmetic 17.25 is in the plateau "
+        "of maxima and the mean is the reference's 18.62. it2track evaluates 'long' as a ramp, "
+        "(17.25 - 10) / 10 = 0.725 correctly rounded, one ulp below the firing, and starts "
+        "the plateau one cell later: 18.63. The reference is right; the difference is one "
+        "cell of the 1000-point grid, from rounding a discontinuous defuzzifier (the same "
+        "file at resolution 500, fuzzylite/examples/mamdani/Laundry.fll, agrees)."
+    ),
     "jfuzzylogic/fcl/robot.fcl": _ROBOT,
     "jfuzzylogic/fcl/robot_optimized.fcl": _ROBOT,
 }
+
+
+#: (a fragment of the refusal message, the cause, why it2track leaves it refused)
+REFUSALS: list[tuple[str, str, str]] = [
+    ("no VAR_OUTPUT", "not a fuzzy system: a function block without outputs",
+     "jFuzzyLogic's membership-function unit tests (junit_gauss.fcl, ...) and scarledOLD.fcl "
+     "declare inputs only; jFuzzyLogic's tests read the terms' memberships directly. Nothing "
+     "maps inputs to an output, so there is no system to evaluate or compare."),
+    ("has no DEFUZZIFY block", "not a fuzzy system: an output without terms",
+     "The file declares an output it never defines (jFuzzyLogic fills it from a Java test). "
+     "There is no output set or value to evaluate."),
+    ("has no FUZZIFY block", "term parameters given by other variables",
+     ""),
+    ("no TERM", "not a fuzzy system: no rules, no terms",
+     "noRules.fcl has an output with no term and no rule, a parser test of jFuzzyLogic."),
+    ("no rule has a consequent for output", "an output no rule concludes",
+     "arm.fcl declares an output (torque2) that no rule concludes. it2track's systems need a "
+     "rule per output; reading the file without it would change the file."),
+    ("needs state", "state: keep the previous output",
+     "DEFAULT := NC / lock-previous keep the last output where no rule fires: the output "
+     "depends on the previous call. it2track's systems are functions of their inputs "
+     "(bit-for-bit reproducible whatever the batch); state belongs to the caller's loop."),
+    ("which needs state", "state: keep the previous output", ""),
+    ("(state)", "state: keep the previous output", ""),
+    ("never evaluates text", "a formula in text (fuzzylite's Function)",
+     "Evaluating a formula from a file means running text as code; it2track never does "
+     "(hostile input is normal input)."),
+    ("rule mentions no input", "a chained rule lost in a .fis export",
+     "fuzzylite wrote the chained rules of Laundry/SimpleDimmerChained/SimpleDimmerInverse "
+     "to .fis with antecedent index 0 (a .fis cannot name an output in a condition): the "
+     ".fis rule says nothing about when it fires, so it cannot be read as its .fll/.fcl twin "
+     "(which it2track reads and agrees with)."),
+    ("values given by variables", "term parameters given by other variables",
+     "jFuzzyLogic lets a term's points be other inputs' values (GAUSS meanGood stdGood: "
+     "cinthia.fcl's inputs without terms of their own), so the sets change with every "
+     "evaluation; it2track's sets are fixed when the system is built."),
+    ("a singleton is the value of a COGS output", "a singleton set in a centroid output",
+     "A singleton has no area; sampled on a centroid's grid it counts only where a grid "
+     "point (jFuzzyLogic builds its grid by repeated addition) hits it exactly, so its "
+     "contribution is an accident of rounding. it2track takes singletons as COGS values."),
+    ("centroid_integral", "Octave's centroid_integral defuzzifier",
+     "Octave's own integral of the aggregated set; it2track's centroids are on the output "
+     "grid (MATLAB's 101 points), so this would be a different number."),
+    ("unexpected character", "syntax jFuzzyLogic alone accepts",
+     "junit_functions.fcl writes DEFAULT = 0 (the standard's is :=) in an output whose terms "
+     "are non-linear formulas (FUNCTION ... SIN(inVar)), which it2track would refuse next as "
+     "formulas in text."),
+    ("feet and peak must satisfy", "a zero-width triangle",
+     "TRIAN 0 0 0 is a point with no area (see the singleton case)."),
+]
+
+
+def refusal_cause(detail: str) -> tuple[str, str] | None:
+    """``(cause, why)`` of a refusal message, or None."""
+    why_of = {cause: why for _, cause, why in REFUSALS if why}
+    for fragment, cause, _ in REFUSALS:
+        if fragment in detail:
+            return cause, why_of[cause]
+    return None

@@ -17,7 +17,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 from catalog import FILES, REFERENCES, examples, twins
 from harness import check, results
 from make_table import PAGE, render
-from notes import NOTES
+from notes import NOTES, refusal_cause
 
 from it2track.fuzzy import Aggregation
 from it2track.io import FisFormatWarning, load
@@ -31,6 +31,7 @@ def test_example_agrees_differs_as_noted_or_is_refused_with_its_line(example) ->
     if result.status == "refused":
         assert example.path not in NOTES, "a refused file needs no note"
         assert result.detail, "a refusal says why"
+        assert refusal_cause(result.detail), f"notes.REFUSALS has no cause for {result.detail}"
         return
     if example.path in NOTES:
         assert result.status == "differs", f"the note on {example.path} is stale: it agrees"
@@ -140,3 +141,49 @@ def test_reference_tables_are_pyfuzzylites_outputs_live() -> None:
                 np.array([[float(v) for v in row.split(",")] for row in live[1:]]),
                 np.array([[float(v) for v in row.split(",")] for row in kept[1:]]),
                 rtol=1e-12, atol=1e-12, err_msg=name)
+
+
+def test_octave_hedges_are_powers_pyfuzzylite_agrees_given_them() -> None:
+    # the note on Octave's .fis hedges: pyfuzzylite with Octave's powers in place of its
+    # hedges (antecedent mu ** p, conclusion firing ** (1 / p), one rule per conclusion)
+    fl = _pyfuzzylite()
+    import re
+
+    factory = fl.settings.factory_manager.hedge
+    for word, p in {"somewhat": 0.5, "very": 2.0, "extremely": 3.0}.items():
+        factory.constructors[f"p{word}"] = lambda p=p, w=word: fl.HedgeLambda(
+            f"p{w}", lambda x: np.asarray(x) ** p)
+        factory.constructors[f"r{word}"] = lambda p=p, w=word: fl.HedgeLambda(
+            f"r{w}", lambda x: np.asarray(x) ** (1.0 / p))
+    hedge = re.compile(r"\b(somewhat|very|extremely)\b")
+    original = fl.Op.midpoints
+    fl.Op.midpoints = staticmethod(lambda start, end, n: np.linspace(start, end, n))
+    try:
+        for path in ("fuzzylite/examples/original/mamdani/octave/investment_portfolio",
+                     "fuzzylite/examples/original/takagi-sugeno/octave/sugeno_tip_calculator"):
+            ours = load(FILES / f"{path}.fis")
+            engine = fl.FllImporter().from_file(FILES / f"{path}.fll")
+            for ov in engine.output_variables:
+                if hasattr(ov.defuzzifier, "resolution"):
+                    ov.defuzzifier.resolution = 101
+            block = engine.rule_blocks[0]
+            rules = []
+            for text in [r.text for r in block.rules]:
+                cond, then = text.split(" then ")
+                then, _, weight = then.partition(" with ")
+                cond = hedge.sub(r"p\1", cond)
+                for part in then.split(" and "):
+                    part = hedge.sub(r"r\1", part)
+                    rules.append(fl.Rule.create(
+                        f"{cond} then {part}" + (f" with {weight}" if weight else ""), engine))
+            block.rules = rules
+            x = np.array([[a, b] for a in (2.0, 4.5, 7.0, 9.5) for b in (1.5, 5.0, 8.5)])
+            if "investment" in path:
+                x = x * np.array([10.0, 1.0]) + np.array([5.0, 0.0])
+            engine.input_values = x
+            engine.process()
+            np.testing.assert_allclose(ours.evaluate(x).reshape(len(x), -1),
+                                       np.asarray(engine.output_values).reshape(len(x), -1),
+                                       rtol=1e-12)
+    finally:
+        fl.Op.midpoints = original

@@ -130,3 +130,17 @@ def test_mfs_are_frozen_and_hashable():
     assert hash(t) == hash(Triangle(-1.0, 0.0, 1.0))
     with pytest.raises(AttributeError):
         t.a = 0.5  # type: ignore[misc]
+
+
+def test_footed_trapezoid_is_zero_beyond_a_vertical_side() -> None:
+    from it2track.fuzzy import FootedTrapezoid, Trapezoid
+
+    f = FootedTrapezoid(1.0, 1.0, 2.0, 3.0, 0.5)
+    x = np.array([0.999, 1.0, 1.5, 2.5, 3.0, 3.001])
+    np.testing.assert_allclose(f(x), [0.0, 0.5, 0.5, 0.25, 0.0, 0.0], rtol=0, atol=1e-15)
+    g = FootedTrapezoid(0.0, 1.0, 2.0, 2.0)  # right side vertical: h at d, 0 just after
+    assert g(np.array([2.0, 2.0 + 1e-12])).tolist() == [1.0, 0.0]
+    inside = np.linspace(1.0, 3.0, 21)
+    np.testing.assert_array_equal(f(inside), Trapezoid(1.0, 1.0, 2.0, 3.0, 0.5)(inside))
+    with pytest.raises(ValueError, match="a <= b <= c <= d"):
+        FootedTrapezoid(2.0, 1.0, 3.0, 4.0)

@@ -291,7 +291,7 @@ END_DEFUZZIFY"""
 
 
 @pytest.mark.parametrize(("old", "new", "needle", "problem"), [
-    ("IF x IS lo THEN", "IF x IS very lo THEN", "RULE 1", "hedge"),
+    ("IF x IS lo THEN", "IF x IS very nope THEN", "RULE 1", "has no term 'nope'"),
     ("TERM a := 2;", "TERM a := 2;\n    DEFAULT := NC;", "DEFAULT", "needs state"),
     ("TERM lo := (0, 1) (10, 0);", "TERM lo := TRIAN 0 m 10;", "TERM lo", "is a variable"),
     ("METHOD : COGS;", "METHOD : COGS;\n    ACCU : NOPE;", "ACCU", "ACCU : NOPE"),

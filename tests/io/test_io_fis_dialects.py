@@ -13,6 +13,7 @@ import pytest
 
 from it2track.fuzzy import (
     Aggregation,
+    Hedge,
     Implication,
     Ramp,
     SNorm,
@@ -81,15 +82,68 @@ def test_float_rule_indices_are_read_as_integers() -> None:
     assert load(text) == BASE
 
 
-@pytest.mark.parametrize(("index", "hedge"), [("1.2", "very"), ("1.05", "somewhat"),
-                                              ("-1.3", "extremely"), ("1.40", "very very")])
-def test_hedges_are_refused_naming_the_line_and_the_hedge(index: str, hedge: str) -> None:
+@pytest.mark.parametrize(("index", "power"), [("1.2", 2.0), ("1.05", 0.5), ("-1.3", 3.0),
+                                              ("1.40", 4.0), ("1.7", 7.0)])
+def test_octave_hedges_are_powers(index: str, power: float) -> None:
+    # fuzzy-logic-toolkit: the fraction in hundredths over 10 is the power (custom ones too)
     text = edit(TIPPER, "3 2, 3 (1) : 1", f"3 {index}, 3 (1) : 1")
+    rule = load(text).rules[2]
+    assert rule.hedges[1] == (Hedge.power(power),)
+    assert rule.negated[1] is index.startswith("-")
+
+
+def test_fuzzylite_exports_mean_fuzzylites_hedges() -> None:
+    header = "#Code automatically generated with fuzzylite 6.0.\n\n"
+    rule = load(header + edit(TIPPER, "3 2, 3 (1) : 1", "3 -1.3, 3 (1) : 1")).rules[2]
+    assert rule.hedges[1] == (Hedge("extremely"),) and rule.negated[1]
+    rule = load(header + edit(TIPPER, "3 2, 3 (1) : 1", "3 1.4, 3 (1) : 1")).rules[2]
+    assert rule.hedges[1] == (Hedge("very"), Hedge("very"))
+    text = header + edit(TIPPER, "3 2, 3 (1) : 1", "3 1.7, 3 (1) : 1")
     err = error_of(text)
-    assert err.line == line_with(text, f"3 {index},")
-    assert f"the hedge {hedge!r}" in err.message, err
-    err = error_of(edit(TIPPER, "3 2, 3 (1) : 1", "3 1.7, 3 (1) : 1"))
+    assert err.line == line_with(text, "3 1.7,")
     assert "rule index 1.7 has a fraction: hedges are not supported" in err.message
+
+
+def test_a_hedged_octave_sugeno_conclusion_is_the_firing_to_the_power_one_over_p() -> None:
+    text = """[System]
+Name='s'
+Type='sugeno'
+NumInputs=1
+NumOutputs=1
+NumRules=2
+AndMethod='prod'
+OrMethod='max'
+ImpMethod='prod'
+AggMethod='sum'
+DefuzzMethod='wtaver'
+
+[Input1]
+Name='x'
+Range=[0 4]
+NumMFs=2
+MF1='lo':'trimf',[-4 0 4]
+MF2='hi':'trimf',[0 4 8]
+
+[Output1]
+Name='y'
+Range=[0 10]
+NumMFs=2
+MF1='a':'constant',[2]
+MF2='b':'constant',[8]
+
+[Rules]
+1, 1.3 (0.5) : 1
+2, -2.2 (1) : 1
+"""
+    fls = loads(text, "fis")
+    f1 = (0.5 * 0.75) ** (1 / 3)  # at x = 1: the weighted firing to the power 1/3
+    f2 = 1 - 0.25 ** 0.5  # not, after the power 1/2
+    assert float(fls(1.0)) == pytest.approx((2 * f1 + 8 * f2) / (f1 + f2), rel=1e-15)
+    assert fls.rules[1].consequent_hedges[0] == (Hedge("not"), Hedge.power(0.5))
+    mamdani = (DATA / "tipper_mamdani.fis").read_text()
+    for conclusion in ("3.2", "-3"):  # Octave hedges the output set itself: refused
+        err = error_of(edit(mamdani, "3 2, 3 (1) : 2", f"3 2, {conclusion} (1) : 2"))
+        assert "conclusion of a Mamdani output" in err.message
 
 
 def test_unknown_key_warns_with_its_line_and_is_ignored() -> None:

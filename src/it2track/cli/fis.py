@@ -151,10 +151,13 @@ def _consequent_text(cons: Consequent, inputs: tuple[str, ...]) -> str:
 def rule_text(system: Any, rule: Rule) -> str:
     """One rule as text, e.g. ``if e is N or de is not P then u = -4 (weight 0.5)``."""
     terms = [
-        f"{inp.name} is {'not ' if neg else ''}{label}"
-        for inp, label, neg in zip(system.inputs, rule.antecedent, rule.negated, strict=True)
+        f"{inp.name} is {'not ' if neg else ''}{''.join(f'{h} ' for h in hs)}{label}"
+        for inp, label, neg, hs in zip(system.inputs, rule.antecedent, rule.negated,
+                                       rule.hedges, strict=True)
         if label is not None
     ]
+    if rule.condition is not None:
+        terms = [_condition_text(system, rule.condition)[1:-1]]
     names = tuple(inp.name for inp in system.inputs)
     outs = system.output_names
     mamdani = any(isinstance(c, str) for c in rule.consequents)
@@ -167,7 +170,28 @@ def rule_text(system: Any, rule: Rule) -> str:
         )
     weight = "" if rule.weight == 1.0 else f" (weight {_num(rule.weight)})"
     joiner = f" {rule.connective.value} "
-    return f"if {joiner.join(terms)} then {then}{weight}"
+    hedged = "".join(f" ({out}: {' '.join(map(str, hs))})"
+                     for out, hs in zip(outs, rule.consequent_hedges, strict=True) if hs)
+    return f"if {joiner.join(terms)} then {then}{weight}{hedged}"
+
+
+def _condition_text(system: Any, node: Any) -> str:
+    """A general condition (:mod:`it2track.fuzzy.conditions`) as text, in parentheses."""
+    from ..fuzzy.conditions import Is, Join, Modified, Not
+
+    if isinstance(node, Is):
+        hedges = "".join(f"{h} " for h in node.hedges)
+        return f"({system.inputs[node.input].name} is {hedges}{node.label})"
+    if isinstance(node, Not):
+        return f"(not {_condition_text(system, node.operand)})"
+    if isinstance(node, Modified):
+        hedges = "".join(f"{h} " for h in node.hedges)
+        scale = "" if node.weight == 1.0 else f"{_num(node.weight)} * "
+        return f"({hedges}{scale}{_condition_text(system, node.operand)})"
+    assert isinstance(node, Join)
+    norm = "" if node.norm is None else f" [{node.norm.value}]"
+    return "(" + f" {node.op}{norm} ".join(_condition_text(system, c)
+                                          for c in node.operands) + ")"
 
 
 def _load(path: str, block: str | None = None) -> AnySystem:

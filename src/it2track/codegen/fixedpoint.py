@@ -330,6 +330,10 @@ def check_fixed_supported(system: IT2Sugeno | T1Sugeno, reducer: str) -> None:
             f"system {system.name!r} uses rule-language feature(s) "
             f"{', '.join(sorted(features))} that the fixed-point build does not implement "
             "(use --real float)")
+    if getattr(system, "aggregation", None) is not None:
+        raise UnsupportedFeatureError(
+            f"system {system.name!r} groups its rules by consequent value (T1Sugeno "
+            "aggregation), which the fixed-point build does not implement")
     if reducer not in FIXED_REDUCERS:
         raise UnsupportedFeatureError(
             f"type reducer {reducer!r} has no fixed-point implementation (fixed point carries "

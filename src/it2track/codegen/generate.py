@@ -123,6 +123,10 @@ def check_supported(system: object, real: RealType | None = None) -> None:
             "systems (IT2Sugeno, T1Sugeno) and Mamdani systems (IT2Mamdani, T1Mamdani)"
         )
     assert isinstance(system, IT2Sugeno | T1Sugeno | IT2Mamdani | T1Mamdani)
+    if getattr(system, "aggregation", None) is not None and isinstance(system, T1Sugeno):
+        raise UnsupportedFeatureError(
+            f"system {system.name!r} groups its rules by consequent value (T1Sugeno "
+            "aggregation, jFuzzyLogic's ACCU), which C generation does not implement")
     tables = antecedent_tables(system)
     features = frozenset(getattr(tables, "features", frozenset()))
     extra = sorted(features - SUPPORTED_FEATURES)

@@ -27,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from ..fuzzy import Input, IT2Set, IT2Sugeno, Rule, T1Sugeno, TNorm, Triangle, rules_from_table
+from ..fuzzy import Input, IT2Set, IT2Sugeno, T1Sugeno, TNorm, Triangle, rules_from_table
 from ..paper import LABELS, RULE_TABLE, heading_fls
 
 __all__ = [
@@ -69,9 +69,7 @@ def scaled_consequents(fls: IT2Sugeno | T1Sugeno, gain: float) -> IT2Sugeno | T1
         raise ValueError(f"output gain: consequent {c!r} is not a zero-order Sugeno "
                          "consequent (a number or an interval)")
 
-    rules = tuple(Rule(r.antecedent, consequents=[scale(c) for c in r.consequents],
-                       weight=r.weight, connective=r.connective, negated=r.negated)
-                  for r in fls.rules)
+    rules = tuple(r.with_consequents([scale(c) for c in r.consequents]) for r in fls.rules)
     zero = fls.on_zero_firing
     if isinstance(zero, tuple):
         zero = tuple(v * gain for v in zero)

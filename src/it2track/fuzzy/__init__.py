@@ -6,7 +6,8 @@ trapezoids, Gaussians), :mod:`.curves` (bell, two-sided Gaussian, cosine, spike)
 :mod:`.sigmoids`, :mod:`.splines` (S/Z/Pi shapes), :mod:`.shapes` (ramps, rectangle,
 binary, discrete, concave, arc, semi-ellipse), :mod:`.terms` (MATLAB's and fuzzylite's
 names of them), :mod:`.kinds` (their compiled rows), :mod:`.sets`
-(IT2 sets), :mod:`.norms` (t-norms, s-norms, implication, aggregation, defuzzifiers),
+(IT2 sets), :mod:`.hedges` (very, somewhat, ...), :mod:`.norms` (t-norms, s-norms,
+implication, aggregation, defuzzifiers),
 :mod:`.rules` (variables and rules), :mod:`.tables` (the lowering to arrays and the rule
 firing), :mod:`.reducers` (type reduction), :mod:`.sugeno` (Sugeno/TSK
 systems), :mod:`.mamdani` (Mamdani systems, centroid and centre-of-sets type reduction),
@@ -17,6 +18,7 @@ systems), :mod:`.mamdani` (Mamdani systems, centroid and centre-of-sets type red
 
 from .curves import Bell, Cosine, GaussianProduct, Spike, gauss2mf, gbellmf
 from .defuzz import Sampling, output_grid
+from .hedges import Hedge, Hedged
 from .hybrid import HybridSystem
 from .kinds import MFKind
 from .mamdani import (
@@ -30,6 +32,7 @@ from .mamdani import (
     set_centroid,
 )
 from .membership import (
+    FootedTrapezoid,
     Gaussian,
     MembershipFunction,
     PiecewiseLinear,
@@ -116,9 +119,12 @@ __all__ = [
     "Cosine",
     "Defuzzifier",
     "Discrete",
+    "FootedTrapezoid",
     "FuzzySystem",
     "Gaussian",
     "GaussianProduct",
+    "Hedge",
+    "Hedged",
     "HybridSystem",
     "IT2Mamdani",
     "IT2Set",

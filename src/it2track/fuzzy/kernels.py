@@ -147,6 +147,8 @@ def supported(system: Any) -> str | None:
     if kind is None:
         return f"{type(system).__name__} is not IT2Sugeno or T1Sugeno"
     t = system.tables
+    if getattr(system, "aggregation", None) is not None:
+        return "a T1Sugeno aggregation (rules grouped by consequent) is not compiled"
     extra = set(t.features) - _FEATURES
     if extra:
         return f"rule features {sorted(extra)} are not compiled"

@@ -50,7 +50,7 @@ from numpy.typing import NDArray
 from .defuzz import Sampling, defuzzify, output_grid
 from .norms import Aggregation, Defuzzifier, Implication, TNorm
 from .reducers import EXHAUSTIVE, TypeReducer, _exhaustive_left, exhaustive_many_rows
-from .rules import Output, Rule
+from .rules import Output
 from .sugeno import IT2Sugeno, T1Sugeno
 from .system import BLOCK, _SystemBase
 from .tables import SystemTables
@@ -201,8 +201,7 @@ class MamdaniTables:
                     lo_c, hi_c = centroids[k][outputs[k].set_index(label)]
                     cons.append((float(lo_c), float(hi_c)))
             interval_rules.append(
-                Rule(rule.antecedent, consequents=cons, weight=rule.weight,
-                     connective=rule.connective, negated=rule.negated)
+                rule.with_consequents(cons)
             )
         self.antecedents = SystemTables(system.inputs, tuple(interval_rules), snorm=system.snorm)
         self.features: frozenset[str] = self.antecedents.features | {"mamdani"}
@@ -323,8 +322,7 @@ class _MamdaniBase(_SystemBase):
         from dataclasses import replace
 
         rules = tuple(
-            Rule(r.antecedent, r.consequents[k], weight=r.weight, connective=r.connective,
-                 negated=r.negated)
+            r.with_consequents([r.consequents[k]], [k])
             for r in self.rules if r.consequents[k] is not None
         )
         return replace(self, rules=rules, outputs=(self.outputs[k],),

@@ -22,6 +22,7 @@ from .kinds import MFKind, Row
 from .libm import exp
 
 __all__ = [
+    "FootedTrapezoid",
     "Gaussian",
     "MembershipFunction",
     "PiecewiseLinear",
@@ -216,6 +217,36 @@ class Trapezoid(PiecewiseLinear):
 
     def as_trapezoid(self) -> tuple[float, float, float, float, float]:
         return (float(self.a), float(self.b), float(self.c), float(self.d), float(self.h))
+
+
+@dataclass(frozen=True)
+class FootedTrapezoid(Term):
+    """A trapezoid ``[a b c d]`` (height ``h``) that is 0 outside its feet ``[a, d]`` even
+    where a side is vertical (``a == b``: it rises to ``h`` at ``a``; ``c == d``: it drops to
+    0 after ``d``): MATLAB's ``trapmf``/``trimf``, fuzzylite's and jFuzzyLogic's trapezoids
+    and triangles, where :class:`Trapezoid` keeps a shoulder's height beyond it. Between the
+    feet (both included) it equals ``Trapezoid(a, b, c, d, h)``. Evaluated by numpy.
+
+    Examples
+    --------
+    >>> FootedTrapezoid(1, 1, 2, 3)(np.array([0.5, 1.0, 2.5, 3.5])).tolist()
+    [0.0, 1.0, 0.5, 0.0]
+    """
+
+    FUZZYLITE = "Trapezoid"
+    a: float
+    b: float
+    c: float
+    d: float
+    h: float = 1.0
+
+    def __post_init__(self) -> None:
+        Trapezoid(self.a, self.b, self.c, self.d, self.h)  # the same checks
+
+    def __call__(self, x: ArrayLike) -> FloatArray:
+        x = np.asarray(x, dtype=np.float64)
+        y = trapmf(x, self.a, self.b, self.c, self.d, self.h)
+        return np.where((x < self.a) | (x > self.d), 0.0, y)
 
 
 @dataclass(frozen=True)

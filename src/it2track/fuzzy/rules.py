@@ -24,6 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .conditions import Condition, Is, Join, Modified, Not, inputs_of
+from .hedges import Hedge
 from .membership import MembershipFunction
 from .norms import Connective, TNorm
 from .sets import IT2Set
@@ -218,6 +220,18 @@ class Rule:
     negated : sequence of bool, optional
         Per input, True for ``x is not A`` (default: none negated). Only mentioned inputs can
         be negated.
+    hedges : sequence of sequence of Hedge, optional
+        Per input, the :class:`~it2track.fuzzy.hedges.Hedge` s of its proposition, outermost
+        first, applied to the set's membership before ``negated`` (``x is not very A`` is
+        ``1 - very(mu_A)``). Default: none. Only mentioned inputs can have hedges.
+    consequent_hedges : sequence of sequence of Hedge, optional
+        Per output, hedges (outermost first) applied to the rule's weighted firing strength
+        for that output (fuzzylite's hedged conclusion ``then y is very B``; Octave's hedged
+        Sugeno consequent). Default: none. Only outputs the rule acts on can have hedges.
+    condition : Condition, optional
+        A general condition (:mod:`.conditions`: nested AND/OR/NOT, hedges, explicit norms)
+        in place of the one-connective antecedent; then ``antecedent`` is all ``None`` (one
+        per input) and ``negated``/``hedges`` are not given. Evaluated by numpy.
 
     Attributes
     ----------
@@ -238,6 +252,9 @@ class Rule:
     weight: float
     connective: Connective
     negated: tuple[bool, ...]
+    hedges: tuple[tuple[Hedge, ...], ...]
+    consequent_hedges: tuple[tuple[Hedge, ...], ...]
+    condition: Condition | None
 
     def __init__(
         self,
@@ -248,6 +265,9 @@ class Rule:
         weight: float = 1.0,
         connective: Connective | str = Connective.AND,
         negated: Sequence[bool] | None = None,
+        hedges: Sequence[Sequence[Hedge]] | None = None,
+        consequent_hedges: Sequence[Sequence[Hedge]] | None = None,
+        condition: Condition | None = None,
     ) -> None:
         ant = tuple(antecedent)
         where = f"rule {list(ant)!r}"
@@ -273,7 +293,14 @@ class Rule:
         for label, flag in zip(ant, neg, strict=True):
             if flag and label is None:
                 raise ValueError(f"{where}: an input the rule does not mention cannot be negated")
+        ant_hedges = _hedges(hedges, ant, f"{where}: hedges", "input")
+        cons_hedges = _hedges(consequent_hedges, cons, f"{where}: consequent_hedges", "output")
+        if condition is not None:
+            _check_condition(condition, ant, neg, ant_hedges, where)
+        object.__setattr__(self, "condition", condition)
         object.__setattr__(self, "antecedent", ant)
+        object.__setattr__(self, "hedges", ant_hedges)
+        object.__setattr__(self, "consequent_hedges", cons_hedges)
         object.__setattr__(self, "consequents", cons)
         object.__setattr__(self, "weight", float(weight))
         object.__setattr__(self, "connective", connective)
@@ -286,9 +313,53 @@ class Rule:
 
     @property
     def plain(self) -> bool:
-        """True for an AND rule of weight 1 with no negation (the paper's rule form)."""
+        """True for an AND rule of weight 1 with no negation or hedge (the paper's rule form)."""
         return (self.weight == 1.0 and self.connective is Connective.AND
-                and not any(self.negated))
+                and not any(self.negated) and not self.hedged and self.condition is None)
+
+    @property
+    def hedged(self) -> bool:
+        """True if any proposition or conclusion of the rule has a hedge."""
+        return any(self.hedges) or any(self.consequent_hedges)
+
+    def with_consequents(self, consequents: Sequence[object],
+                         outputs: Sequence[int] | None = None) -> Rule:
+        """This rule with other consequents: one per output, or one per output of
+        ``outputs`` (indices into this rule's outputs, whose conclusion hedges it keeps)."""
+        picked = range(len(self.consequents)) if outputs is None else outputs
+        return Rule(self.antecedent, consequents=consequents, weight=self.weight,
+                    connective=self.connective, negated=self.negated, hedges=self.hedges,
+                    consequent_hedges=[self.consequent_hedges[k] for k in picked],
+                    condition=self.condition)
+
+
+def _check_condition(condition: object, ant: tuple[str | None, ...], neg: tuple[bool, ...],
+                     hedges: tuple[tuple[Hedge, ...], ...], where: str) -> None:
+    if not isinstance(condition, Is | Not | Join | Modified):
+        raise ValueError(f"{where}: condition={condition!r} must be an Is, Not, Join or Modified")
+    if any(a is not None for a in ant) or any(neg) or any(hedges):
+        raise ValueError(f"{where}: with a condition, give the antecedent as None per input "
+                         "and no negated= or hedges=")
+    for prop in inputs_of(condition):
+        if not (isinstance(prop.input, int) and 0 <= prop.input < len(ant)):
+            raise ValueError(f"{where}: condition names input {prop.input!r}; the rule has "
+                             f"{len(ant)} inputs")
+
+
+def _hedges(value: Sequence[Sequence[Hedge]] | None, slots: tuple[object, ...], what: str,
+            kind: str) -> tuple[tuple[Hedge, ...], ...]:
+    if value is None:
+        return ((),) * len(slots)
+    try:
+        out = tuple(tuple(h) for h in value)
+    except TypeError:
+        raise ValueError(f"{what}={value!r} must hold a sequence of Hedge per {kind}") from None
+    if len(out) != len(slots) or not all(isinstance(h, Hedge) for hs in out for h in hs):
+        raise ValueError(f"{what}={value!r} must hold a sequence of Hedge per {kind}")
+    for slot, hs in zip(slots, out, strict=True):
+        if hs and slot is None:
+            raise ValueError(f"{what}: an {kind} the rule does not mention cannot have hedges")
+    return out
 
 
 def rules_from_table(

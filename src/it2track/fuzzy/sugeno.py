@@ -32,7 +32,7 @@ from typing import ClassVar
 import numpy as np
 from numpy.typing import NDArray
 
-from .norms import WeightedDefuzzifier
+from .norms import Aggregation, WeightedDefuzzifier
 from .reducers import EXHAUSTIVE, TypeReducer
 from .system import BLOCK, _SystemBase
 from .tables import EXACT_IDENTITY, SystemTables
@@ -181,6 +181,13 @@ class T1Sugeno(_SystemBase):
     defuzzifier : WeightedDefuzzifier
         ``WeightedDefuzzifier.AVERAGE`` (default, ``wtaver``) or ``SUM`` (``wtsum``: the sum
         of the rules' firing times consequent, in rule order).
+    aggregation : Aggregation or None
+        ``None`` (default, MATLAB): every rule is a term of the weighted average. Otherwise
+        rules with equal consequents are one term, whose degree is this s-norm
+        of their firings folded in rule order: jFuzzyLogic's ``ACCU`` of singletons, which
+        it groups by value (``Aggregation.MAXIMUM``: ``u = sum_v v max_{r: y_r = v} f_r /
+        sum_v max_{r: y_r = v} f_r``). First-order consequents are grouped where their
+        values at the input are equal, as jFuzzyLogic does. Evaluated by numpy.
 
     Examples
     --------
@@ -195,6 +202,7 @@ class T1Sugeno(_SystemBase):
     """
 
     defuzzifier: WeightedDefuzzifier = WeightedDefuzzifier.AVERAGE
+    aggregation: Aggregation | None = None
     #: How :mod:`.kernels` compiles this class (this class only: not inherited, see there).
     _compiled_as: ClassVar[str] = "t1"
 
@@ -211,6 +219,8 @@ class T1Sugeno(_SystemBase):
                     )
         if not all(c.crisp for c in self._c.outputs):
             raise ValueError("T1Sugeno: rule consequents must be crisp (lo == hi)")
+        if self.aggregation is not None and not isinstance(self.aggregation, Aggregation):
+            raise ValueError(f"aggregation={self.aggregation!r} must be an Aggregation or None")
 
     def _interval_of(
         self, c: SystemTables, x: FloatArray, k: int
@@ -224,7 +234,11 @@ class T1Sugeno(_SystemBase):
             for start in range(0, n, BLOCK):
                 stop = min(start + BLOCK, n)
                 _, f = c.firing_block(x[:, start:stop], self.tnorm)
-                if linear:
+                if self.aggregation is not None:
+                    yb = (c.consequents_block(x[:, start:stop])[0] if linear
+                          else np.broadcast_to(y[:, None], f.shape))
+                    num, den = self._aggregated(f, yb)
+                elif linear:
                     yb = c.consequents_block(x[:, start:stop])[0]
                     num, den = (f * yb).sum(axis=0), f.sum(axis=0)
                 else:
@@ -242,8 +256,24 @@ class T1Sugeno(_SystemBase):
             u[bad] = zero
         return u, u.copy()
 
+    def _aggregated(self, f: FloatArray, yb: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """``(sum_v v F_v, sum_v F_v)`` per sample, ``F_v`` the aggregation of the firings
+        ``f`` (R, N) of the rules whose consequent ``yb`` (R, N) equals ``v`` there."""
+        assert self.aggregation is not None
+        snorm = self.aggregation.snorm
+        deg = f.copy()
+        merged = np.zeros(f.shape, dtype=bool)  # rule r joined an earlier rule's term there
+        for r in range(1, f.shape[0]):
+            for q in range(r):
+                same = ~merged[q] & ~merged[r] & (yb[q] == yb[r])
+                if same.any():
+                    deg[q, same] = snorm.pair(deg[q, same], f[r, same])
+                    merged[r, same] = True
+        deg[merged] = 0.0
+        return (deg * yb).sum(axis=0), deg.sum(axis=0)
+
     def _scalar_output(self, x: list[float]) -> float | None:
-        if self._c.features or self.tnorm not in EXACT_IDENTITY:
+        if self._c.features or self.tnorm not in EXACT_IDENTITY or self.aggregation:
             return None
         _, f = self._firing_scalar(x)
         y = self._c.y_lo_s

@@ -108,7 +108,7 @@ class _SystemBase:
                     f"rule {k} {rule.antecedent!r} has {len(rule.antecedent)} antecedents for "
                     f"{len(self.inputs)} inputs"
                 )
-            if all(label is None for label in rule.antecedent):
+            if all(label is None for label in rule.antecedent) and rule.condition is None:
                 raise ValueError(f"rule {k} mentions no input")
             if len(rule.consequents) != n_out:
                 raise ValueError(
@@ -198,8 +198,7 @@ class _SystemBase:
         if self.n_outputs == 1:
             return self
         rules = tuple(
-            Rule(r.antecedent, r.consequents[k], weight=r.weight, connective=r.connective,
-                 negated=r.negated)
+            r.with_consequents([r.consequents[k]], [k])
             for r in self.rules if r.consequents[k] is not None
         )
         return replace(self, rules=rules, outputs=(names[k],) if self.outputs else (),

@@ -25,6 +25,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .conditions import Condition, Is, Join, Modified, Not
+from .hedges import Hedge, Hedged, apply_hedges
 from .kinds import MFKind, Row
 from .membership import (
     Gaussian,
@@ -41,7 +43,7 @@ from .sets import ScaledLagged
 __all__ = ["FEATURES", "MFKind", "SystemTables"]
 
 #: Every name :attr:`SystemTables.features` can hold (see the class docstring).
-FEATURES = frozenset({"not", "or", "weights", "linear", "outputs"})
+FEATURES = frozenset({"not", "or", "weights", "linear", "outputs", "hedges", "tree"})
 
 FloatArray = NDArray[np.float64]
 
@@ -151,7 +153,9 @@ class SystemTables:
         Rule-language features beyond zero-order AND rules of weight 1 with one output that
         these tables use, from :data:`FEATURES`: ``"not"`` (a negated antecedent),
         ``"or"`` (an OR rule over two or more inputs), ``"weights"`` (a weight other than 1),
-        ``"linear"`` (a first-order consequent), ``"outputs"`` (more than one output). An
+        ``"linear"`` (a first-order consequent), ``"outputs"`` (more than one output),
+        ``"hedges"`` (a hedged proposition -- its rows are :class:`~it2track.fuzzy.hedges.Hedged`
+        -- or a hedged conclusion, applied to the weighted firing of that rule). An
         evaluator that does not implement one of them must refuse the tables or fall back on
         the numpy evaluation. The empty set is exactly the paper's rule form.
     """
@@ -197,17 +201,38 @@ class SystemTables:
             mf_input.append(i)
             return len(mfs) - 1
 
+        def hedged_rows(i: int, label: str, hedges: tuple[Hedge, ...]) -> tuple[int, int]:
+            s = inputs[i].sets[inputs[i].set_index(label)]
+            mf_up, mf_lo = s.upper, s.lower
+            if hedges:  # hedged rows (a 'not' among the hedges swaps the bounds)
+                if sum(not h.increasing for h in hedges) % 2:
+                    mf_up, mf_lo = mf_lo, mf_up
+                mf_up, mf_lo = Hedged(mf_up, hedges), Hedged(mf_lo, hedges)
+            return row_of(mf_up, i), row_of(mf_lo, i)
+
+        def compiled(node: Condition) -> tuple[Any, ...]:
+            if isinstance(node, Is):
+                return ("is", *hedged_rows(node.input, node.label, node.hedges))
+            if isinstance(node, Not):
+                return ("not", compiled(node.operand))
+            if isinstance(node, Modified):
+                flip = sum(not h.increasing for h in node.hedges) % 2 == 1
+                return ("mod", float(node.weight), node.hedges, flip, compiled(node.operand))
+            assert isinstance(node, Join)
+            return (node.op, node.norm, tuple(compiled(c) for c in node.operands))
+
         n_in = len(inputs)
+        trees: dict[int, tuple[Any, ...]] = {}
         upper_rows = np.empty((len(rules), n_in), dtype=np.intp)
         lower_rows = np.empty((len(rules), n_in), dtype=np.intp)
         for r, rule in enumerate(rules):
+            if rule.condition is not None:
+                trees[r] = compiled(rule.condition)
             for i, label in enumerate(rule.antecedent):
                 if label is None:
                     upper_rows[r, i] = lower_rows[r, i] = -1
                     continue
-                s = inputs[i].sets[inputs[i].set_index(label)]
-                upper_rows[r, i] = row_of(s.upper, i)
-                lower_rows[r, i] = row_of(s.lower, i)
+                upper_rows[r, i], lower_rows[r, i] = hedged_rows(i, label, rule.hedges[i])
         n_rows = len(mfs)
         # Row n_rows is the constant 1 used for inputs a rule does not mention.
         upper_rows[upper_rows < 0] = n_rows
@@ -272,7 +297,13 @@ class SystemTables:
             dtype=bool,
         )
         self.weight = np.array([rule.weight for rule in rules], dtype=np.float64)
+        self.consequent_hedges = tuple(rule.consequent_hedges[output] for rule in rules)
         features = set()
+        if any(rule.hedges[i] for rule in rules for i in range(n_in)) or any(
+                self.consequent_hedges):
+            features.add("hedges")
+        if trees:
+            features.add("tree")
         if self.negated.any():
             features.add("not")
         if self.is_or.any():
@@ -304,7 +335,12 @@ class SystemTables:
         self.coef_hi_s = np.ascontiguousarray(coef_hi[self.perm])
         # The firing features: rows of an extended membership array [m, 1, 0, 1 - m] that each
         # (possibly negated) antecedent reads; unmentioned inputs of OR rules read the 0 row.
-        self.general_firing = bool(self.features & {"not", "or", "weights"})
+        self.general_firing = bool(self.features & {"not", "or", "weights", "hedges", "tree"})
+        position = {r: s for s, r in enumerate(self.perm.tolist())}
+        self.trees_s = [(position[r], tree) for r, tree in sorted(trees.items())]
+        self.consequent_hedges_s = [(s, self.consequent_hedges[r])
+                                    for s, r in enumerate(self.perm.tolist())
+                                    if self.consequent_hedges[r]]
         one, zero, comp = n_rows, n_rows + 1, n_rows + 2
         up_ext = np.where(self.negated_s, comp + self.lower_rows_s, self.upper_rows_s)
         lo_ext = np.where(self.negated_s, comp + self.upper_rows_s, self.lower_rows_s)
@@ -314,7 +350,8 @@ class SystemTables:
         up_ext[unused & self.is_or_s[:, None]] = zero
         lo_ext[unused & self.is_or_s[:, None]] = zero
         self.up_ext_s, self.lo_ext_s = up_ext, lo_ext
-        self.type1_firing = bool(np.array_equal(up_ext, lo_ext))
+        self.type1_firing = bool(np.array_equal(up_ext, lo_ext)) and all(
+            _tree_type1(tree) for _, tree in self.trees_s)
         # For t-norms without an exact identity: which inputs each (sorted) rule mentions,
         # and the first of them (where its AND fold starts).
         self.mentioned_s = ~unused
@@ -455,12 +492,24 @@ class SystemTables:
                     g = self.snorm.pair(g, col)
             if any_or:
                 np.copyto(f, g, where=self.is_or_s[:, None])
+            for s, tree in self.trees_s:
+                f[s] = _tree_value(tree, ext, name == "fu", tnorm, self.snorm)
             if "weights" in self.features:
                 f *= self.weight_s[:, None]
             result.append(f)
             if self.type1_firing:
-                return f, f
+                result.append(f)
+                break
         fu, fl = result
+        for s, hedges in self.consequent_hedges_s:  # a 'not' among them swaps the bounds
+            if fl is fu:
+                fu[s] = apply_hedges(hedges, fu[s])
+                continue
+            up, lo = fu[s].copy(), fl[s].copy()
+            if sum(not h.increasing for h in hedges) % 2:
+                up, lo = lo, up
+            fu[s] = apply_hedges(hedges, up)
+            fl[s] = apply_hedges(hedges, lo)
         return fl, fu
 
     def consequents_block(self, x: FloatArray) -> tuple[FloatArray, FloatArray]:
@@ -474,3 +523,35 @@ class SystemTables:
             y_lo += np.minimum(p, q)
             y_hi += np.maximum(p, q)
         return y_lo, y_hi
+
+
+def _tree_type1(tree: tuple[Any, ...]) -> bool:
+    """True if the compiled condition reads the same rows for both bounds."""
+    if tree[0] == "is":
+        return bool(tree[1] == tree[2])
+    if tree[0] == "not":
+        return _tree_type1(tree[1])
+    if tree[0] == "mod":
+        return _tree_type1(tree[4])
+    return all(_tree_type1(t) for t in tree[2])
+
+
+def _tree_value(tree: tuple[Any, ...], m: FloatArray, upper: bool, tnorm: TNorm,
+                snorm: SNorm) -> FloatArray:
+    """A compiled :mod:`.conditions` condition on the membership rows ``m`` (its upper bound
+    if ``upper``, else its lower; each negation swaps them)."""
+    kind = tree[0]
+    if kind == "is":
+        return m[tree[1] if upper else tree[2]]
+    if kind == "not":
+        return 1.0 - _tree_value(tree[1], m, not upper, tnorm, snorm)
+    if kind == "mod":
+        _, weight, hedges, flip, inner = tree
+        value = weight * _tree_value(inner, m, upper != flip, tnorm, snorm)
+        return apply_hedges(hedges, value) if hedges else value
+    norm = tree[1] if tree[1] is not None else (tnorm if kind == "and" else snorm)
+    values = [_tree_value(t, m, upper, tnorm, snorm) for t in tree[2]]
+    out = values[0]
+    for v in values[1:]:
+        out = norm.pair(out, v)
+    return out

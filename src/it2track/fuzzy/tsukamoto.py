@@ -27,7 +27,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .norms import Aggregation, TNorm, WeightedDefuzzifier
-from .rules import Output, Rule
+from .rules import Output
 from .system import BLOCK, _SystemBase
 from .tables import SystemTables
 
@@ -112,10 +112,10 @@ class T1Tsukamoto(_SystemBase):
         # Each consequent becomes its set's index: the tables sort the rules by it, so the
         # rules of one set are contiguous and in rule order.
         rules = tuple(
-            Rule(r.antecedent, consequents=[
+            r.with_consequents([
                 None if label is None else float(out.set_index(str(label)))
                 for out, label in zip(self.outputs, r.consequents, strict=True)
-            ], weight=r.weight, connective=r.connective, negated=r.negated)
+            ])
             for r in self.rules
         )
         return SystemTables(self.inputs, rules, snorm=self.snorm)

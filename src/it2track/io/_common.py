@@ -18,6 +18,8 @@ import numpy as np
 from ..fuzzy import (
     AnySystem,
     Consequent,
+    FootedTrapezoid,
+    Hedge,
     Input,
     IT2Set,
     Linear,
@@ -37,6 +39,7 @@ __all__ = [
     "FUZZYLITE_FIS_NAMES",
     "build_input",
     "build_rules",
+    "footed",
     "guard",
     "linear_from",
     "mf_from_matlab",
@@ -155,6 +158,14 @@ def shoulder_problem(mf: MembershipFunction, universe: tuple[float, float], labe
     return None
 
 
+def footed(mf: MembershipFunction, universe: tuple[float, float]) -> MembershipFunction:
+    """``mf`` as the tools read it: a triangle/trapezoid with a shoulder inside the universe
+    (:func:`shoulder_problem`) is 0 beyond its foot there, a :class:`FootedTrapezoid`."""
+    if isinstance(mf, PiecewiseLinear) and shoulder_problem(mf, universe, "", "") is not None:
+        return FootedTrapezoid(*mf.as_trapezoid())
+    return mf
+
+
 def widened(mf: MembershipFunction, universe: tuple[float, float]) -> MembershipFunction:
     """``mf`` with a shoulder inside the universe moved out to its end: the same values on the
     universe, and the same for tools whose triangles and trapezoids are 0 beyond their feet
@@ -237,20 +248,30 @@ def build_rules(
     parsed: Sequence[ParsedRule],
     inputs: Sequence[Input],
     consequents: Sequence[Sequence[Consequent]],
+    *,
+    hedges: str | None = None,
 ) -> list[Rule]:
     """Our rules from indexed rules.
 
     ``consequents[k][j - 1]`` is what output ``k``'s index ``j`` means (an interval, a
     :class:`Linear` or an output set label). Index 0 leaves an output out of the rule; a
     negative antecedent index ``-j`` is ``NOT`` set ``j``; connection 1 is AND, 2 is OR; the
-    weight must be in ``[0, 1]``.
+    weight must be in ``[0, 1]``. A fractional index is a hedge: with ``hedges="fuzzylite"``
+    fuzzylite's (``.01`` seldom, ``.05`` somewhat, ``.2`` very, ``.3`` extremely, ``.4`` very
+    very, ``.99`` any; a hedged Sugeno conclusion hands its degree on, as fuzzylite does);
+    with ``"octave"`` Octave's powers (the fraction in hundredths over 10: ``2.3`` is set 2
+    to the power 3 on an antecedent, the rule's firing to the power 1/3 on a Sugeno
+    conclusion; fuzzy-logic-toolkit's ``get_mf_index_and_hedge``, ``evalmf``,
+    ``eval_rules_sugeno``); ``None`` refuses them. Hedged Mamdani conclusions are refused.
     """
     rules = []
     for pr in parsed:
         antecedent: list[str | None] = []
         negated: list[bool] = []
+        hedged: list[tuple[Hedge, ...]] = []
         for inp, code in zip(inputs, pr.antecedent, strict=True):
-            index = _whole(doc, pr.line, code)
+            index, words = _index(doc, pr.line, code, hedges)
+            hedged.append(words)
             if abs(index) > len(inp.sets):
                 raise doc.error(
                     pr.line,
@@ -262,8 +283,24 @@ def build_rules(
         if all(a is None for a in antecedent):
             raise doc.error(pr.line, "rule mentions no input (all antecedent indices are 0)")
         cons: list[Consequent] = []
+        cons_hedges: list[tuple[Hedge, ...]] = []
+        carried: tuple[Hedge, ...] = ()
         for k, (code, table) in enumerate(zip(pr.consequent, consequents, strict=True)):
-            out = _whole(doc, pr.line, code)
+            out, words = _index(doc, pr.line, code, hedges)
+            if (words or out < 0) and not isinstance(table[0] if table else None,
+                                                     tuple | Linear):
+                raise doc.error(pr.line, f"a hedge or NOT on the conclusion of a Mamdani output "
+                                f"({code:g}) is not supported")
+            if hedges == "octave":  # Octave: the firing to the power 1 / p, this output only
+                words = tuple(Hedge.power(1.0 / h.exponent) for h in words)
+                cons_hedges.append(words)
+                if out < 0:
+                    cons_hedges[-1] = (Hedge("not"), *words)
+                    out = -out
+            else:
+                if words or carried:
+                    carried = words + carried
+                cons_hedges.append(carried if out != 0 else ())
             if out < 0:
                 raise doc.error(pr.line, f"negated consequent ({out}) is not supported")
             if out > len(table):
@@ -283,7 +320,8 @@ def build_rules(
         with guard(doc, pr.line, "rule"):
             rules.append(Rule(antecedent, consequents=cons, weight=pr.weight,
                               connective="or" if pr.connection == 2 else "and",
-                              negated=negated))
+                              negated=negated, hedges=hedged,
+                              consequent_hedges=cons_hedges))
     return rules
 
 
@@ -291,13 +329,18 @@ def build_rules(
 _HEDGES = {1: "seldom", 5: "somewhat", 20: "very", 30: "extremely", 40: "very very", 99: "any"}
 
 
-def _whole(doc: Document, line: int, code: float) -> int:
-    """A rule index as an integer; a fraction is Octave's and fuzzylite's hedge, refused."""
+def _index(doc: Document, line: int, code: float, hedges: str | None
+           ) -> tuple[int, tuple[Hedge, ...]]:
+    """A rule index as an integer and its hedges (see :func:`build_rules`)."""
     whole = math.trunc(code)
     if code == whole:
-        return int(whole)
+        return int(whole), ()
     hundredths = round(100 * (abs(code) - abs(whole)))
     hedge = _HEDGES.get(hundredths)
+    if hedges == "fuzzylite" and hedge is not None and whole != 0:
+        return int(whole), tuple(Hedge(w) for w in hedge.split())
+    if hedges == "octave" and whole != 0 and hundredths > 0:
+        return int(whole), (Hedge.power(hundredths / 10),)
     meaning = f" (the hedge {hedge!r} of Octave and fuzzylite)" if hedge else ""
     raise doc.error(line, f"rule index {code:g} has a fraction{meaning}: hedges are not "
                     "supported")

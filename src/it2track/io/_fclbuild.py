@@ -31,7 +31,7 @@ from ..fuzzy import (
     WeightedDefuzzifier,
 )
 from ..fuzzy.terms import FUZZYLITE_TERMS, from_fuzzylite, fuzzylite_consequent
-from ._common import shoulder_problem
+from ._common import footed
 from ._fclparse import FclTerm, FclVar, FunctionBlock, Parser
 from ._ruletree import DUALS
 from .errors import FisFormatError
@@ -65,6 +65,8 @@ class Builder:
         self.p = parser
         self.fb = fb
         self.error = parser.error
+        #: rule line -> its condition as a tree, where the flat form cannot hold it (_chain)
+        self.trees: dict[int, Any] = {}
 
     def guarded(self, line: int | None, make: Callable[[], Any], what: str = "") -> Any:
         prefix = f"{what}: " if what else ""
@@ -130,20 +132,16 @@ class Builder:
         what = f"term {term.name!r}"
         if term.shape in FUZZYLITE_TERMS:
             mf = self.guarded(term.line, lambda: from_fuzzylite(term.shape, p), what)
-            tool = f"fuzzylite's {term.shape}"
         elif name in _JFL:
             if len(p) != _JFL[name]:
                 raise self.error(term.line, f"{what}: {name} needs {_JFL[name]} parameters, got "
                                  f"{len(p)}")
             mf = self.guarded(term.line, lambda: self._jfl(name, p, term), what)
-            tool = f"jFuzzyLogic's {name}"
         else:
             known = ", ".join([*_JFL, *FUZZYLITE_TERMS])
             raise self.error(term.line, f"{what}: unknown shape {term.shape!r} (known: {known})")
         if universe is not None:
-            problem = shoulder_problem(mf, universe, f"{what} {term.shape}", tool)
-            if problem:
-                raise self.error(term.line, problem)
+            mf = footed(mf, universe)  # 0 beyond a foot inside the range, as the tools
         return mf
 
     def _jfl(self, name: str, p: list[float], term: FclTerm) -> MembershipFunction:

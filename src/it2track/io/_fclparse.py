@@ -8,11 +8,12 @@ from __future__ import annotations
 
 import math
 import re
+import warnings
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 
 from ._ruletree import Compound, Condition, Negation, Proposition
-from .errors import FisFormatError
+from .errors import FisFormatError, FisFormatWarning
 
 __all__ = ["Block", "FclTerm", "FclVar", "FunctionBlock", "Parser", "RuleNode", "Tok"]
 
@@ -82,7 +83,9 @@ class RuleNode:
 
     line: int
     condition: Condition
-    conclusions: list[tuple[str, str]]
+    #: variable, term, hedges: fuzzylite hands a conclusion's hedged degree on to the
+    #: conclusions after it (``Consequent.modify``), so each holds those before it too
+    conclusions: list[tuple[str, str, tuple[str, ...]]]
     weight: float
 
 
@@ -304,8 +307,12 @@ class Parser:
 
     def term(self, var: FclVar, word: str) -> None:
         name = self.ident("a term name")
-        if name.text in var.terms:
-            raise self.error(name.line, f"duplicate term {name.text!r} of {var.name!r}")
+        if name.text in var.terms:  # pyfuzzylite 8 binds the last (fuzzylite 6 the first)
+            warnings.warn(FisFormatWarning(
+                self.path, name.line, f"duplicate term {name.text!r} of {var.name!r} (first at "
+                f"line {var.terms[name.text].line}): rules naming it take this one"),
+                stacklevel=2)
+            del var.terms[name.text]
         self.expect(":=")
         term = FclTerm(name.text, name.line, "points")
         nxt = self.peek()
@@ -368,19 +375,20 @@ class Parser:
         condition = self.disjunction()
         self.expect("THEN")
         conclusions = []
+        carried: tuple[str, ...] = ()
         while True:
             parens = self.skip("(")
             var = self.ident("an output variable")
             self.expect("IS")
-            if self.at(*_HEDGES, "NOT") and (nxt := self.peek(1)) is not None and (
+            hedges = []
+            while self.at(*_HEDGES, "NOT") and (nxt := self.peek(1)) is not None and (
                     nxt.kind == "ident"):
-                hedge = self.next("a hedge")
-                raise self.error(hedge.line, f"a hedge or NOT ({hedge.text!r}) on the conclusion "
-                                 f"{var.text!r} is not supported")
+                hedges.append(self.next("a hedge").text.lower())
             term = self.ident("a term")
             if parens:
                 self.expect(")")
-            conclusions.append((var.text, term.text))
+            carried = tuple(hedges) + carried
+            conclusions.append((var.text, term.text, carried))
             if not (self.skip(",") or self.skip("AND")):
                 break
         weight = 1.0

@@ -12,6 +12,7 @@ from ..fuzzy import (
     Aggregation,
     AnySystem,
     Consequent,
+    Hedge,
     HybridSystem,
     Implication,
     Input,
@@ -23,6 +24,7 @@ from ..fuzzy import (
     T1Tsukamoto,
     TNorm,
 )
+from ._chain import Chain
 from ._fclbuild import ACCU, AND, MAMDANI, OR, PARTNER_OF_OR, SUGENO, Builder
 from ._fclparse import Block, FclVar, FunctionBlock, Parser, RuleNode, Tok
 from ._ruletree import DUALS, flatten, propositions
@@ -79,10 +81,13 @@ def _variable(b: Builder, cls: type[Input], var: FclVar, universe: tuple[float, 
 
 
 def _rule(b: Builder, rule: RuleNode, antecedent: list[str | None], cons: list[Consequent],
-          op: str, negated: list[bool]) -> Rule:
+          op: str, negated: list[bool], hedges: list[tuple[Hedge, ...]],
+          cons_hedges: list[tuple[Hedge, ...]]) -> Rule:
     made: Rule = b.guarded(rule.line, lambda: Rule(antecedent, consequents=cons,
                                                    weight=rule.weight, connective=op,
-                                                   negated=negated))
+                                                   negated=negated, hedges=hedges,
+                                                   consequent_hedges=cons_hedges,
+                                                   condition=b.trees.get(rule.line)))
     return made
 
 
@@ -123,20 +128,36 @@ def build(parser: Parser, fb: FunctionBlock) -> AnySystem:
         sets = [(t.name, b.mf(t, universe)) for t in var.terms.values()]
         inputs.append(_variable(b, Input, var, universe, sets))
     parsed: list[tuple[RuleNode, str, list, Block, TNorm, SNorm]] = []
+    accus = {name: ACCU.get(var.accu.upper) if var.accu is not None else next(
+        (_op(b, blk, "ACCU", ACCU) for blk in fb.blocks if blk.ops.get("ACCU")), None)
+        for name, var in fb.outputs.items()}
+    chain = Chain(list(fb.inputs), accus)
     for block in fb.blocks:
         and_, or_ = _op(b, block, "AND", AND), _op(b, block, "OR", OR)
         and_ = and_ or PARTNER_OF_OR.get(or_) or TNorm.MINIMUM
         or_ = or_ or DUALS.get(and_) or SNorm.MAXIMUM
         for rule in block.rules:
+            chained = False
             for prop in propositions(rule.condition):
-                if prop.variable not in fb.inputs:
-                    what = "an output (a chained system)" if prop.variable in fb.outputs else (
-                        "not an input")
-                    raise b.error(rule.line, f"rule names {prop.variable!r}, which is {what}")
+                if prop.variable in fb.outputs:
+                    chained = True  # fuzzylite's chained engine: see _chain
+                elif prop.variable not in fb.inputs:
+                    raise b.error(rule.line, f"rule names {prop.variable!r}, which is not an "
+                                  "input")
             try:
+                if chained:
+                    raise ValueError("chained")
                 op, props = flatten(rule.condition, tnorm=and_, snorm=or_)
-            except ValueError as exc:
-                raise b.error(rule.line, str(exc)) from None
+            except ValueError:  # nested AND/OR, an input named twice, a chained output
+                op, props = "and", []
+                try:
+                    b.trees[rule.line] = chain.condition(rule.condition, and_, or_)
+                except ValueError as exc:
+                    raise b.error(rule.line, str(exc)) from None
+            if not 0.0 <= rule.weight <= 1.0:
+                raise b.error(rule.line, f"rule weight {rule.weight:g} must be in [0, 1]")
+            chain.concludes(b.trees.get(rule.line) or chain.condition(rule.condition, and_, or_),
+                            rule.weight, rule.conclusions)
             parsed.append((rule, op, props, block, and_, or_))
     if not parsed:
         raise b.error(fb.line, f"FUNCTION_BLOCK {fb.name}: no RULE")
@@ -144,7 +165,7 @@ def build(parser: Parser, fb: FunctionBlock) -> AnySystem:
     parts = []
     for kind, run in itertools.groupby(kinds, key=lambda item: item[1]):
         names = [name for name, _ in run]
-        mine = [p for p in parsed if any(v in names for v, _ in p[0].conclusions)]
+        mine = [p for p in parsed if any(c[0] in names for c in p[0].conclusions)]
         if not mine:
             raise b.error(fb.outputs[names[0]].block_line, f"no rule concludes {names}")
         parts.append(_part(b, fb, inputs, names, kind, mine))
@@ -200,38 +221,41 @@ def _assemble(b: Builder, fb: FunctionBlock, outputs: dict[str, FclVar], inputs:
             values[name] = {t.name: b.consequent(t, in_names) for t in var.terms.values()}
     built: list[Rule] = []
     users: dict[tuple[str, str], tuple[int, str]] = {}
-    for rule, op, props in rules:
+    shared = False
+    queue = list(rules)
+    while queue:
+        rule, op, props = queue.pop(0)
         antecedent: list[str | None] = [None] * len(in_names)
         negated = [False] * len(in_names)
+        hedges: list[tuple[Hedge, ...]] = [()] * len(in_names)
         for prop in props:
             if prop.term not in fb.inputs[prop.variable].terms:
                 raise b.error(rule.line, f"input {prop.variable!r} has no term {prop.term!r}")
             k = in_names.index(prop.variable)
             antecedent[k], negated[k] = prop.term, prop.negated
+            hedges[k] = tuple(Hedge(h) for h in prop.hedges)
         cons: list[Consequent] = [None] * len(out_names)
-        for vname, term in rule.conclusions:
+        cons_hedges: list[tuple[Hedge, ...]] = [()] * len(out_names)
+        again = []  # a second conclusion on one output: the same rule again (jFuzzyLogic)
+        for vname, term, written in rule.conclusions:
             if vname not in outputs:
                 raise b.error(rule.line, f"rule concludes {vname!r}, which is not an output")
             if term not in outputs[vname].terms:
                 raise b.error(rule.line, f"output {vname!r} has no term {term!r}")
             k = out_names.index(vname)
             if cons[k] is not None:
-                raise b.error(rule.line, f"rule concludes {vname!r} twice")
+                again.append((vname, term, written))
+                continue
             cons[k] = values[vname][term] if sugeno else term
+            cons_hedges[k] = tuple(Hedge(h) for h in written)
             # jFuzzyLogic accumulates singletons by their value (x): equal values are one
+            # term, its degree the ACCU of the rules' (T1Sugeno's aggregation)
             key = (vname, repr(cons[k]))
-            if sugeno and accu.value is not Aggregation.SUM and key in users:
-                first, first_term = users[key]
-                same = f"term {term!r}" if first_term == term else (
-                    f"term {term!r} (the value of {first_term!r})")
-                raise b.error(rule.line, f"{same} of {vname!r} is concluded by this rule and the "
-                              f"one at line {first}: with ACCU : "
-                              f"{accu.token.text if accu.token else 'MAX'} that is not a "
-                              "weighted average of rules (use ACCU : NSUM, or one rule per value)")
+            shared = shared or key in users
             users.setdefault(key, (rule.line, term))
-        if not 0.0 <= rule.weight <= 1.0:
-            raise b.error(rule.line, f"rule weight {rule.weight:g} must be in [0, 1]")
-        built.append(_rule(b, rule, antecedent, cons, op, negated))
+        if again:
+            queue.insert(0, (dataclasses.replace(rule, conclusions=again), op, props))
+        built.append(_rule(b, rule, antecedent, cons, op, negated, hedges, cons_hedges))
     defaults = [var.default for var in outputs.values()]
     numbers = [None if d is None or math.isnan(d[0]) else d[0] for d in defaults]
     if any(v is None for v in numbers) and any(v is not None for v in numbers):
@@ -246,6 +270,8 @@ def _assemble(b: Builder, fb: FunctionBlock, outputs: dict[str, FclVar], inputs:
     if sugeno:
         if len(out_names) > 1 or out_names != ["output1"]:
             options["outputs"] = tuple(out_names)
+        if shared and accu.value is not Aggregation.SUM:
+            options["aggregation"] = accu.value
         made: AnySystem = b.guarded(None, lambda: T1Sugeno(**options))
         return made
     sets_of = []

@@ -93,6 +93,11 @@ class FisReader:
 
     def __init__(self, text: str, path: str) -> None:
         self.doc = Document(text, path, lenient=self.lenient)
+        #: whose hedges a fractional rule index means (.fis only: fuzzylite's exports say so
+        #: on line 1, else Octave's); the IT2FLS toolbox's .t2fis has none
+        self.hedges: str | None = None if not self.lenient else "fuzzylite" if (
+            text.lstrip().startswith("#Code automatically generated with fuzzylite")) else (
+            "octave")
         self.type = "sugeno"
 
     @property
@@ -140,7 +145,8 @@ class FisReader:
                 self.consequent(doc.mf(entry), counts.n_inputs)
                 for entry in self.mf_lines(section, n, count_entry)
             ])
-        rules = build_rules(doc, doc.counted_rules(counts), inputs, consequents)
+        rules = build_rules(doc, doc.counted_rules(counts), inputs, consequents,
+                            hedges=self.hedges)
         self.check_rules(rules)
         return self.finish(options, inputs, outputs, kinds, ranges, rules)
 

@@ -17,6 +17,7 @@ from ..fuzzy import (
     AnySystem,
     Consequent,
     Defuzzifier,
+    Hedge,
     HybridSystem,
     Implication,
     Input,
@@ -31,8 +32,10 @@ from ..fuzzy import (
     TNorm,
     WeightedDefuzzifier,
 )
+from ..fuzzy.conditions import Condition as CoreCondition
 from ..fuzzy.terms import from_fuzzylite, fuzzylite_consequent
-from ._common import shoulder_problem
+from ._chain import Chain
+from ._common import footed
 from ._flldoc import Document, Item, Section, show
 from ._ruletree import Condition, Proposition, flatten, propositions
 from .errors import FisFormatError
@@ -121,10 +124,7 @@ class _Builder:
     def mf(self, item: Item, universe: tuple[float, float]) -> tuple[str, MembershipFunction]:
         name, kind, params = self.term(item, universe)
         mf = self.guarded(item.line, lambda: from_fuzzylite(kind, params), f"term {name!r}")
-        problem = shoulder_problem(mf, universe, f"term {name!r} {kind}", f"fuzzylite's {kind}")
-        if problem:
-            raise self.error(item.line, problem)
-        return name, mf
+        return name, footed(mf, universe)  # 0 beyond a foot inside the range, as fuzzylite
 
     def consequent(self, line: int, name: str, kind: str, params: list[float], n_inputs: int
                    ) -> Consequent:
@@ -193,9 +193,9 @@ class _Builder:
             else:
                 name, value = self.mf(t, universe)
             if name in terms:
-                raise self.error(t.line, f"duplicate term {name!r} (first at line "
-                                 f"{terms[name][1]}): a rule naming it is ambiguous (fuzzylite "
-                                 "6 binds the first, pyfuzzylite 8 the last)")
+                self.doc.warn(t.line, f"duplicate term {name!r} (first at line "
+                              f"{terms[name][1]}): rules naming it take this one")
+                del terms[name]
             terms[name] = (value, t.line)
         if not terms:
             raise self.error(section.line, f"OutputVariable {section.name}: no term")
@@ -223,6 +223,11 @@ def _one(values: dict[Any, int], what: str, builder: _Builder) -> Any:
     return next(iter(values)) if values else None
 
 
+def _run_key(out: _Output) -> tuple[str, str | None]:
+    item = out.section.items.get("defuzzifier")
+    return out.kind, item.value if out.kind == "mamdani" and item is not None else None
+
+
 def build(doc: Document) -> AnySystem:
     """The system of a parsed ``.fll`` document: one system, or a
     :class:`~it2track.fuzzy.HybridSystem` of one per run of outputs of the same kind."""
@@ -242,7 +247,8 @@ def build(doc: Document) -> AnySystem:
         seen[section.name] = section.line
     rules = _rules(b, doc, inputs, outputs)
     name = engine.name if engine is not None else ""
-    runs = [list(group) for _, group in itertools.groupby(outputs, key=lambda o: o.kind)]
+    # a run: outputs of one kind (and, for Mamdani, one defuzzifier and resolution)
+    runs = [list(group) for _, group in itertools.groupby(outputs, key=_run_key)]
     parts = [_part(b, inputs, run, rules, name) for run in runs]
     if len(parts) == 1:
         return parts[0]
@@ -254,9 +260,10 @@ class _ParsedRule:
     item: Item
     op: str
     props: list[Proposition]
-    conclusions: list[tuple[str, str]]
+    conclusions: list[tuple[str, str, tuple[str, ...]]]
     weight: float
     ops: tuple[tuple[Any, int], tuple[Any, int], tuple[Any, int]]  # conj, disj, imp: line
+    tree: CoreCondition | None = None  # a condition the flat form cannot hold (_chain)
 
 
 def _rules(b: _Builder, doc: Document, inputs: list[Input], outputs: list[_Output]
@@ -264,6 +271,7 @@ def _rules(b: _Builder, doc: Document, inputs: list[Input], outputs: list[_Outpu
     """Every rule of the enabled blocks (fuzzylite ignores disabled ones), its condition
     flattened with its block's operators."""
     parsed = []
+    chain: Chain | None = None  # the rules so far, for chained propositions (_chain)
     for block in (s for s in doc.sections if s.kind == "RuleBlock"):
         if not b.flag(block, "enabled", True, ""):
             continue
@@ -274,21 +282,46 @@ def _rules(b: _Builder, doc: Document, inputs: list[Input], outputs: list[_Outpu
         ops = (b.operator(block, "conjunction", TNorm), b.operator(block, "disjunction", SNorm),
                b.operator(block, "implication", Implication))
         (conj, conj_line), (disj, disj_line), _ = ops
+        chain = chain or Chain([i.name for i in inputs], {
+            o.section.name: b.operator(o.section, "aggregation", Aggregation)[0]
+            for o in outputs})
         for item in block.rules:
-            condition, conclusions, weight = b.doc.rule(item)
+            condition, written, weight = b.doc.rule(item)
+            # A hedged conclusion is fuzzylite's: its hedges modify the rule's activation
+            # degree, and fuzzylite hands the modified degree on to the conclusions after it
+            # (Consequent.modify), so each conclusion's hedges are its own (outermost) and
+            # those of the conclusions before it.
+            conclusions: list[tuple[str, str, tuple[str, ...]]] = []
+            carried: tuple[str, ...] = ()
+            for variable, term, hedges in written:
+                carried = hedges + carried
+                conclusions.append((variable, term, carried))
             _check_names(b, item, condition, inputs, outputs)
+            chained = any(p.variable not in chain.inputs for p in propositions(condition))
+            tree = None
             try:
+                if chained:  # a proposition on an output: a tree over the earlier rules
+                    raise ValueError("chained")
                 op, props = flatten(condition, tnorm=conj or TNorm.MINIMUM,
                                     snorm=disj or SNorm.MAXIMUM)
-            except ValueError as exc:
-                raise b.error(item.line, str(exc)) from None
+            except ValueError:  # nested AND/OR, an input named twice: a tree (_chain)
+                op, props = "and", []
+                try:
+                    tree = chain.condition(condition, conj, disj)
+                except ValueError as exc:
+                    raise b.error(item.line, str(exc)) from None
+            try:
+                chain.concludes(tree or chain.condition(condition, conj, disj), weight,
+                                conclusions)
+            except ValueError:
+                pass  # a one-proposition rule of a block without norms: flat, recorded below
             if len(props) > 1:
                 used, line, key = (conj, conj_line, "conjunction") if op == "and" else (
                     disj, disj_line, "disjunction")
                 if used is None:
                     raise b.error(item.line, f"the rule joins propositions with {op}, but its "
                                   f"block has {key}: none (line {line})")
-            parsed.append(_ParsedRule(item, op, props, conclusions, weight, ops))
+            parsed.append(_ParsedRule(item, op, props, conclusions, weight, ops, tree))
     if not parsed:
         raise b.error(None, "no rule (in an enabled RuleBlock)")
     return parsed
@@ -298,7 +331,7 @@ def _part(b: _Builder, inputs: list[Input], outputs: list[_Output], rules: list[
           name: str) -> AnySystem:
     """The system of a run of outputs of one kind, with the rules concluding them."""
     names = {o.section.name for o in outputs}
-    mine = [r for r in rules if any(v in names for v, _ in r.conclusions)]
+    mine = [r for r in rules if any(c[0] in names for c in r.conclusions)]
     if not mine:
         raise b.error(outputs[0].section.line, f"no rule concludes {sorted(names)}")
     kind = outputs[0].kind
@@ -329,7 +362,7 @@ def _part(b: _Builder, inputs: list[Input], outputs: list[_Output], rules: list[
             declared_s.pop() if len(declared_s) == 1 else SNorm.MAXIMUM),
     }
     built = [_rule(b, inputs, outputs, r.item, r.op, r.props,
-                   [c for c in r.conclusions if c[0] in names], r.weight) for r in mine]
+                   [c for c in r.conclusions if c[0] in names], r.weight, r.tree) for r in mine]
     options.update(_output_options(b, outputs, implications))
     if kind == "sugeno":
         cls: type = T1Sugeno
@@ -345,8 +378,7 @@ def _check_names(b: _Builder, item: Item, condition: Condition, inputs: list[Inp
                  outputs: list[_Output]) -> None:
     for prop in propositions(condition):
         if prop.variable in {o.section.name for o in outputs}:
-            raise b.error(item.line, f"the rule's condition names the output "
-                          f"{prop.variable!r} (a chained engine), which is not supported")
+            continue  # a chained engine's proposition (see _chain)
         if prop.variable not in {i.name for i in inputs}:
             raise b.error(item.line, f"the rule names {prop.variable!r}, which is not an input")
 
@@ -359,10 +391,12 @@ def _mf_output(b: _Builder, out: _Output) -> Output:
 
 
 def _rule(b: _Builder, inputs: list[Input], outputs: list[_Output], item: Item, op: str,
-          props: list[Proposition], conclusions: list[tuple[str, str]], weight: float) -> Rule:
+          props: list[Proposition], conclusions: list[tuple[str, str, tuple[str, ...]]],
+          weight: float, tree: CoreCondition | None = None) -> Rule:
     names = [i.name for i in inputs]
     antecedent: list[str | None] = [None] * len(inputs)
     negated = [False] * len(inputs)
+    hedges: list[tuple[Hedge, ...]] = [()] * len(inputs)
     for prop in props:
         if prop.variable not in names:
             raise b.error(item.line, f"the rule names {prop.variable!r}, which is not an input")
@@ -370,9 +404,11 @@ def _rule(b: _Builder, inputs: list[Input], outputs: list[_Output], item: Item, 
         if prop.term not in {s.name for s in inputs[k].sets}:
             raise b.error(item.line, f"input {prop.variable!r} has no term {prop.term!r}")
         antecedent[k], negated[k] = prop.term, prop.negated
+        hedges[k] = tuple(Hedge(h) for h in prop.hedges)
     out_names = [o.section.name for o in outputs]
     consequents: list[Consequent] = [None] * len(outputs)
-    for variable, term in conclusions:
+    cons_hedges: list[tuple[Hedge, ...]] = [()] * len(outputs)
+    for variable, term, written in conclusions:
         if variable not in out_names:
             raise b.error(item.line, f"the rule concludes {variable!r}, which is not an output")
         k = out_names.index(variable)
@@ -382,8 +418,10 @@ def _rule(b: _Builder, inputs: list[Input], outputs: list[_Output], item: Item, 
             raise b.error(item.line, f"the rule concludes {variable!r} twice")
         consequents[k] = outputs[k].terms[term][0] if outputs[k].kind == "sugeno" else term
         outputs[k].uses[term] = outputs[k].uses.get(term, 0) + 1
+        cons_hedges[k] = tuple(Hedge(h) for h in written)
     return b.guarded(item.line, lambda: Rule(antecedent, consequents=consequents, weight=weight,
-                                             connective=op, negated=negated))
+                                             connective=op, negated=negated, hedges=hedges,
+                                             consequent_hedges=cons_hedges, condition=tree))
 
 
 def _output_options(b: _Builder, outputs: list[_Output], implications: dict[Any, int]

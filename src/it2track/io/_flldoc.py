@@ -105,8 +105,8 @@ class Document:
             raise self.error(line, f"{what}: {text} must be a finite number")
         return value
 
-    def rule(self, item: Item) -> tuple[Condition, list[tuple[str, str]], float]:
-        """A ``rule:`` line: its condition, its conclusions (variable, term), its weight."""
+    def rule(self, item: Item) -> tuple[Condition, list[tuple[str, str, tuple[str, ...]]], float]:
+        """A ``rule:`` line: its condition, its conclusions (variable, term, hedges), its weight."""
         tokens = _TOKEN_RE.findall(item.value)
         pos = 0
 
@@ -135,8 +135,11 @@ class Document:
             if term in _HEDGES or term in ("and", "or", "then", "with", "(", ")"):
                 raise self.error(item.line, f"expected a term after {variable!r} is, got "
                                  f"{term!r}")
-            negated = hedges.count("not") % 2 == 1
-            return Proposition(variable, term, negated, tuple(h for h in hedges if h != "not"))
+            negated = False  # leading 'not's are the proposition's negation (outermost)
+            while hedges and hedges[0] == "not":
+                negated = not negated
+                hedges.pop(0)
+            return Proposition(variable, term, negated, tuple(hedges))
 
         def operand() -> Condition:
             if peek() == "(":
@@ -166,10 +169,8 @@ class Document:
         conclusions = []
         while True:
             prop = proposition()
-            if prop.negated or prop.hedges:
-                raise self.error(item.line, f"a hedge or 'not' on the conclusion {prop.variable} "
-                                 "is not supported")
-            conclusions.append((prop.variable, prop.term))
+            hedges = ("not",) * prop.negated + prop.hedges
+            conclusions.append((prop.variable, prop.term, hedges))
             if peek() != "and":
                 break
             take("and")

@@ -12,12 +12,14 @@ from ..fuzzy import (
     AnySystem,
     Consequent,
     Defuzzifier,
+    Hedge,
     HybridSystem,
     Implication,
     Input,
     IT2Mamdani,
     IT2Sugeno,
     Linear,
+    Rule,
     Sampling,
     SNorm,
     T1Mamdani,
@@ -28,7 +30,13 @@ from ..fuzzy import (
 )
 from ..fuzzy.terms import to_fuzzylite
 from ._common import widened
-from ._writing import consequent_tables, mamdani_indices, output_range, sugeno_span
+from ._writing import (
+    consequent_tables,
+    mamdani_indices,
+    output_range,
+    refuse_hedges,
+    sugeno_span,
+)
 from .errors import UnsupportedFeatureError
 
 __all__ = ["dumps", "fuzzylite_name"]
@@ -153,16 +161,43 @@ def _rule_block(system: Any, name: str, term_names: list[list[str]], which: list
              f"  disjunction: {fuzzylite_name(system.snorm)}",
              f"  implication: {implication}", "  activation: General"]
     names = system.output_names
-    for rule, outs in zip(system.rules, which, strict=True):
-        props = [f"{inp.name} is {'not ' if neg else ''}{label}"
-                 for inp, label, neg in zip(system.inputs, rule.antecedent, rule.negated,
-                                            strict=True) if label is not None]
-        then = [f"{names[k]} is {term_names[k][j - 1]}" for k, j in enumerate(outs) if j]
+    for r, (rule, outs) in enumerate(zip(system.rules, which, strict=True)):
+        props = [f"{inp.name} is {'not ' if neg else ''}{_hedge_words(hedges, r)}{label}"
+                 for inp, label, neg, hedges in zip(system.inputs, rule.antecedent, rule.negated,
+                                                    rule.hedges, strict=True) if label is not None]
+        written = _conclusion_hedges(rule, [k for k, j in enumerate(outs) if j], r)
+        then = [f"{names[k]} is {written[k]}{term_names[k][j - 1]}"
+                for k, j in enumerate(outs) if j]
         text = f"  rule: if {f' {rule.connective.value} '.join(props)} then {' and '.join(then)}"
         if rule.weight != 1.0:
             text += f" with {_number(rule.weight)}"
         lines.append(text)
     return lines
+
+
+def _hedge_words(hedges: Sequence[Hedge], r: int) -> str:
+    """``"very extremely "`` (fuzzylite's named hedges only)."""
+    for h in hedges:
+        if h.name == "power":
+            raise UnsupportedFeatureError(f"rule {r + 1}: the hedge {str(h)!r} (Octave's power) "
+                                          "has no fuzzylite name")
+    return "".join(f"{h.name} " for h in hedges)
+
+
+def _conclusion_hedges(rule: Rule, acting: list[int], r: int) -> dict[int, str]:
+    """The hedges to write on each conclusion: fuzzylite hands a conclusion's hedged degree
+    on to the conclusions after it, so each writes what its hedges add to those before."""
+    out: dict[int, str] = {}
+    before: tuple[Hedge, ...] = ()
+    for k in acting:
+        mine = rule.consequent_hedges[k]
+        if mine[len(mine) - len(before):] != before:
+            raise UnsupportedFeatureError(
+                f"rule {r + 1}: the hedges of its conclusions are not fuzzylite's (each "
+                "conclusion's degree is the one before it, hedged further)")
+        out[k] = _hedge_words(mine[: len(mine) - len(before)], r)
+        before = mine
+    return out
 
 
 def dumps(system: AnySystem) -> str:
@@ -173,8 +208,10 @@ def dumps(system: AnySystem) -> str:
     ------
     UnsupportedFeatureError
         For a type-2 system, interval consequents, MFs without a fuzzylite term, Mamdani
-        outputs sampled at MATLAB's points and names that are not fuzzylite identifiers.
+        outputs sampled at MATLAB's points, names that are not fuzzylite identifiers, Octave's
+        power hedges, and a T1Sugeno aggregation (fuzzylite groups terms by name, not value).
     """
+    refuse_hedges(system, ".fll", hedges=False)
     parts = system.systems if isinstance(system, HybridSystem) else (system,)
     for part in parts:
         if isinstance(part, IT2Sugeno | IT2Mamdani):

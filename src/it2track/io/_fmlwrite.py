@@ -32,7 +32,7 @@ from ..fuzzy import (
 from ..fuzzy.mamdani import RESOLUTION
 from ._common import widened
 from ._fmlread import ACCUMULATIONS, AND, DEFUZZIFIERS, NAMESPACE, OR
-from ._writing import consequent_tables, mamdani_indices
+from ._writing import consequent_tables, mamdani_indices, refuse_hedges
 from .errors import UnsupportedFeatureError
 
 __all__ = ["dumps"]
@@ -206,9 +206,10 @@ def dumps(system: AnySystem) -> str:
     ------
     UnsupportedFeatureError
         For type-2 and Tsukamoto systems, MFs without an IEEE 1855 shape, heights, NOT in a
-        rule, a Mamdani sampling other than MATLAB's 101 points and names that are not XML
-        names.
+        rule, hedges, a Mamdani sampling other than MATLAB's 101 points and names that are
+        not XML names.
     """
+    refuse_hedges(system, "FML")
     parts = system.systems if isinstance(system, HybridSystem) else (system,)
     for part in parts:
         if isinstance(part, IT2Sugeno | IT2Mamdani):

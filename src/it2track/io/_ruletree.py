@@ -8,8 +8,8 @@ value: nested parentheses of one connective (associativity), ``NOT`` of a propos
 negation ``1 - mu``) and ``NOT`` of a compound condition by De Morgan's laws, which hold when the
 AND and OR operators are duals (``NOT (A OR B) = NOT A AND NOT B`` with ``min``/``max``,
 ``product``/``probor`` and fuzzylite's other pairs; equal up to rounding except for
-``min``/``max``). Anything else -- ``A AND (B OR C)``, an input named twice, a hedge -- is
-refused with the reason; the reader names the line.
+``min``/``max``). Anything else -- ``A AND (B OR C)``, an input named twice -- raises
+``ValueError`` with the reason, and the readers make it a general condition (:mod:`._chain`).
 """
 
 from __future__ import annotations
@@ -99,8 +99,8 @@ def flatten(condition: Condition, *, tnorm: TNorm, snorm: SNorm
     Raises
     ------
     ValueError
-        With the reason, for conditions that need a tree (mixed connectives), an input named
-        twice, or a hedge.
+        With the reason, for conditions that need a tree (mixed connectives) or an input named
+        twice.
     """
     pushed = _push(condition, False, DUALS.get(tnorm) is snorm)
     op = pushed.op if isinstance(pushed, Compound) else "and"
@@ -108,9 +108,6 @@ def flatten(condition: Condition, *, tnorm: TNorm, snorm: SNorm
     _gather(pushed, op, props)
     seen: set[str] = set()
     for prop in props:
-        if prop.hedges:
-            raise ValueError(f"the hedge {' '.join(prop.hedges)!r} on {prop.variable!r} is not "
-                             "supported")
         if prop.variable in seen:
             raise ValueError(f"input {prop.variable!r} appears twice in the condition: "
                              "it2track's rules name each input once")

@@ -13,6 +13,7 @@ from ..fuzzy import (
     Binary,
     Concave,
     Cosine,
+    FootedTrapezoid,
     Gaussian,
     GaussianProduct,
     IT2Mamdani,
@@ -57,7 +58,7 @@ MF_TYPES: dict[str, tuple[type, tuple[str, ...]]] = {
 #: of ``[x, y]`` pairs, read apart)
 TERMS = (Bell, Sigmoid, SigmoidDifference, SigmoidProduct, SShape, ZShape, PiShape,
          GaussianProduct, Cosine, Spike, LinearSShape, LinearZShape, Ramp, Rectangle, Binary,
-         Concave, Arc, SemiEllipse)
+         Concave, Arc, SemiEllipse, FootedTrapezoid)
 for _cls in TERMS:
     MF_TYPES[re.sub(r"(?<!^)(?=[A-Z])", "-", _cls.__name__).lower()] = (
         _cls, tuple(f.name for f in dataclasses.fields(_cls)))

@@ -28,6 +28,7 @@ from ..fuzzy import (
     WeightedDefuzzifier,
 )
 from ._tomlschema import FORMAT, KINDS, MAX_DEPTH, MF_TYPES, VERSION, WITH_SETS
+from ._writing import refuse_hedges
 from .errors import UnsupportedFeatureError
 
 __all__ = ["dumps"]
@@ -165,8 +166,10 @@ def dumps(system: System) -> str:
     Raises
     ------
     UnsupportedFeatureError
-        For membership functions of classes the format does not know, or an unknown reducer.
+        For membership functions of classes the format does not know, an unknown reducer, or
+        hedges.
     """
+    refuse_hedges(system, "TOML")
     kind = next((k for k, cls in KINDS.items() if type(system) is cls), None)
     if kind is None:
         if type(system).__name__ == "HybridSystem":

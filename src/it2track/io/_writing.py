@@ -38,6 +38,7 @@ __all__ = [
     "fmt_vector",
     "mamdani_indices",
     "output_range",
+    "refuse_hedges",
     "sugeno_span",
 ]
 
@@ -121,6 +122,27 @@ def fmt_rule(system: AnySystem, rule: Rule, out_indices: Sequence[int]) -> str:
     return f"{' '.join(str(i) for i in indices)}, {outs} ({fmt_number(rule.weight)}) : {conn}"
 
 
+def refuse_hedges(system: object, fmt: str, *, hedges: bool = True) -> None:
+    """Refuse a system whose rules have hedges (with ``hedges``) or a general condition, or
+    a T1Sugeno that groups its rules by value (``aggregation``): ``fmt`` cannot carry them."""
+    for part in getattr(system, "systems", (system,)):
+        if isinstance(part, T1Sugeno) and part.aggregation is not None:
+            raise UnsupportedFeatureError(
+                f"the T1Sugeno aggregation {part.aggregation.value!r} (rules grouped by "
+                f"consequent value, jFuzzyLogic's ACCU) cannot be written to {fmt}")
+        for r, rule in enumerate(getattr(part, "rules", ())):
+            if rule.condition is not None:
+                raise UnsupportedFeatureError(
+                    f"rule {r + 1} has a general condition (nested AND/OR, or a chained "
+                    f"output's degree), which it2track cannot write to {fmt}")
+            if not hedges:
+                continue
+            if rule.hedged:
+                raise UnsupportedFeatureError(
+                    f"rule {r + 1} has hedges (very, somewhat, ...), which the {fmt} format "
+                    "cannot carry; save as .fll")
+
+
 def check_writable(system: object, fmt: str) -> None:
     if isinstance(system, T1Tsukamoto | HybridSystem):
         raise UnsupportedFeatureError(
@@ -128,6 +150,7 @@ def check_writable(system: object, fmt: str) -> None:
     if not isinstance(system, IT2Sugeno | T1Sugeno | IT2Mamdani | T1Mamdani):
         raise TypeError(f"can only write IT2Sugeno, T1Sugeno, IT2Mamdani or T1Mamdani systems "
                         f"to {fmt}, got {type(system).__name__}")
+    refuse_hedges(system, fmt)
     if fmt == ".t2fis":  # .fis names every norm as Octave and fuzzylite write them
         check_matlab_operators(system, fmt)
 
@@ -140,7 +163,7 @@ def check_matlab_operators(system: object, fmt: str) -> None:
         ("s-norm", getattr(system, "snorm", None), (SNorm.MAXIMUM, SNorm.PROBOR)),
         ("implication", getattr(system, "implication", Implication.MINIMUM),
          (Implication.MINIMUM, Implication.PRODUCT)),
-        ("aggregation", getattr(system, "aggregation", Aggregation.MAXIMUM),
+        ("aggregation", getattr(system, "aggregation", None) or Aggregation.MAXIMUM,
          (Aggregation.MAXIMUM, Aggregation.SUM, Aggregation.PROBOR)),
         ("defuzzifier", getattr(system, "defuzzifier", None),
          (None, WeightedDefuzzifier.AVERAGE, *Defuzzifier)),

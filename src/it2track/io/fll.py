@@ -44,7 +44,8 @@ What is read
 - ``default: nan`` (no output where no rule fires: :class:`~it2track.fuzzy.ZeroFiringError`)
   or a number (``on_zero_firing``).
 - Rules: ``if ... then y is t [and z is u] [with w]`` with ``and``, ``or``, ``not``
-  (``x is not t``) and parentheses, reduced as :mod:`._ruletree` explains; hedges are refused.
+  (``x is not t``) and parentheses, reduced as :mod:`._ruletree` explains (nested conditions
+  and chained outputs as :mod:`._chain` explains); hedges as :mod:`it2track.fuzzy.hedges`.
   Several rule blocks are merged when their operators agree.
 - fuzzylite clips nothing unless ``lock-range: true``; it2track always clips inputs to their
   range (MATLAB's rule), so the two differ only outside it. ``lock-range: true`` on an output

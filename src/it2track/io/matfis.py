@@ -315,8 +315,7 @@ class _Reader(FisReader):
         for kind, run in itertools.groupby(kinds):  # fuzzylite's hybrid: a system per run
             n = len(list(run))
             cut = range(start, start + n)
-            mine = [Rule(r.antecedent, consequents=[r.consequents[k] for k in cut],
-                         weight=r.weight, connective=r.connective, negated=r.negated)
+            mine = [r.with_consequents([r.consequents[k] for k in cut], cut)
                     for r in rules if any(r.consequents[k] is not None for k in cut)]
             if not mine:
                 raise self.doc.error(line, f"no rule acts on output {start + 1}")
