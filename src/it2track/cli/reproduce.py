@@ -267,6 +267,8 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
 
 #: Where an unfinished physics check keeps its finished rounds (inside --out).
 PHYSICS_CACHE = ".physics-cache"
+#: Frames of the physics check's animation.
+PHYSICS_GIF_FRAMES = 60
 
 
 def _physics_plan(ctx: click.Context, physics: bool | None, quick: bool) -> tuple[Any, Any]:
@@ -318,9 +320,10 @@ def _run_physics(config: Any, check: Any, result: Any, staging: Path, out: Path,
             _fail(f"the physics check stopped: {type(exc).__name__}: {exc}; nothing was "
                   f"written (finished rounds are kept in {out / PHYSICS_CACHE})")
     outcome = PhysicsOutcome(result=physics, seconds=time.perf_counter() - started,
-                             smoke=quick)
+                             smoke=quick, cached=cache.hits)
     with stages.stage("physics check: files and animation"):
-        write_physics_files(staging, outcome, config, result.verdict_rows)
+        write_physics_files(staging, outcome, config, result.verdict_rows,
+                            frames=PHYSICS_GIF_FRAMES)
     return outcome
 
 

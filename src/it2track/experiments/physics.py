@@ -227,7 +227,7 @@ class RowCache:
     @staticmethod
     def _read(path: Path, want: int) -> dict[str, np.ndarray] | None:
         try:
-            with np.load(path, allow_pickle=False) as z:
+            with open(path, "rb") as fh, np.load(fh, allow_pickle=False) as z:
                 rows = {k: z[k] for k in z.files}
         except (OSError, ValueError, KeyError, zipfile.BadZipFile, EOFError):
             return None

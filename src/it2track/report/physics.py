@@ -50,6 +50,8 @@ class PhysicsOutcome:
         Wall time of the check, s.
     smoke : bool
         Run with ``--quick`` (3 s runs, tiny design): not evidence.
+    cached : int
+        Rounds read back from the cache of an interrupted run instead of simulated.
     """
 
     result: PhysicsResult | None = None
@@ -58,6 +60,7 @@ class PhysicsOutcome:
     gif: Path | None = None
     seconds: float = 0.0
     smoke: bool = False
+    cached: int = 0
 
     @classmethod
     def skipped(cls, reason: str) -> PhysicsOutcome:
@@ -70,7 +73,8 @@ class PhysicsOutcome:
             return {"status": "skipped", "reason": self.reason}
         return {"status": "run", "check": self.result.check.to_dict(),
                 "design": self.result.design.to_dict(), "runs": self.result.runs,
-                "seconds": round(self.seconds, 3), "smoke": self.smoke}
+                "seconds": round(self.seconds, 3), "smoke": self.smoke,
+                "rounds_from_cache": self.cached}
 
 
 def write_physics_files(folder: Path, outcome: PhysicsOutcome, config: Any,
@@ -94,6 +98,13 @@ def write_physics_files(folder: Path, outcome: PhysicsOutcome, config: Any,
     panels = [AnimationPanel(title, trace, labels)
               for title, trace, labels in physics_traces(config, result.check)]
     outcome.gif = tracking_gif(panels, folder / GIF_NAME, frames=frames)
+
+
+def _resumed(outcome: PhysicsOutcome) -> str:
+    if not outcome.cached:
+        return ""
+    return (f" (resumed: {outcome.cached} round(s) read back from an interrupted run's "
+            "cache)")
 
 
 def _status(row: Mapping[str, Any], key: str) -> str:
@@ -129,7 +140,7 @@ def physics_markdown(outcome: PhysicsOutcome, check: PhysicsCheck | None = None)
         f"{d.first} per controller, path and σ first, up to {d.batch} more per round while "
         f"a level is unsettled, at most {d.cap} (this run: {min(noisy)}–{max(noisy)}); "
         f"replication target {d.target:g}, {d.resamples} bootstrap resamples. "
-        f"{r.runs} simulations in {outcome.seconds:.0f} s. Every level: "
+        f"{r.runs} simulations in {outcome.seconds:.0f} s{_resumed(outcome)}. Every level: "
         f"`physics_verdicts.csv`; every run: `physics_metrics.csv`.",
         "",
         "All paths together, noisy levels: the kinematic robot's status beside each "

@@ -48,7 +48,7 @@ def physics_section(outcome: PhysicsOutcome) -> Markup:
         surfaces=[{"name": s.surface, "mu": f"{s.mu:g}"} for s in r.surfaces],
         controllers=", ".join(r.controllers), first=d.first, batch=d.batch, cap=d.cap,
         used=f"{min(noisy)}–{max(noisy)}", target=f"{d.target:g}", resamples=d.resamples,
-        runs=f"{r.runs:,}", seconds=f"{outcome.seconds:.0f}", rows=rows,
+        runs=f"{r.runs:,}", seconds=f"{outcome.seconds:.0f}", cached=outcome.cached, rows=rows,
         survivors=survivors_text(outcome.survival, names).replace("**", ""),
         gif=None if outcome.gif is None else data_uri(outcome.gif), gif_name=GIF_NAME,
         verdicts_name=VERDICTS_NAME, metrics_name=METRICS_NAME)
