@@ -41,7 +41,6 @@ def _invoke(out: Path, *args: str):
 @pytest.fixture
 def tiny(monkeypatch):
     import it2track.cli.reproduce as cli
-    from it2track.experiments import physics
 
     monkeypatch.setattr(cli, "_default_study_config", _tiny_study)
     monkeypatch.setattr(cli, "PHYSICS_GIF_FRAMES", 3)
@@ -138,7 +137,8 @@ def test_without_mujoco_the_extra_is_named(tiny, tmp_path, monkeypatch):
     result = _invoke(tmp_path / "none")
     assert result.exit_code == 0, result.output
     assert f"physics check was skipped (MuJoCo is not installed: {INSTALL})" in result.output
-    assert "pip install &#39;it2track[mujoco]&#39;" in (tmp_path / "none" / "report.html").read_text()
+    page = (tmp_path / "none" / "report.html").read_text()
+    assert "pip install &#39;it2track[mujoco]&#39;" in page  # escaped quotes
     assert not {p.name for p in (tmp_path / "none").iterdir()} & PHYSICS_FILES
     refused = _invoke(tmp_path / "refused", "--physics")
     assert refused.exit_code == 1 and INSTALL in refused.output

@@ -71,9 +71,9 @@ def test_verdict_rows_are_computed_from_the_metrics(checked):
         sel = ((rows["surface"] == v["surface"]) & (rows["trajectory"] == path)
                & (rows["noise_std"] == SIGMA))
         ra = {int(s): x for s, x, c in zip(rows["seed"][sel], rows[metric][sel],
-                                            rows["controller"][sel]) if c == a}
+                                            rows["controller"][sel], strict=True) if c == a}
         rb = {int(s): x for s, x, c in zip(rows["seed"][sel], rows[metric][sel],
-                                            rows["controller"][sel]) if c == b}
+                                            rows["controller"][sel], strict=True) if c == b}
         seeds = sorted(set(ra) & set(rb))
         diff = np.array([ra[s] - rb[s] for s in seeds])
         mean, low, high = _interval(diff)
@@ -98,7 +98,8 @@ def test_the_rows_are_the_physical_robot_on_each_surface(checked):
     assert "PD" not in " ".join(result.controllers)
     pick = ((rows["controller"] == "FLC") & (rows["trajectory"] == "curved")
             & (rows["noise_std"] == SIGMA) & (rows["seed"] == 0))
-    by_surface = {s: float(x) for s, x in zip(rows["surface"][pick], rows["IAE"][pick])}
+    by_surface = {s: float(x) for s, x in zip(rows["surface"][pick], rows["IAE"][pick],
+                                                       strict=True)}
     config = _tiny()
     flc = ControllerSpec(kind=ControllerKind.FLC).build()
     kin = simulate_metrics([flc], [get_trajectory("curved")],

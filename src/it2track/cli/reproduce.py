@@ -80,8 +80,8 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
     Writes figures (PNG, and SVG unless --quick or --no-svg), metrics.csv, summary.csv,
     verdicts.csv, robustness.csv, sensitivity.csv, claims.md, mcu_costs.csv, report.html and
     manifest.json into OUT, and with the physics check physics_verdicts.csv,
-    physics_metrics.csv and physics_tracking.gif. Files appear only when complete. --quick is a smoke run: every
-    verdict it prints is marked "smoke run — not evidence".
+    physics_metrics.csv and physics_tracking.gif. Files appear only when complete. --quick
+    is a smoke run: every verdict it prints is marked "smoke run — not evidence".
     Figures are drawn by worker processes while the study runs; the microcontroller costs are
     measured by another process meanwhile.
     """

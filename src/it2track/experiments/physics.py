@@ -26,12 +26,13 @@ import zipfile
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
 from ..atomicfile import atomic_open
-from ..plant.mujoco_model import SURFACES, PhysicsParams
+from ..plant.base import PlantSpec
+from ..plant.mujoco_model import SURFACES, PhysicsParams, Surface
 from ..plant.mujoco_plant import MujocoSpec
 from ..tracking import RunTable, Trace, get_trajectory, simulate
 from .claimcells import claim_definitions
@@ -153,7 +154,9 @@ def physics_config(config: StudyConfig, check: PhysicsCheck, surface: str) -> St
     -------
     StudyConfig
     """
-    spec = MujocoSpec(physics=PhysicsParams(surface=surface))
+    # MujocoSpec is a PlantSpec (its ``kind`` a class constant, which mypy's protocol check
+    # reads as a mismatch)
+    spec = cast("PlantSpec", MujocoSpec(physics=PhysicsParams(surface=Surface.named(surface))))
     return replace(config, loop=replace(config.loop, plant=spec), sweep_seeds=check.first,
                    verdicts=check.design(config.verdicts), pd=None, tuning=None,
                    robustness=None)
@@ -217,9 +220,10 @@ class RowCache:
                 return rows
             self.misses += 1
             rows = simulate(batches)
+            arrays: dict[str, Any] = {k: (v.astype(str) if v.dtype == object else v)
+                                      for k, v in rows.items()}
             with atomic_open(path, "wb") as fh:
-                np.savez(fh, **{k: (v.astype(str) if v.dtype == object else v)
-                                for k, v in rows.items()})
+                np.savez(fh, **arrays)
             return rows
 
         return cached
@@ -341,7 +345,7 @@ def run_physics(
         cfg = physics_config(config, check, surface)
         done = [0]
 
-        def counted(n: int) -> None:
+        def counted(n: int, done: list[int] = done) -> None:
             done[0] += n
             if grow is not None:
                 grow(n)

@@ -39,7 +39,8 @@ __all__ = ["figure_captions", "render_html", "write_html"]
 SECTIONS = (("setup", "Setup"), ("assumptions", "Assumptions"), ("results", "Results"),
             ("claims", "Claims"), ("baselines", "Fair baselines"),
             ("robustness", "Robustness to the open modelling choices"),
-            ("physics", "Physics check (MuJoCo)"), ("mcu", "Microcontroller cost"), ("summary", "Summary table"),
+            ("physics", "Physics check (MuJoCo)"),
+            ("mcu", "Microcontroller cost"), ("summary", "Summary table"),
             ("rerun", "How to rerun"))
 
 
