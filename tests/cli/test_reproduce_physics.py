@@ -17,6 +17,7 @@ from click.testing import CliRunner
 from scipy import stats
 
 from it2track.cli.main import main
+from it2track.experiments.physics import PhysicsCheck
 from it2track.experiments.sequential import SequentialDesign
 from it2track.experiments.study import StudyConfig
 
@@ -44,15 +45,9 @@ def tiny(monkeypatch):
 
     monkeypatch.setattr(cli, "_default_study_config", _tiny_study)
     monkeypatch.setattr(cli, "PHYSICS_GIF_FRAMES", 3)
-    real = cli._physics_plan
-
-    def smaller(ctx, flag, quick):
-        check, outcome = real(ctx, flag, quick)
-        if check is not None:
-            check = replace(check, surfaces=("dry", "icy"), first=2, batch=1, cap=3)
-        return check, outcome
-
-    monkeypatch.setattr(cli, "_physics_plan", smaller)
+    # the default check, on two surfaces and a smaller cap (the test's time)
+    monkeypatch.setattr(cli, "_default_physics_check", lambda: PhysicsCheck(
+        surfaces=("dry", "icy"), first=2, batch=1, cap=3))
     return cli
 
 

@@ -68,8 +68,9 @@ def _quick(config: Any) -> Any:
 @click.option("--physics/--no-physics", default=None,
               help="Re-judge the claims with the robot simulated in MuJoCo on dry, wet and "
               "icy ground (default: yes when MuJoCo is installed, except with --quick; needs "
-              "it2track[mujoco]). Adds ~15-30 min on a 2-core machine; an interrupted check "
-              "resumes from OUT/.physics-cache when rerun with the same --out.")
+              "it2track[mujoco]). Much slower than the kinematic study (manifest.json's "
+              "stage_s has its time); an interrupted check resumes from OUT/.physics-cache "
+              "when rerun with the same --out.")
 @click.option("--no-progress", is_flag=True, help="No progress bar or stage messages.")
 def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
               sweep_seeds: int | None, quick: bool, workers: int, scheduler: str | None,
@@ -275,6 +276,8 @@ def _physics_plan(ctx: click.Context, physics: bool | None, quick: bool) -> tupl
     """The physics check to run (or None) and the outcome to report if it does not run:
     on by default when MuJoCo is installed, off with --quick unless --physics is given;
     --physics without MuJoCo is an error naming the extra."""
+    from dataclasses import replace
+
     from ..experiments.physics import PhysicsCheck, mujoco_missing
     from ..report.physics import INSTALL, PhysicsOutcome
 
@@ -289,9 +292,23 @@ def _physics_plan(ctx: click.Context, physics: bool | None, quick: bool) -> tupl
             _fail(f"--physics needs MuJoCo: {INSTALL} (or drop --physics); nothing was "
                   "simulated")
         return None, PhysicsOutcome.skipped(f"MuJoCo is not installed: {INSTALL}")
+    check = _default_physics_check()
+    if check is None:
+        if physics:
+            check = PhysicsCheck()
+        else:
+            return None, PhysicsOutcome.skipped("off by default here; add --physics")
     if quick:  # a smoke run of the check: the quick study's 3 s runs, two realisations
-        return PhysicsCheck(first=2, batch=1, cap=2), None
-    return PhysicsCheck(), None
+        return replace(check, first=2, batch=1, cap=2), None
+    return check, None
+
+
+def _default_physics_check() -> Any:
+    """The physics check ``reproduce`` runs by default when MuJoCo is installed, or None
+    for none unless --physics is given (a hook the tests replace)."""
+    from ..experiments.physics import PhysicsCheck
+
+    return PhysicsCheck()
 
 
 def _run_physics(config: Any, check: Any, result: Any, staging: Path, out: Path,

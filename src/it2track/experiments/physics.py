@@ -11,8 +11,9 @@ target, bootstrap resamples and seed, and a smaller ``first``/``batch``/``cap``)
 replication probabilities (:mod:`.replication`) and the verdict rows (:mod:`.verdicts`).
 Nothing is judged here that the study does not judge the same way.
 
-The MuJoCo robot costs about 0.3 s of CPU per 10 s run (the kinematic one ~1 ms), hence the
-small seed cap. Each call of the design's ``simulate`` can be kept in a cache folder
+The MuJoCo robot is far slower to simulate than the kinematic one
+(``benchmarks/bench_plants.py``), hence the small seed cap; ``benchmarks/bench_physics_check.py``
+prints what the check costs. Each call of the design's ``simulate`` can be kept in a cache folder
 (:class:`RowCache`): an interrupted check, run again with the same cache, re-simulates only
 the batches it had not finished, and gives the same numbers bit for bit.
 """
@@ -50,7 +51,7 @@ __all__ = ["PHYSICS_COLUMNS", "PhysicsCheck", "PhysicsResult", "RowCache", "Surf
 #: Columns of ``physics_verdicts.csv``: the surface, its friction coefficient, then
 #: :data:`~.verdicts.VERDICT_COLUMNS`.
 PHYSICS_COLUMNS = ("surface", "mu", *VERDICT_COLUMNS)
-#: Most realisations per cell the check allows (the MuJoCo robot is ~300x slower).
+#: Most realisations per cell the check allows (the MuJoCo robot is far slower to simulate).
 MAX_CAP = 200
 _CACHE_VERSION = 1
 

@@ -23,7 +23,8 @@ from .animation import AnimationPanel, tracking_gif
 from .outputs import write_rows_csv
 
 __all__ = ["GIF_NAME", "INSTALL", "METRICS_NAME", "VERDICTS_NAME", "PhysicsOutcome",
-           "physics_markdown", "survivors_text", "write_physics_files"]
+           "counts_markdown", "physics_markdown", "survivor_counts", "survivors_text",
+           "write_physics_files"]
 
 VERDICTS_NAME = "physics_verdicts.csv"
 METRICS_NAME = "physics_metrics.csv"
@@ -161,24 +162,58 @@ def physics_markdown(outcome: PhysicsOutcome, check: PhysicsCheck | None = None)
                          f"(n {row[f'{s}_n']}){mark}")
         lines.append(f"| {row['claim']} | {row['sigma']:g} | {_status(row, 'kinematic')} | "
                      + " | ".join(cells) + " |")
-    lines += ["", survivors_text(outcome.survival, names), ""]
+    lines += ["", survivors_text(outcome.survival, names), "",
+              *counts_markdown(outcome.survival, names), ""]
     return "\n".join(lines)
+
+
+def survivor_counts(rows: Sequence[Mapping[str, Any]],
+                    names: Sequence[str]) -> list[dict[str, Any]]:
+    """Per claim, over its noisy levels settled on the kinematic robot (``levels``): per
+    surface how many are settled there with the same status (``same``), settled with another
+    (``different``) and unsettled there (``unsettled``)."""
+    out: dict[str, dict[str, Any]] = {}
+    for row in rows:
+        if not row["kinematic_settled"]:
+            continue
+        c = out.setdefault(str(row["claim"]), {
+            "claim": str(row["claim"]), "levels": 0,
+            **{s: {"same": 0, "different": 0, "unsettled": 0} for s in names}})
+        c["levels"] += 1
+        for s in names:
+            if s not in row:
+                continue
+            if not row[f"{s}_settled"]:
+                c[s]["unsettled"] += 1
+            elif row[f"{s}_same"]:
+                c[s]["same"] += 1
+            else:
+                c[s]["different"] += 1
+    return list(out.values())
 
 
 def survivors_text(rows: Sequence[Mapping[str, Any]], names: Sequence[str]) -> str:
     """Per surface, the claims whose every kinematically settled noisy level is settled with
-    the same status on that surface."""
+    the same status on that surface, and those with a level settled the other way."""
+    counts = survivor_counts(rows, names)
     parts = []
     for s in names:
-        claims: dict[str, list[bool]] = {}
-        for row in rows:
-            if row["kinematic_settled"] and s in row:
-                claims.setdefault(str(row["claim"]), []).append(bool(row[f"{s}_same"]))
-        keep = [c for c, v in claims.items() if v and all(v)]
-        some = [c for c, v in claims.items() if any(v) and not all(v)]
-        none = [c for c, v in claims.items() if v and not any(v)]
+        keep = [c["claim"] for c in counts if c[s]["same"] == c["levels"]]
+        other = [c["claim"] for c in counts if c[s]["different"]]
         parts.append(f"**{s}**: every level as on the kinematic robot: "
-                     f"{', '.join(keep) or 'none'}; some levels: {', '.join(some) or 'none'}; "
-                     f"no level: {', '.join(none) or 'none'}.")
-    return ("Claims by surface (over the levels settled on the kinematic robot): "
-            + " ".join(parts))
+                     f"{', '.join(keep) or 'none'}; some level settled otherwise: "
+                     f"{', '.join(other) or 'none'}.")
+    return ("By surface, over the levels settled on the kinematic robot (the table below "
+            "counts them): " + " ".join(parts))
+
+
+def counts_markdown(rows: Sequence[Mapping[str, Any]], names: Sequence[str]) -> list[str]:
+    """The table of :func:`survivor_counts`."""
+    lines = ["| claim | levels settled on the kinematic robot | "
+             + " | ".join(f"{s}: same / other / unsettled" for s in names) + " |",
+             "|---|---|" + "---|" * len(names)]
+    for c in survivor_counts(rows, names):
+        lines.append(f"| {c['claim']} | {c['levels']} | " + " | ".join(
+            f"{c[s]['same']} / {c[s]['different']} / {c[s]['unsettled']}" for s in names)
+            + " |")
+    return lines

@@ -14,6 +14,7 @@ from ..physics import (
     METRICS_NAME,
     VERDICTS_NAME,
     PhysicsOutcome,
+    survivor_counts,
     survivors_text,
 )
 from .env import data_uri, render
@@ -50,5 +51,9 @@ def physics_section(outcome: PhysicsOutcome) -> Markup:
         used=f"{min(noisy)}–{max(noisy)}", target=f"{d.target:g}", resamples=d.resamples,
         runs=f"{r.runs:,}", seconds=f"{outcome.seconds:.0f}", cached=outcome.cached, rows=rows,
         survivors=survivors_text(outcome.survival, names).replace("**", ""),
+        counts=[{"claim": c["claim"], "levels": c["levels"],
+                 "cells": [f"{c[s]['same']} / {c[s]['different']} / {c[s]['unsettled']}"
+                           for s in names]}
+                for c in survivor_counts(outcome.survival, names)],
         gif=None if outcome.gif is None else data_uri(outcome.gif), gif_name=GIF_NAME,
         verdicts_name=VERDICTS_NAME, metrics_name=METRICS_NAME)
