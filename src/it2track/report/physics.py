@@ -19,7 +19,6 @@ from ..experiments.physics import (
     physics_traces,
     survival,
 )
-from .animation import AnimationPanel, tracking_gif
 from .outputs import write_rows_csv
 
 __all__ = ["GIF_NAME", "INSTALL", "METRICS_NAME", "VERDICTS_NAME", "PhysicsOutcome",
@@ -96,9 +95,22 @@ def write_physics_files(folder: Path, outcome: PhysicsOutcome, config: Any,
     write_metrics_csv(folder / METRICS_NAME, table, ["surface", "mu", *ROW_KEYS,
                                                      *METRIC_NAMES])
     outcome.survival = survival(kinematic, result)
-    panels = [AnimationPanel(title, trace, labels)
-              for title, trace, labels in physics_traces(config, result.check)]
-    outcome.gif = tracking_gif(panels, folder / GIF_NAME, frames=frames)
+    panels = physics_traces(config, result.check)
+    # drawn by a worker process, as every figure: the main process imports no matplotlib
+    from concurrent.futures import ProcessPoolExecutor
+
+    from .render import _context
+
+    with ProcessPoolExecutor(1, mp_context=_context()) as pool:
+        outcome.gif = pool.submit(_draw_gif, panels, folder / GIF_NAME, frames).result()
+
+
+def _draw_gif(panels: Sequence[tuple[str, Any, tuple[str, ...]]], path: Path,
+              frames: int) -> Path:
+    """Worker job: the animation of :func:`~it2track.experiments.physics.physics_traces`."""
+    from .animation import AnimationPanel, tracking_gif
+
+    return tracking_gif([AnimationPanel(*p) for p in panels], path, frames=frames)
 
 
 def _resumed(outcome: PhysicsOutcome) -> str:
