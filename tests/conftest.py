@@ -1,6 +1,7 @@
 import os
 import time
 
+import pytest
 from hypothesis import HealthCheck, settings
 
 os.environ.setdefault("MPLBACKEND", "Agg")
@@ -56,3 +57,13 @@ def pytest_collection_finish(session):
         reporter.write("\n")
     else:
         reporter.write(" " + line + "\n", flush=True)
+
+
+@pytest.fixture(autouse=True)
+def _no_physics_check_by_default(monkeypatch):
+    """``it2track reproduce`` runs the MuJoCo physics check by default when MuJoCo is
+    installed (minutes of simulation); tests that do not ask for it run without it
+    (``tests/cli/test_reproduce_physics.py`` sets its own small check)."""
+    import it2track.cli.reproduce as cli
+
+    monkeypatch.setattr(cli, "_default_physics_check", lambda: None)

@@ -70,22 +70,29 @@ def _quick(config: Any) -> Any:
               help="Inputs per axis of the microcontroller measurement's grid on [-1, 1]^2, "
               f"2 to {MAX_MCU_GRID} (the benchmark's grid); the time grows with its square: "
               "~3 s at 21. Refused with --no-mcu, and with --quick unless --mcu is given.")
+@click.option("--physics/--no-physics", default=None,
+              help="Re-judge the claims with the robot simulated in MuJoCo on dry, wet and "
+              "icy ground (default: yes when MuJoCo is installed, except with --quick; needs "
+              "it2track[mujoco]). Much slower than the kinematic study (manifest.json's "
+              "stage_s has its time); an interrupted check resumes from OUT/.physics-cache "
+              "when rerun with the same --out.")
 @click.option("--no-progress", is_flag=True, help="No progress bar or stage messages.")
 @click.option("--force", is_flag=True,
               help="Replace files in OUT of the names this run writes that it2track cannot "
               "prove it wrote (not listed with their SHA-256 in OUT's manifest.json).")
 def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
               sweep_seeds: int | None, quick: bool, workers: int, scheduler: str | None,
-              svg: bool | None, mcu: bool | None, mcu_grid: int, no_progress: bool,
-              force: bool, **dask: Any) -> None:
+              svg: bool | None, mcu: bool | None, mcu_grid: int, physics: bool | None,
+              no_progress: bool, force: bool, **dask: Any) -> None:
     """Regenerate every result of the paper, with statistics and verdicts on its claims.
 
     Writes figures (PNG, and SVG unless --quick or --no-svg), metrics.csv, summary.csv,
     verdicts.csv, robustness.csv, sensitivity.csv, claims.md, mcu_costs.csv, report.html and
-    manifest.json into OUT. Files appear only when complete. --quick is a smoke run: every
-    verdict it prints is marked "smoke run — not evidence". A file of those names already in
-    OUT is replaced only if OUT's manifest.json (sealed by the run that wrote it) lists it with
-    its SHA-256, or with --force; otherwise nothing runs.
+    manifest.json into OUT, and with the physics check physics_verdicts.csv,
+    physics_metrics.csv and physics_tracking.gif. Files appear only when complete. --quick
+    is a smoke run: every verdict it prints is marked "smoke run — not evidence". A file of
+    those names already in OUT is replaced only if OUT's manifest.json (sealed by the run that
+    wrote it) lists it with its SHA-256, or with --force; otherwise nothing runs.
     Figures are drawn by worker processes while the study runs; the microcontroller costs are
     measured by another process meanwhile.
     """
@@ -105,6 +112,7 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
     from ..report import outputs
     from ..report.html import write_html
     from ..report.mcu_job import TABLE_NAME, McuJob, McuStatus, write_cost_csv
+    from ..report.physics import physics_markdown
     from ..report.plan import possible_figure_keys
     from ..report.render import FigureError, FigureRenderer, default_figure_workers
     from ..tracking import METRIC_NAMES
@@ -148,6 +156,11 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
         also += ["mcu_costs.csv", "mcu_costs.png", *(["mcu_costs.svg"] if svg else [])]
     also += [f"{key}.{ext}" for key in possible_figure_keys(config)
              for ext in ("png", *(["svg"] if svg else []))]
+    check, physics_outcome = _physics_plan(ctx, physics, quick)
+    if check is not None:
+        from ..report.physics import GIF_NAME, METRICS_NAME, VERDICTS_NAME
+
+        also += [VERDICTS_NAME, METRICS_NAME, GIF_NAME]
     staging = _make_staging(out_dir, also, force=force)
     skipped = "--quick" if quick and not _given(ctx, "mcu") else "--no-mcu"
     mcu_job = McuJob.skipped(f"skipped with {skipped}", fou=config.main_fou, grid=mcu_grid)
@@ -193,6 +206,9 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
                     result = _mark_smoke(result)
                 claims = result.claims
             renderer.submit(result, summary)
+            if check is not None:
+                physics_outcome = _run_physics(config, check, result, staging, out,
+                                               stages, no_progress, quick)
             with stages.stage("metrics.csv, summary.csv, verdicts.csv, claims.md"):
                 outputs.write_metrics_csv(staging / "metrics.csv", result.rows,
                                           [*ROW_KEYS, *METRIC_NAMES])
@@ -208,7 +224,8 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
                     preamble=outputs.claims_preamble(config, seeds=result.seeds_by_level,
                                                      smoke=quick),
                     levels=outputs.levels_markdown(claims, result.verdict_rows),
-                    sections=outputs.study_sections(result, claims), smoke=quick)
+                    sections=outputs.study_sections(result, claims)
+                    + "\n" + physics_markdown(physics_outcome), smoke=quick)
             with stages.stage("figures"), stages.figure_bar(renderer):
                 try:
                     figures = renderer.results(result)
@@ -233,17 +250,21 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
             config=cfg, command=command.strip(), elapsed_s=time.perf_counter() - started,
             extra={"rows": len(result.rows["seed"]), "simulations": total + result.extra_runs,
                    "mcu": mcu_costs.provenance(),
+                   "physics": physics_outcome.provenance(),
                    "files": sorted(p.name for p in staging.iterdir())},
         )
         with stages.stage("report.html"):
             write_html(staging / "report.html", result=result, summary=summary,
                        claims=claims, manifest=manifest, figures=figures,
-                       elapsed_s=time.perf_counter() - started, mcu=mcu_costs, smoke=quick)
+                       elapsed_s=time.perf_counter() - started, mcu=mcu_costs, smoke=quick,
+                       physics=physics_outcome)
         manifest["elapsed_s"] = round(time.perf_counter() - started, 3)
         manifest["stage_s"] = stages.record()
         manifest["files"] = sorted([*(p.name for p in staging.iterdir()), "manifest.json"])
         outputs.write_json(staging / "manifest.json", manifest)
         _publish(staging, out, force=force)
+        if check is not None:
+            _drop_cache(out)
     finally:
         try:
             mcu_job.cancel()
@@ -252,12 +273,109 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
     elapsed = time.perf_counter() - started
     stages.summary(elapsed)
     runs = total + result.extra_runs
+    if physics_outcome.result is None:
+        click.echo(f"note: the physics check was skipped ({physics_outcome.reason})", err=True)
     click.echo(f"{len(result.rows['seed'])} result rows from {runs} simulations in "
                f"{elapsed:.1f} s -> {out}/")
     if quick:
         click.echo(f"  {_SMOKE_NOTE}")
     for c in claims:
         click.echo(f"  {c.id}: {c.verdict}")
+
+
+#: Where an unfinished physics check keeps its finished rounds (inside --out).
+PHYSICS_CACHE = ".physics-cache"
+#: Frames of the physics check's animation.
+PHYSICS_GIF_FRAMES = 60
+
+
+def _physics_plan(ctx: click.Context, physics: bool | None, quick: bool) -> tuple[Any, Any]:
+    """The physics check to run (or None) and the outcome to report if it does not run:
+    on by default when MuJoCo is installed, off with --quick unless --physics is given;
+    --physics without MuJoCo is an error naming the extra."""
+    from dataclasses import replace
+
+    from ..experiments.physics import PhysicsCheck, mujoco_missing
+    from ..report.physics import INSTALL, PhysicsOutcome
+
+    if physics is False:
+        return None, PhysicsOutcome.skipped("skipped with --no-physics")
+    if physics is None and quick:
+        return None, PhysicsOutcome.skipped("skipped with --quick; add --physics for a "
+                                            "smoke run of it")
+    missing = mujoco_missing()
+    if missing is not None:
+        if physics:
+            _fail(f"--physics needs MuJoCo: {INSTALL} (or drop --physics); nothing was "
+                  "simulated")
+        return None, PhysicsOutcome.skipped(f"MuJoCo is not installed: {INSTALL}")
+    check = _default_physics_check()
+    if check is None:
+        if physics:
+            check = PhysicsCheck()
+        else:
+            return None, PhysicsOutcome.skipped("off by default here; add --physics")
+    if quick:  # a smoke run of the check: the quick study's 3 s runs, two realisations
+        return replace(check, first=2, batch=1, cap=2), None
+    return check, None
+
+
+def _default_physics_check() -> Any:
+    """The physics check ``reproduce`` runs by default when MuJoCo is installed, or None
+    for none unless --physics is given (a hook the tests replace)."""
+    from ..experiments.physics import PhysicsCheck
+
+    return PhysicsCheck()
+
+
+def _run_physics(config: Any, check: Any, result: Any, staging: Path, out: Path,
+                 stages: _Stages, no_progress: bool, quick: bool) -> Any:
+    """Run the physics check (its rounds cached in OUT/.physics-cache, so an interrupted
+    run resumes) and write its files into ``staging``."""
+    from tqdm import tqdm
+
+    from ..experiments.physics import RowCache, run_physics
+    from ..plant.mujoco_robot import PhysicsDivergedError
+    from ..report.physics import PhysicsOutcome, write_physics_files
+
+    started = time.perf_counter()
+    with stages.stage("physics check (MuJoCo)"), tqdm(
+            total=0, unit="run", disable=no_progress, file=sys.stderr, desc="physics",
+            leave=False) as bar:
+        def grow(n: int) -> None:
+            bar.total += n
+            bar.refresh()
+
+        try:
+            cache = RowCache(out / PHYSICS_CACHE)
+            physics = run_physics(config, check, cache=cache, progress=bar.update, grow=grow,
+                                  on_surface=lambda s: bar.set_description(f"physics {s}"))
+        except (ValueError, OSError, PhysicsDivergedError) as exc:
+            _fail(f"the physics check stopped: {type(exc).__name__}: {exc}; nothing was "
+                  f"written (finished rounds are kept in {out / PHYSICS_CACHE})")
+    outcome = PhysicsOutcome(result=physics, seconds=time.perf_counter() - started,
+                             smoke=quick, cached=cache.hits)
+    with stages.stage("physics check: files and animation"):
+        write_physics_files(staging, outcome, config, result.verdict_rows,
+                            frames=PHYSICS_GIF_FRAMES)
+    return outcome
+
+
+def _drop_cache(out: Path) -> None:
+    """Remove the physics check's cache after a published run: only its own files, then the
+    folder if that left it empty."""
+    from ..experiments.physics import RowCache
+
+    folder = out / PHYSICS_CACHE
+    if not folder.is_dir() or folder.is_symlink():
+        return
+    for p in RowCache(folder).files():
+        if p.is_file() and not p.is_symlink():
+            p.unlink()
+    try:
+        folder.rmdir()
+    except OSError:
+        pass  # something else is in it: not ours to remove
 
 
 #: The terminal's line above a --quick run's verdicts.

@@ -43,7 +43,7 @@ from .plan import (
 from .results import StudyResult, figure_data
 from .tuning import tune_fuzzy, tune_pd
 
-__all__ = ["run_study"]
+__all__ = ["noise_simulator", "run_study"]
 
 
 @dataclass(frozen=True)
@@ -207,17 +207,35 @@ def run_study(
     )
 
 
-def _settle_noise(config: StudyConfig, noise: _Experiment, rows: dict[str, np.ndarray],
-                  executor: Executor | None, progress: Callable[[int], object] | None,
-                  grow: Callable[[int], object] | None
-                  ) -> tuple[SettledResult, list[Any], int]:
-    """The noise experiment's sequential design, from the plan's first round; also the
-    number of runs its extension rounds simulated."""
-    labels = [s.label for s in noise.specs]
-    spec_of = dict(zip(labels, noise.specs, strict=True))
+def noise_simulator(config: StudyConfig, specs: Sequence[ControllerSpec], *,
+                    executor: Executor | None = None,
+                    progress: Callable[[int], object] | None = None,
+                    grow: Callable[[int], object] | None = None
+                    ) -> Callable[[Sequence[SeedBatch]], dict[str, np.ndarray]]:
+    """The ``simulate`` callable :func:`~..sequential.settle` takes, for the noise experiment
+    of ``config`` (its loop, paths and batch size) on these controllers: each
+    :class:`~..sequential.SeedBatch` becomes rows with ``experiment = "noise"``.
+
+    Parameters
+    ----------
+    config : StudyConfig
+        The loop (its plant included), trajectories and batch size.
+    specs : sequence of ControllerSpec
+        The controllers, found by their labels in the batches' cells.
+    executor : Executor, optional
+        Where the runs go (default: this process).
+    progress : callable, optional
+        Called with the number of runs finished, as they finish.
+    grow : callable, optional
+        Called with the number of runs of each call, before they are simulated.
+
+    Returns
+    -------
+    callable
+        ``simulate(batches) -> rows``.
+    """
+    spec_of = {s.label: s for s in specs}
     path_index = {t: i for i, t in enumerate(config.trajectories)}
-    defs = claim_definitions(fous=config.fous, main_fou=config.main_fou,
-                             trajectories=config.trajectories, available=labels)
 
     def simulate(batches: Sequence[SeedBatch]) -> dict[str, np.ndarray]:
         exps = []
@@ -228,13 +246,33 @@ def _settle_noise(config: StudyConfig, noise: _Experiment, rows: dict[str, np.nd
                                     b.stop - b.start, seed_start=b.start,
                                     trajectories=(path_index[path],)))
         plan = _plan(config, exps)
-        done[0] += plan.n_runs
         if grow is not None:
             grow(plan.n_runs)
         metrics = _simulate_plan(plan, config, executor, progress)
         return _rows_of(plan, metrics, config.trajectories, names=("noise",))
 
+    return simulate
+
+
+def _settle_noise(config: StudyConfig, noise: _Experiment, rows: dict[str, np.ndarray],
+                  executor: Executor | None, progress: Callable[[int], object] | None,
+                  grow: Callable[[int], object] | None
+                  ) -> tuple[SettledResult, list[Any], int]:
+    """The noise experiment's sequential design, from the plan's first round; also the
+    number of runs its extension rounds simulated."""
+    labels = [s.label for s in noise.specs]
+    path_index = {t: i for i, t in enumerate(config.trajectories)}
+    defs = claim_definitions(fous=config.fous, main_fou=config.main_fou,
+                             trajectories=config.trajectories, available=labels)
     done = [0]
+
+    def counted(n: int) -> None:
+        done[0] += n
+        if grow is not None:
+            grow(n)
+
+    simulate = noise_simulator(config, noise.specs, executor=executor, progress=progress,
+                               grow=counted)
     first = {k: v[rows["experiment"] == "noise"] for k, v in rows.items()}
     settled = settle(simulate, claims=defs, controllers=labels,
                      trajectories=config.trajectories, levels=config.noise_levels,

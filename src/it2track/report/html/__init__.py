@@ -19,12 +19,14 @@ from ...atomicfile import atomic_write_text
 from ...experiments.study import StudyResult
 from ..counts import count_text
 from ..mcu_job import McuCosts
+from ..physics import PhysicsOutcome
 from .assumptions import assumptions_section
 from .baselines import baselines_section
 from .captions import figure_captions
 from .claims import claims_section, glance
 from .env import render
 from .mcu import mcu_section
+from .physics import physics_section
 from .rerun import rerun_section
 from .results import figure_refs, results_section
 from .robustness import robustness_section
@@ -37,6 +39,7 @@ __all__ = ["figure_captions", "render_html", "write_html"]
 SECTIONS = (("setup", "Setup"), ("assumptions", "Assumptions"), ("results", "Results"),
             ("claims", "Claims"), ("baselines", "Fair baselines"),
             ("robustness", "Robustness to the open modelling choices"),
+            ("physics", "Physics check (MuJoCo)"),
             ("mcu", "Microcontroller cost"), ("summary", "Summary table"),
             ("rerun", "How to rerun"))
 
@@ -51,6 +54,7 @@ def render_html(
     elapsed_s: float,
     mcu: McuCosts | None = None,
     smoke: bool = False,
+    physics: PhysicsOutcome | None = None,
 ) -> str:
     """The report as one HTML string (see :func:`write_html`)."""
     cfg = result.config
@@ -69,11 +73,13 @@ def render_html(
                        target=cfg.verdicts.target),
         baselines_section(result),
         robustness_section(result, refs),
+        *([] if physics is None else [physics_section(physics)]),
         *([] if mcu is None else [mcu_section(mcu, refs.get("mcu_costs"))]),
         summary_section(result, summary),
         rerun_section(result, manifest, elapsed_s),
     ]
-    nav = [s for s in SECTIONS if mcu is not None or s[0] != "mcu"]
+    nav = [s for s in SECTIONS if (mcu is not None or s[0] != "mcu")
+           and (physics is not None or s[0] != "physics")]
     return str(render("page.html.j2", subtitle=sub, glance=glance(claims, smoke=smoke),
                       nav=nav, sections=sections, smoke=smoke))
 
@@ -89,6 +95,7 @@ def write_html(
     elapsed_s: float,
     mcu: McuCosts | None = None,
     smoke: bool = False,
+    physics: PhysicsOutcome | None = None,
 ) -> Path:
     """Write the study's self-contained HTML report.
 
@@ -114,6 +121,9 @@ def write_html(
     smoke : bool
         A ``--quick`` run: the page says "smoke run — not evidence" at the top and beside
         the verdicts.
+    physics : PhysicsOutcome, optional
+        The physics check (:mod:`it2track.report.physics`), run or skipped with its reason.
+        Without it the page has no physics section.
 
     Returns
     -------
@@ -121,7 +131,8 @@ def write_html(
         ``path``.
     """
     text = render_html(result=result, summary=summary, claims=claims, manifest=manifest,
-                       figures=figures, elapsed_s=elapsed_s, mcu=mcu, smoke=smoke)
+                       figures=figures, elapsed_s=elapsed_s, mcu=mcu, smoke=smoke,
+                       physics=physics)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     atomic_write_text(path, text)
