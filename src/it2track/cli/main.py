@@ -13,6 +13,7 @@ from typing import Any, NoReturn
 import click
 
 from .. import __version__
+from .target import apply_target_options
 
 __all__ = ["main"]
 
@@ -68,15 +69,19 @@ def _fail(message: str) -> NoReturn:
 @click.option("--json", "as_json", is_flag=True, help="Print the metrics as one JSON object.")
 @click.option("--trace", type=click.Path(dir_okay=False, writable=True),
               help="Save the time series to this CSV file.")
+@apply_target_options
 def simulate(**opts: Any) -> None:
     """Simulate one scenario and print its metrics."""
     from ..atomicfile import atomic_write_text
+    from ..codegen.tools import BuildError
     from ..experiments.specs import ControllerKind, ControllerSpec
     from ..plant import HeadingNoise
     from ..tracking import LoopConfig, RunTable, get_trajectory
     from ..tracking import simulate as run
+    from .target import check_target_options, on_target, target_summary
 
     _reject_inapplicable(click.get_current_context(), opts)
+    check_target_options(opts)
     # Everything that can fail is checked before the simulation starts, each error naming
     # the option(s) it comes from.
     if opts["trace"] is not None:
@@ -112,6 +117,7 @@ def simulate(**opts: Any) -> None:
         source = (f"--controller-file {opts['controller_file']}" if opts["controller_file"]
                   else f"--controller {opts['controller']}")
         _fail(f"{source}: {exc}")
+    controller = on_target(controller, opts)
     try:
         trajectory = get_trajectory(opts["trajectory"])
     except (ValueError, OSError) as exc:
@@ -131,7 +137,10 @@ def simulate(**opts: Any) -> None:
         trace = run([controller], [trajectory], runs, config)
     except ValueError as exc:
         _fail(f"the simulation stopped: {exc}")
+    except BuildError as exc:
+        _fail(f"--target {opts['target_mcu']}: {exc}")
     metrics = {k: float(v[0]) for k, v in trace.metrics.items()}
+    metrics.update(target_summary(trace, opts))
     if opts["trace"]:
         import csv
         import io
@@ -152,7 +161,8 @@ def simulate(**opts: Any) -> None:
     if opts["as_json"]:
         click.echo(json.dumps(metrics))
         return
-    click.echo(f"{spec.label} on {trajectory.name}, sigma = {sigma:g} rad, seed {opts['seed']}, "
+    click.echo(f"{controller.name if opts['target_mcu'] != 'host' else spec.label} on "
+               f"{trajectory.name}, sigma = {sigma:g} rad, seed {opts['seed']}, "
                f"{opts['duration']:g} s")
     width = max(len(k) for k in metrics)
     for key, value in metrics.items():

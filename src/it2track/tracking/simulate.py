@@ -48,6 +48,7 @@ from ..plant import DifferentialDrive, RobotParams, held_sample_index
 from ..plant.drive import MAX_QUADRATURE_NODES, check_stiffness
 from ..plant.noise import MAX_NOISE_STD, NoiseRows
 from . import compiled as _compiled
+from .actuation import Actuation
 from .controllers import HeadingController
 from .libm import atan2
 from .loopdefs import TRACE_FIELDS, PoseTiming, noise_rows
@@ -446,7 +447,9 @@ class Trace:
     runs : RunTable
         The runs, in the order of the first axis below.
     series : dict of str -> ndarray, shape (B, N+1)
-        One array per name in :data:`.TRACE_FIELDS` (axis 0: run, axis 1: time).
+        One array per name in :data:`.TRACE_FIELDS` (axis 0: run, axis 1: time), then one per
+        name the controllers report (their ``trace_series``, e.g. the processor-in-the-loop
+        controller's ``cycles``; NaN for runs of the other controllers).
     metrics : dict of str -> ndarray, shape (B,)
         The metrics of :mod:`it2track.tracking.metrics`.
     """
@@ -585,6 +588,7 @@ class _Engine:
             for a, b in zip(starts, stops, strict=True)
         ] if n else []
         states = [c.initial_state(s.stop - s.start, cfg.ts) for c, s in groups]
+        actuation = Actuation(groups, self.drive, n_steps, record=record)
 
         pose = np.ascontiguousarray(self.start[tidx].T) if n else np.empty((3, 0))
         previous = cfg.desired_heading_pose is PoseTiming.PREVIOUS
@@ -631,6 +635,7 @@ class _Engine:
                 _wrap_inplace(np.subtract(e_meas, e_prev, out=de))
             for (c, sl), state in zip(groups, states, strict=True):
                 u[sl] = c.output(e_meas[sl], de[sl], state)
+                actuation.after_output(k, c, sl, state)
             np.add(v0, u, out=vr_req)
             np.subtract(v0, u, out=vl_req)
             np.clip(vr_req, -self.v_lim, self.v_lim, out=volts[0])
@@ -657,7 +662,7 @@ class _Engine:
             if k < n_steps:
                 if previous:
                     prev_xy[:] = pose[:2]
-                pose, wheels = self.drive.step(pose, wheels, volts)
+                pose, wheels = actuation.step(pose, wheels, volts)
             e_prev, e_meas = e_meas, e_prev
 
         inv = np.empty_like(order)
@@ -665,6 +670,7 @@ class _Engine:
         metrics = {name: value[inv] for name, value in acc.result().items()}
         series = None
         if rec is not None:
+            rec.update(actuation.recorded())
             series = {name: np.ascontiguousarray(value.T[inv]) for name, value in rec.items()}
         return metrics, series
 
@@ -702,11 +708,12 @@ def _run(
         out[name][slow] = m_slow[name]
     if series is None or s_slow is None:
         return out, None
-    rec = {name: np.empty((n, config_steps + 1)) for name, config_steps in
-           ((k, engine.config.n_steps) for k in series)}  # fmt: skip
+    rec = {name: np.full((n, engine.config.n_steps + 1), np.nan) for name in
+           (*series, *(k for k in s_slow if k not in series))}  # fmt: skip
     for name, value in series.items():
         rec[name][idx] = value
-        rec[name][slow] = s_slow[name]
+    for name, value in s_slow.items():  # with the series only slow-engine controllers report
+        rec[name][slow] = value
     return out, rec
 
 
