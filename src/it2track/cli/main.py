@@ -40,6 +40,11 @@ def _fail(message: str) -> NoReturn:
 @main.command()
 @click.option("--trajectory", default="straight", show_default=True,
               help="straight | curved | sinusoidal, or a waypoint CSV file (t,x,y).")
+@click.option("--plant", "plant", default="kinematic", show_default=True,
+              help="kinematic (the paper's robot) | mujoco | a TOML file with a [plant] table "
+              "(e.g. kind = \"lti\" with num/den or A/B/C/D: any linear plant).")
+@click.option("--step", "step", type=float, default=None,
+              help="Step reference for a single-input --plant (its first output follows it).")
 @click.option("--controller", "controller", default="it2", show_default=True,
               type=click.Choice(["flc", "it2", "t1-matched", "pd"]),
               help="Heading controller (t1-matched: type-1 FLC with the IT2FLC's dead zone).")
@@ -71,12 +76,16 @@ def _fail(message: str) -> NoReturn:
               help="Save the time series to this CSV file.")
 @apply_target_options
 def simulate(**opts: Any) -> None:
-    """Simulate one scenario and print its metrics."""
+    """Simulate one scenario and print its metrics.
+
+    The robot follows --trajectory; a single-input --plant (a motor, a tank...) follows a --step
+    reference instead, its measured output noisy by --noise-std.
+    """
     from ..atomicfile import atomic_write_text
     from ..codegen.tools import BuildError
     from ..experiments.specs import ControllerKind, ControllerSpec
     from ..plant import HeadingNoise
-    from ..tracking import LoopConfig, RunTable, get_trajectory
+    from ..tracking import LoopConfig, RunTable, StepReference, check_task, get_trajectory
     from ..tracking import simulate as run
     from .target import check_target_options, on_target, target_summary
 
@@ -118,23 +127,38 @@ def simulate(**opts: Any) -> None:
                   else f"--controller {opts['controller']}")
         _fail(f"{source}: {exc}")
     controller = on_target(controller, opts)
-    try:
-        trajectory = get_trajectory(opts["trajectory"])
-    except (ValueError, OSError) as exc:
-        _fail(f"--trajectory {opts['trajectory']}: {exc}")
+    plant = _plant_option(opts["plant"])
+    target: Any
+    if opts["step"] is not None:
+        try:
+            target = StepReference(amplitude=opts["step"], name=f"step {opts['step']:g}")
+        except ValueError as exc:
+            _fail(f"--step {opts['step']}: {exc}")
+    else:
+        try:
+            target = get_trajectory(opts["trajectory"])
+        except (ValueError, OSError) as exc:
+            _fail(f"--trajectory {opts['trajectory']}: {exc}")
     try:
         config = LoopConfig(duration=opts["duration"], ts=opts["ts"],
-                            noise_rate=opts["noise_rate"], seed=opts["base_seed"])
+                            noise_rate=opts["noise_rate"], seed=opts["base_seed"], plant=plant)
     except ValueError as exc:
         _fail(f"--duration {opts['duration']:g} / --ts {opts['ts']:g} / --noise-rate "
               f"{opts['noise_rate']:g} / --base-seed {opts['base_seed']}: {exc}")
+    try:
+        check_task([target], config)
+    except ValueError as exc:
+        given = "--step" if opts["step"] is not None else "--trajectory"
+        hint = ("; a single-input plant follows --step" if opts["step"] is None
+                else "; the robot follows --trajectory")
+        _fail(f"--plant {opts['plant']} with {given}: {exc}{hint}")
     try:
         runs = RunTable(0, 0, sigma, opts["seed"])
     except ValueError as exc:
         noise_opt = "--noise-power" if opts["noise_power"] is not None else "--noise-std"
         _fail(f"--seed {opts['seed']} / {noise_opt}: {exc}")
     try:
-        trace = run([controller], [trajectory], runs, config)
+        trace = run([controller], [target], runs, config)
     except ValueError as exc:
         _fail(f"the simulation stopped: {exc}")
     except BuildError as exc:
@@ -161,12 +185,29 @@ def simulate(**opts: Any) -> None:
     if opts["as_json"]:
         click.echo(json.dumps(metrics))
         return
-    click.echo(f"{controller.name if opts['target_mcu'] != 'host' else spec.label} on "
-               f"{trajectory.name}, sigma = {sigma:g} rad, seed {opts['seed']}, "
-               f"{opts['duration']:g} s")
+    unit = "rad" if plant is None else "(output units)"
+    label = controller.name if opts["target_mcu"] != "host" else spec.label
+    click.echo(f"{label} on {target.name}, sigma = {sigma:g} {unit}, seed {opts['seed']}, "
+               f"{opts['duration']:g} s" + ("" if plant is None else f", plant {opts['plant']}"))
     width = max(len(k) for k in metrics)
     for key, value in metrics.items():
         click.echo(f"  {key:<{width}}  {value:.6g}")
+
+
+def _plant_option(value: str) -> Any:
+    """The plant ``--plant`` names: ``kinematic`` (None), ``mujoco``, or a TOML plant file."""
+    from ..plant.specs import load_plant, plant_from_dict
+
+    try:
+        if value in ("kinematic", "mujoco"):
+            return plant_from_dict({"kind": value}, where="--plant")
+        if not value.lower().endswith(".toml"):
+            _fail(f"--plant {value}: give kinematic, mujoco or a .toml plant file")
+        return load_plant(value)
+    except (ValueError, ImportError) as exc:
+        _fail(f"--plant {value}: {exc}" if not str(exc).startswith("--plant") else str(exc))
+    except OSError as exc:
+        _fail(f"--plant {value}: cannot read: {exc.strerror or exc}")
 
 
 def _check_output_file(path: str, option: str) -> None:
@@ -211,6 +252,8 @@ def _reject_inapplicable(ctx: click.Context, opts: dict[str, Any]) -> None:
             _fail(f"--{name.replace('_', '-')} does not apply to {what}")
     if given("noise_power") and given("noise_std"):
         _fail("give either --noise-std or --noise-power, not both")
+    if given("step") and given("trajectory"):
+        _fail("give either --trajectory (the robot) or --step (a single-input --plant), not both")
 
 
 def _register_subcommands() -> None:

@@ -21,6 +21,8 @@ from .._files import InputFileError, read_text
 from ..fuzzy import Reducer, TNorm
 from ..paper import dead_zone_matched_fls, heading_fls
 from ..plant import MotorParams, RobotParams
+from ..plant.base import PlantSpec
+from ..plant.specs import plant_from_dict
 from ..tracking import (
     ON_PATH,
     FuzzyHeadingController,
@@ -35,6 +37,7 @@ __all__ = [
     "ControllerSpec",
     "Table",
     "loop_config_from_table",
+    "plant_from_root",
     "read_toml",
     "robot_from_table",
 ]
@@ -419,10 +422,24 @@ def robot_from_table(t: Table) -> RobotParams:
         raise ConfigError(f"{t.where}: {exc}") from None
 
 
-def loop_config_from_table(t: Table, robot: RobotParams, *, seed: int) -> LoopConfig:
+def plant_from_root(root: Table) -> PlantSpec | None:
+    """The top-level ``[plant]`` table (:func:`it2track.plant.specs.plant_from_dict`: ``kind =
+    "kinematic" | "lti" | "mujoco"`` and that family's keys), or None (the paper's robot)."""
+    if "plant" not in root:
+        return None
+    root.used.add("plant")
+    try:
+        return plant_from_dict(root.data["plant"], where=f"{root.file} [plant]")
+    except ValueError as exc:
+        raise ConfigError(str(exc)) from None
+
+
+def loop_config_from_table(
+    t: Table, robot: RobotParams, *, seed: int, plant: PlantSpec | None = None
+) -> LoopConfig:
     """``[simulation]`` (``duration``, ``ts``, ``noise_rate``, ``start_pose``,
     ``quadrature_nodes``, ``desired_heading_pose``, ``metric_start``) onto
-    :class:`LoopConfig`."""
+    :class:`LoopConfig`, with ``plant`` (from :func:`plant_from_root`)."""
     values: dict[str, Any] = {}
     for key in ("duration", "ts", "noise_rate", "metric_start"):
         if key in t:
@@ -444,6 +461,6 @@ def loop_config_from_table(t: Table, robot: RobotParams, *, seed: int) -> LoopCo
         values["quadrature_nodes"] = t.get("quadrature_nodes", int)
     t.done()
     try:
-        return LoopConfig(robot=robot, seed=seed, **values)
+        return LoopConfig(robot=robot, seed=seed, plant=plant, **values)
     except ValueError as exc:
         raise ConfigError(f"{t.where}: {exc}") from None

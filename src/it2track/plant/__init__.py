@@ -1,9 +1,13 @@
-"""Plain physics of the differential-drive robot: motors, drive, heading noise.
+"""Plain physics: the plant protocol, the paper's robot (motors, drive), heading noise.
 
-Imports numpy and scipy only; knows nothing of fuzzy logic or tracking.
+Imports numpy and scipy only; knows nothing of fuzzy logic or tracking. The closed loop drives
+any plant through the protocol of :mod:`.base` (``Plant``, ``RobotPlant``, ``PlantSpec``);
+:class:`KinematicPlant` is the paper's robot.
 """
 
+from .base import check_plant, check_robot_plant
 from .drive import DifferentialDrive, RobotParams, body_velocity, continuous_rhs
+from .kinematic import KinematicPlant
 from .motor import MotorParams
 from .noise import (
     HeadingNoise,
@@ -16,9 +20,12 @@ from .noise import (
 __all__ = [
     "DifferentialDrive",
     "HeadingNoise",
+    "KinematicPlant",
     "MotorParams",
     "RobotParams",
     "body_velocity",
+    "check_plant",
+    "check_robot_plant",
     "continuous_rhs",
     "held_sample_index",
     "noise_samples_needed",

@@ -1,36 +1,30 @@
-"""When controller outputs reach the motors, and what controllers report per step: the loop's
+"""When controller outputs reach the plant, and what controllers report per step: the loop's
 side of :attr:`HeadingController.delays_output <.controllers.HeadingController.delays_output>`
 and :attr:`~.controllers.HeadingController.trace_series`.
 
-The reference engine (:mod:`.simulate`) makes one :class:`Actuation` per batch. Without a
-delaying controller in the batch it steps the robot as before (``drive.step`` with this
-period's voltages), bit for bit. With one, each run's voltages switch inside the period: the
-previous period's voltages (0 V before the first output) until the run's delay, this period's
-after it (:class:`~it2track.plant.switched.SwitchedDrive`); runs of controllers that do not
-delay switch at 0, which is exactly the plain step.
+Both reference engines (the heading task, :mod:`.heading`, and the reference task,
+:mod:`.siso`) make one :class:`Actuation` per batch. Without a delaying controller in the batch
+the plant steps as before (``plant.step`` with this period's inputs), bit for bit. With one,
+each run's inputs change inside the period: the previous period's inputs (0 before the first
+output) until the run's delay, this period's after it, through the plant's optional
+``step_switched`` member (:mod:`it2track.plant.base`; the kinematic robot has it, exactly:
+:class:`~it2track.plant.switched.SwitchedDrive`). Runs of controllers that do not delay switch
+at 0, which is exactly the plain step.
 """
 
 from __future__ import annotations
 
-import functools
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from ..plant import DifferentialDrive
-from ..plant.switched import SwitchedDrive
 from .controllers import HeadingController
 
 __all__ = ["Actuation"]
 
 FloatArray = NDArray[np.float64]
-
-
-@functools.lru_cache(maxsize=8)
-def _switched(drive: DifferentialDrive) -> SwitchedDrive:
-    """One :class:`SwitchedDrive` per drive, so its cache of sub-period maps is shared."""
-    return SwitchedDrive(drive)
 
 
 class Actuation:
@@ -40,21 +34,34 @@ class Actuation:
     ----------
     groups : sequence of (HeadingController, slice)
         The batch's controllers and their runs (contiguous slices).
-    drive : DifferentialDrive
-        The robot.
+    plant : Plant
+        The plant the batch drives.
+    n_inputs : int
+        Rows of the plant's input.
     n_steps : int
         Control periods N (series have N + 1 rows).
     record : bool
         Whether reported series are kept.
+
+    Raises
+    ------
+    ValueError
+        If a controller delays its output and the plant has no ``step_switched``.
     """
 
-    def __init__(self, groups: Sequence[tuple[HeadingController, slice]],
-                 drive: DifferentialDrive, n_steps: int, *, record: bool) -> None:
+    def __init__(self, groups: Sequence[tuple[HeadingController, slice]], plant: Any,
+                 n_inputs: int, n_steps: int, *, record: bool) -> None:
         n = max((sl.stop for _, sl in groups), default=0)
-        self.drive = drive
-        self.delayed = any(c.delays_output for c, _ in groups)
+        self.plant = plant
+        delaying = [c for c, _ in groups if c.delays_output]
+        self.delayed = bool(delaying)
+        if self.delayed and not callable(getattr(plant, "step_switched", None)):
+            raise ValueError(
+                f"{delaying[0].name} applies its output late, which needs a plant that can "
+                f"switch its inputs inside a period (step_switched); {plant!r} cannot (the "
+                "kinematic robot can)")
         self.delay = np.zeros(n)
-        self.volts_before = np.zeros((2, n))  # motors unpowered until the first output lands
+        self.before = np.zeros((n_inputs, n))  # the plant's inputs are 0 until the first output
         names: dict[str, None] = {}
         if record:
             for c, _ in groups:
@@ -63,20 +70,46 @@ class Actuation:
 
     def after_output(self, k: int, controller: HeadingController, runs: slice,
                      state: FloatArray) -> None:
-        """Collect the delay and the reported values of ``controller``'s runs at step ``k``."""
+        """Collect the delay and the reported values of ``controller``'s runs at step ``k``.
+
+        Parameters
+        ----------
+        k : int
+            The control instant.
+        controller : HeadingController
+            The controller that just computed its output.
+        runs : slice
+            Its runs in the batch.
+        state : ndarray
+            Its state after :meth:`~.controllers.HeadingController.output`.
+        """
         if controller.delays_output:
             self.delay[runs] = controller.output_delay(state)
         if self.series and controller.trace_series:
             for name, value in controller.step_series(state).items():
                 self.series[name][k, runs] = value
 
-    def step(self, pose: FloatArray, wheels: FloatArray,
-             volts: FloatArray) -> tuple[FloatArray, FloatArray]:
-        """Advance the robot one period with ``volts`` applied as the delays say."""
+    def step(self, plant_state: Any, u: FloatArray, t: float) -> Any:
+        """Advance the plant one period with inputs ``u`` applied as the delays say.
+
+        Parameters
+        ----------
+        plant_state : object
+            The plant's state.
+        u : ndarray, shape (n_inputs, B)
+            This period's (saturated) inputs.
+        t : float
+            Start of the period, s.
+
+        Returns
+        -------
+        object
+            The plant's next state.
+        """
         if not self.delayed:
-            return self.drive.step(pose, wheels, volts)
-        out = _switched(self.drive).step(pose, wheels, self.volts_before, volts, self.delay)
-        self.volts_before[...] = volts
+            return self.plant.step(plant_state, u, t)
+        out = self.plant.step_switched(plant_state, self.before, u, self.delay, t)
+        self.before[...] = u
         return out
 
     def recorded(self) -> dict[str, FloatArray]:

@@ -73,6 +73,8 @@ def _pack_controllers(controllers: Sequence[HeadingController]) -> tuple[FloatAr
 
 def _plant_vector(engine: _Engine) -> FloatArray:
     d = engine.drive
+    if d is None:
+        raise ValueError("the compiled engine runs the kinematic robot only")
     nodes = [v for speed, head in zip(d._node_speed, d._node_heading, strict=True)
              for v in (*speed, *head)]  # fmt: skip
     return np.array([*d._wheel, *d._heading, *nodes], dtype=np.float64)

@@ -23,7 +23,12 @@ from numpy.typing import NDArray
 
 from ..fuzzy import IT2Mamdani, IT2Sugeno, T1Mamdani, T1Sugeno
 
-__all__ = ["FuzzyHeadingController", "HeadingController", "PDHeadingController"]
+__all__ = [
+    "FuzzyHeadingController",
+    "HeadingController",
+    "IncrementalController",
+    "PDHeadingController",
+]
 
 FloatArray = NDArray[np.float64]
 
@@ -197,3 +202,78 @@ class PDHeadingController(HeadingController):
         d /= self.tf + ts
         u = self.kp * e + self.kd * d
         return np.clip(u, -self.u_max, self.u_max)
+
+
+@dataclass(frozen=True, kw_only=True)
+class IncrementalController(HeadingController):
+    """Incremental (velocity-form) controller: the inner controller's output is a *change*.
+
+    ``u_k = clip(u_(k-1) + gain * inner(e_k, de_k), u_min, u_max)``, ``u_(-1) = u0``. With a
+    fuzzy PD-type ``inner`` (``e``, ``de`` in) this is the classical fuzzy PI controller: the
+    integral action removes the steady-state error of a speed or level loop, and clipping the
+    accumulated ``u`` to the actuator range is its anti-windup.
+
+    Parameters
+    ----------
+    inner : HeadingController
+        Maps ``(e, de)`` to the increment (e.g. a :class:`FuzzyHeadingController`).
+    gain : float
+        Scale of the increment (default 1).
+    u_min, u_max : float
+        Range of the accumulated output (``u_min < u_max``; default -12, 12).
+    u0 : float
+        Output before the first instant (default 0), inside ``[u_min, u_max]``.
+    name : str
+        Label in results (default ``"PI(" + inner.name + ")"``).
+
+    Raises
+    ------
+    ValueError
+        If ``inner`` is not a HeadingController or a number is not finite or out of order.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> pi = IncrementalController(inner=PDHeadingController(kp=1.0, kd=0.0, tf=0.0), u_max=2.5)
+    >>> state = pi.initial_state(1, 0.01)
+    >>> [float(pi.output(np.array([1.0]), np.array([0.0]), state)[0]) for _ in range(3)]
+    [1.0, 2.0, 2.5]
+    """
+
+    inner: HeadingController
+    gain: float = 1.0
+    u_min: float = -12.0
+    u_max: float = 12.0
+    u0: float = 0.0
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.inner, HeadingController):
+            raise ValueError(f"IncrementalController: inner={self.inner!r} must be a "
+                             "HeadingController")
+        _check("IncrementalController", gain=self.gain, u_min=self.u_min, u_max=self.u_max,
+               u0=self.u0)
+        if not self.u_min < self.u_max:
+            raise ValueError(f"IncrementalController: u_min={self.u_min!r} must be < "
+                             f"u_max={self.u_max!r}")
+        if not self.u_min <= self.u0 <= self.u_max:
+            raise ValueError(f"IncrementalController: u0={self.u0!r} must lie in "
+                             f"[u_min, u_max] = [{self.u_min!r}, {self.u_max!r}]")
+        if not self.name:
+            object.__setattr__(self, "name", f"PI({self.inner.name})")
+
+    def initial_state(self, n: int, ts: float) -> FloatArray:
+        # Row 0: the accumulated output; the rows below: the inner controller's state.
+        inner = self.inner.initial_state(n, ts)
+        state = np.empty((1 + inner.shape[0], n))
+        state[0] = self.u0
+        state[1:] = inner
+        return state
+
+    def output(self, e: FloatArray, de: FloatArray, state: FloatArray) -> FloatArray:
+        inner = state[1:]
+        du = self.inner.output(e, de, inner)
+        acc = state[0]
+        acc += self.gain * du if self.gain != 1.0 else du
+        np.clip(acc, self.u_min, self.u_max, out=acc)
+        return acc.copy()

@@ -23,6 +23,12 @@ sat_time   time during which a requested wheel voltage exceeds the limit      s
 ========== ================================================================== ==========
 
 ``sat_time`` counts the control periods ``k = 0 ... N-1`` (the ones applied to the plant).
+
+Tracking a reference signal ``r`` with a single-input plant (:mod:`.siso`), the same names
+hold with ``e = r - y`` (the plant's first output, true and measured) in place of the heading
+error, ``|r - y|`` as the distance (so ``pos_final`` is the final tracking error), ``u`` the
+controller's output and ``sat_time`` the time the requested plant input lies outside the
+plant's input limits.
 """
 
 from __future__ import annotations
@@ -92,16 +98,19 @@ class MetricAccumulator:
     sampling period (s) and ``voltage_limit`` the wheel-voltage limit (V) that ``sat_time``
     compares the requested voltages with. The heading-error integrals (IAE ... ITSE, true and
     measured) cover the samples ``k >= start_index`` only (the other metrics every sample).
+    ``limits``: an input range ``(low, high)`` instead of ``+-voltage_limit`` (a requested
+    value saturates when outside it).
     """
 
     def __init__(self, n: int, ts: float, n_steps: int, voltage_limit: float, *,
-                 start_index: int = 0) -> None:
+                 start_index: int = 0, limits: tuple[float, float] | None = None) -> None:
         if not 0 <= start_index < n_steps:
             raise ValueError(f"start_index={start_index!r} must be in [0, n_steps={n_steps})")
         self.n = n
         self.ts = ts
         self.n_steps = n_steps
         self.voltage_limit = voltage_limit
+        self.limits = limits
         self.true = _IntegralErrors(n, ts, n_steps, start_index)
         self.meas = _IntegralErrors(n, ts, n_steps, start_index)
         self.dist_sq = np.zeros(n)
@@ -125,7 +134,7 @@ class MetricAccumulator:
         e_meas: FloatArray,
         distance: FloatArray,
         u: FloatArray,
-        v_requested: tuple[FloatArray, FloatArray],
+        v_requested: tuple[FloatArray, ...],
     ) -> None:
         if k != self._k:
             raise RuntimeError(f"metric samples out of order: got k={k}, expected {self._k}")
@@ -145,10 +154,18 @@ class MetricAccumulator:
             self.u_tv += np.abs(np.subtract(u, self.u_prev, out=tmp), out=tmp)
         self.u_prev[:] = u
         if k < self.n_steps:
-            lim = self.voltage_limit
-            vr, vl = v_requested
-            over = np.greater(np.abs(vr, out=tmp), lim, out=self._over)
-            over |= np.greater(np.abs(vl, out=tmp), lim, out=self._over2)
+            if self.limits is None:
+                lim = self.voltage_limit
+                vr, vl = v_requested
+                over = np.greater(np.abs(vr, out=tmp), lim, out=self._over)
+                over |= np.greater(np.abs(vl, out=tmp), lim, out=self._over2)
+            else:
+                low, high = self.limits
+                over = self._over
+                over[:] = False
+                for v in v_requested:
+                    over |= np.less(v, low, out=self._over2)
+                    over |= np.greater(v, high, out=self._over2)
             self.sat_steps += over
 
     def result(self) -> dict[str, FloatArray]:

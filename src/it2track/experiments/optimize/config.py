@@ -18,7 +18,7 @@ from ... import __version__
 from ..._limits import check_memory, loop_bytes
 from ...fuzzy import Reducer, TNorm
 from ...paper import LABELS, MAX_FOU, heading_fls_widths
-from ...tracking import METRIC_NAMES, FuzzyHeadingController, LoopConfig, Trajectory
+from ...tracking import METRIC_NAMES, FuzzyHeadingController, LoopConfig, Target
 from ..specs import ControllerKind, ControllerSpec
 from ..sweep import DEFAULT_BATCH_SIZE, TrajectoryRef
 
@@ -248,7 +248,7 @@ class OptimizeConfig:
     asymmetric: AsymmetricSettings = field(default_factory=AsymmetricSettings)
     batch_size: int = DEFAULT_BATCH_SIZE
     source: str = ""
-    trajectories: tuple[Trajectory, ...] = field(default=(), compare=False, repr=False)
+    trajectories: tuple[Target, ...] = field(default=(), compare=False, repr=False)
 
     def __post_init__(self) -> None:
         if not self.trajectories:

@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ...tracking import METRIC_NAMES, LoopConfig, Trajectory
+from ...tracking import METRIC_NAMES, LoopConfig, Target
 from ..executors import Executor, InProcessExecutor
 from ..sweep import DEFAULT_BATCH_SIZE, BuildableSpec, grid_chunks, simulate_grid_chunk
 from .config import OptimizeConfig
@@ -27,7 +27,7 @@ def evaluate_metrics(
     specs: Sequence[BuildableSpec],
     *,
     config: LoopConfig,
-    trajectories: Sequence[Trajectory],
+    trajectories: Sequence[Target],
     noise_std: Sequence[float],
     seeds: Sequence[int],
     executor: Executor | None = None,

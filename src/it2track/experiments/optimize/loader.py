@@ -9,8 +9,21 @@ from pathlib import Path
 from typing import Any
 
 from ...tracking import METRIC_NAMES
-from ..specs import ConfigError, Table, loop_config_from_table, read_toml, robot_from_table
-from ..sweep import DEFAULT_BATCH_SIZE, parse_noise_levels, parse_seeds, parse_trajectories
+from ..specs import (
+    ConfigError,
+    Table,
+    loop_config_from_table,
+    plant_from_root,
+    read_toml,
+    robot_from_table,
+)
+from ..sweep import (
+    DEFAULT_BATCH_SIZE,
+    check_targets,
+    parse_noise_levels,
+    parse_seeds,
+    parse_trajectories,
+)
 from .config import AsymmetricSettings, Objective, OptimizeConfig, SymmetricSettings
 
 __all__ = ["load_optimize_config"]
@@ -104,7 +117,9 @@ def load_optimize_config(path: str | Path) -> OptimizeConfig:
     ctrl.update({k: ct.get(k, str) for k in ("reducer", "tnorm") if k in ct})
     ct.done()
     robot = robot_from_table(root.sub("robot"))
-    config = loop_config_from_table(root.sub("simulation"), robot, seed=seed)
+    config = loop_config_from_table(root.sub("simulation"), robot, seed=seed,
+                                    plant=plant_from_root(root))  # fmt: skip
+    check_targets(config, trajectories, ot.where)
     root.done()
     try:
         return OptimizeConfig(

@@ -6,7 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from ...tracking import get_trajectory
+from ...tracking import check_task, get_trajectory
 from ..baselines import FuzzyTuning
 from ..choices import choices_from_list
 from ..robustness import RobustnessConfig, check_defaults, robustness_config_from_table
@@ -15,6 +15,7 @@ from ..specs import (
     ControllerSpec,
     Table,
     loop_config_from_table,
+    plant_from_root,
     read_toml,
     robot_from_table,
 )
@@ -46,7 +47,13 @@ def load_study_config(path: str | Path, **overrides: Any) -> StudyConfig:
     if seed < 0:
         raise ConfigError(f"{study_t.where}: seed={seed!r} must be >= 0")
     robot = robot_from_table(root.sub("robot"))
-    loop = loop_config_from_table(root.sub("simulation"), robot, seed=seed)
+    loop = loop_config_from_table(root.sub("simulation"), robot, seed=seed,
+                                  plant=plant_from_root(root))  # fmt: skip
+    if loop.plant is not None:  # the study tracks the paper's paths: a robot plant only
+        try:
+            check_task([get_trajectory("straight")], loop)
+        except ValueError as exc:
+            raise ConfigError(f"{root.file} [plant]: {exc}") from None
     values: dict[str, Any] = {"loop": loop}
     for key in ("trajectories",):
         if key in study_t:

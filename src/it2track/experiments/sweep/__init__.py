@@ -34,6 +34,7 @@ from .chunks import (
     simulate_grid_chunk,
 )
 from .config import (
+    check_targets,
     expand_axes,
     load_sweep_config,
     parse_noise_levels,
@@ -59,6 +60,7 @@ __all__ = [
     "SweepPlan",
     "SweepSummary",
     "TrajectoryRef",
+    "check_targets",
     "chunk_path",
     "expand_axes",
     "grid_chunks",

@@ -15,7 +15,7 @@ from typing import Any, Protocol
 import numpy as np
 from numpy.typing import NDArray
 
-from ...tracking import HeadingController, LoopConfig, RunTable, Trajectory, simulate_metrics
+from ...tracking import HeadingController, LoopConfig, RunTable, Target, simulate_metrics
 from ..executors import peak_rss_bytes
 
 __all__ = [
@@ -59,7 +59,7 @@ class GridChunk:
     controllers: tuple[BuildableSpec, ...]
     controller_offset: int
     n_controllers: int
-    trajectories: tuple[Trajectory, ...]
+    trajectories: tuple[Target, ...]
     noise_std: tuple[float, ...]
     seeds: tuple[int, ...]
     start: int
@@ -114,7 +114,7 @@ def grid_chunks(
     *,
     config: LoopConfig,
     controllers: Sequence[BuildableSpec],
-    trajectories: Sequence[Trajectory],
+    trajectories: Sequence[Target],
     noise_std: Sequence[float],
     seeds: Sequence[int],
     bounds: Sequence[tuple[int, int]],

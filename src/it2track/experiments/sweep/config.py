@@ -14,7 +14,7 @@ from typing import Any
 from ..._limits import ResourceLimitError, check_memory
 from ...plant import RobotParams
 from ...plant.noise import MAX_NOISE_STD
-from ...tracking import Trajectory
+from ...tracking import LoopConfig, StepReference, Target, check_task, reference_from_dict
 from ...tracking.simulate import MAX_INDEX
 from ...tracking.trajectories import PAPER_TRAJECTORIES
 from ..specs import (
@@ -22,6 +22,7 @@ from ..specs import (
     ControllerSpec,
     Table,
     loop_config_from_table,
+    plant_from_root,
     read_toml,
     robot_from_table,
 )
@@ -30,6 +31,7 @@ from .plan import DEFAULT_CHUNK_SIZE, SweepPlan
 from .refs import ControllerRef, TrajectoryRef, _file_sha256
 
 __all__ = [
+    "check_targets",
     "expand_axes",
     "load_sweep_config",
     "parse_noise_levels",
@@ -141,15 +143,22 @@ def parse_noise_levels(t: Table, key: str) -> tuple[float, ...]:
 
 def parse_trajectories(
     t: Table, key: str, base_dir: Path | None
-) -> tuple[tuple[TrajectoryRef, ...], tuple[Trajectory, ...]]:
-    """Trajectory names or CSV paths (relative to ``base_dir``); returns refs and the loaded
-    trajectories. Unknown names, unreadable files and repeats are :class:`ConfigError`."""
+) -> tuple[tuple[TrajectoryRef, ...], tuple[Target, ...]]:
+    """Trajectory names or CSV paths (relative to ``base_dir``), or reference-signal tables
+    (``{kind = "step", amplitude = ..., at = ..., initial = ..., name = ...}``, for a
+    single-input ``[plant]``); returns refs and the loaded targets. Unknown names, unreadable
+    files, repeats and a mix of trajectories and references are :class:`ConfigError`."""
     raw = t.data.get(key, ...)
+    if isinstance(raw, list) and raw and all(isinstance(v, Mapping) for v in raw):
+        return _parse_references(t, key, raw)
+    if isinstance(raw, list) and any(isinstance(v, Mapping) for v in raw):
+        raise ConfigError(f"{t.where}: {key} mixes trajectory names and reference tables; a "
+                          "robot follows trajectories, a single-input plant reference signals")
     names = t.get_list(key, str) if isinstance(raw, list) else [t.get(key, str)]
     if not names:
         raise ConfigError(f"{t.where}: {key}=[] is an empty axis (give at least one trajectory)")
     refs: list[TrajectoryRef] = []
-    loaded: list[Trajectory] = []
+    loaded: list[Target] = []
     for name in names:
         if name in PAPER_TRAJECTORIES:
             ref = TrajectoryRef(name)
@@ -181,6 +190,25 @@ def parse_trajectories(
     return tuple(refs), tuple(loaded)
 
 
+def _parse_references(
+    t: Table, key: str, raw: list[Mapping[str, Any]]
+) -> tuple[tuple[TrajectoryRef, ...], tuple[Target, ...]]:
+    t.used.add(key)
+    refs: list[TrajectoryRef] = []
+    for i, table in enumerate(raw):
+        try:
+            ref = reference_from_dict(dict(table), f"{t.where}: {key}[{i}]")
+        except ValueError as exc:
+            raise ConfigError(str(exc)) from None
+        if not isinstance(ref, StepReference):  # pragma: no cover - only steps are tables
+            raise ConfigError(f"{t.where}: {key}[{i}] is not a step reference")
+        if any(r.name == ref.name for r in refs):
+            raise ConfigError(f"{t.where}: {key}[{i}]: name={ref.name!r} repeats; every "
+                              "reference needs a distinct name")
+        refs.append(TrajectoryRef(ref.name, reference=ref))
+    return tuple(refs), tuple(r.load() for r in refs)
+
+
 def _unique_trajectory_names(refs: list[TrajectoryRef], where: str) -> list[TrajectoryRef]:
     """Give CSV trajectories that share a file name distinct names (the name is their identity
     in rows, figures and hashes): ``a/path.csv`` and ``b/path.csv`` become ``a-path`` and
@@ -205,6 +233,15 @@ def _unique_trajectory_names(refs: list[TrajectoryRef], where: str) -> list[Traj
     else:  # pragma: no cover - needs 64 nested folders of identical names
         raise ConfigError(f"{where}: cannot give the trajectories distinct names: {names}")
     return [replace(r, name=n) for r, n in zip(refs, names, strict=True)]
+
+
+def check_targets(config: LoopConfig, targets: tuple[Target, ...], where: str) -> None:
+    """The plant of ``config`` fits the targets (a robot for trajectories, a single-input plant
+    for references), checked once at load time (:func:`~it2track.tracking.check_task`)."""
+    try:
+        check_task(targets, config)
+    except ValueError as exc:
+        raise ConfigError(f"{where}: {exc}") from None
 
 
 def _positive_int(t: Table, key: str, default: int) -> int:
@@ -308,7 +345,10 @@ def load_sweep_config(path: str | Path) -> SweepPlan:
     batch_size = _positive_int(st, "batch_size", DEFAULT_BATCH_SIZE)
     st.done()
     robots, robot_columns = _parse_robots(root.sub("robot"))
-    config = loop_config_from_table(root.sub("simulation"), RobotParams(), seed=seed)
+    plant = plant_from_root(root)
+    config = loop_config_from_table(root.sub("simulation"), RobotParams(), seed=seed,
+                                    plant=plant)  # fmt: skip
+    check_targets(config, trajectories, st.where)
     if "controllers" not in data:
         raise ConfigError(f"{file}: missing [[controllers]] (at least one controller table)")
     root.used.add("controllers")

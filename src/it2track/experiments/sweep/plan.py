@@ -18,7 +18,7 @@ from numpy.typing import NDArray
 from ... import __version__
 from ..._limits import check_memory, loop_bytes
 from ...plant import RobotParams
-from ...tracking import METRIC_NAMES, LoopConfig, Trajectory
+from ...tracking import METRIC_NAMES, LoopConfig, Target
 from ..specs import ControllerSpec
 from .chunks import DEFAULT_BATCH_SIZE, GridChunk, grid_chunks
 from .refs import ControllerRef, TrajectoryRef
@@ -78,7 +78,7 @@ class SweepPlan:
     chunk_size: int = DEFAULT_CHUNK_SIZE
     batch_size: int = DEFAULT_BATCH_SIZE
     source: str = ""
-    trajectories: tuple[Trajectory, ...] = field(default=(), compare=False, repr=False)
+    trajectories: tuple[Target, ...] = field(default=(), compare=False, repr=False)
 
     def __post_init__(self) -> None:
         if not self.trajectories:

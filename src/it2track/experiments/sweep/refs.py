@@ -6,12 +6,12 @@ the path, enters the configuration hash).
 from __future__ import annotations
 
 import hashlib
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from ..._files import read_bytes
-from ...tracking import HeadingController, Trajectory, get_trajectory
+from ...tracking import HeadingController, StepReference, Target, get_trajectory
 from ...tracking.trajectories import WaypointTrajectory
 from ..specs import ControllerKind, ControllerSpec
 
@@ -27,7 +27,9 @@ def _file_sha256(path: str | Path) -> str:
 
 @dataclass(frozen=True)
 class TrajectoryRef:
-    """A trajectory named in a config: a built-in name or a CSV waypoint file.
+    """A trajectory named in a config: a built-in name or a CSV waypoint file; or, for a
+    single-input plant, a reference signal (``reference``, from a ``{kind = "step", ...}``
+    table).
 
     ``sha256`` (of the file's bytes) makes the configuration hash follow the file's content.
     """
@@ -35,15 +37,20 @@ class TrajectoryRef:
     name: str
     path: str = ""
     sha256: str = ""
+    reference: StepReference | None = field(default=None, compare=True)
 
-    def load(self) -> Trajectory:
+    def load(self) -> Target:
+        if self.reference is not None:
+            return self.reference
         traj = get_trajectory(self.path or self.name)
         if isinstance(traj, WaypointTrajectory) and traj.name != self.name:
             traj = WaypointTrajectory(self.name, traj.times, traj.points, traj.kind)
         return traj
 
-    def to_dict(self) -> dict[str, str]:
+    def to_dict(self) -> dict[str, Any]:
         """What identifies the trajectory (not where the file lives)."""
+        if self.reference is not None:
+            return {"name": self.name, "source": "reference", **self.reference.to_dict()}
         if not self.path:
             return {"name": self.name, "source": "builtin"}
         return {"name": self.name, "source": "csv", "sha256": self.sha256}
