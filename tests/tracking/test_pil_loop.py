@@ -268,3 +268,26 @@ def test_parameters_are_checked():
     assert pil.latency is Latency.PERIOD and pil.delays_output
     assert not PilHeadingController(code=code).delays_output
     assert pil.name == "PIL it2 (double, latency period)"
+
+
+def test_reference_task_records_cycles_and_refuses_latency_without_a_switching_plant(
+        build_dir):
+    """On a single-input linear plant the PIL controller runs (its cycles are traced); a
+    latency needs ``step_switched``, which that plant does not have: a ValueError naming it."""
+    skip_without(*PIL_TOOLS)
+    from it2track.plant.linear import LinearSpec
+    from it2track.tracking import StepReference
+
+    lag = LinearSpec(a=[[0.9]], b=[[0.1]], c=[[1.0]], dt=True, output_names=["level"])
+    cfg = LoopConfig(duration=0.2, ts=0.05, noise_rate=20.0, plant=lag)
+    fls = it2track.heading_fls(0.2)
+    pil = PilHeadingController.from_system(fls, build_dir=build_dir)
+    host = CHeadingController.from_system(fls, real=RealType.FLOAT, build_dir=build_dir)
+    trace = simulate([pil, host], [StepReference(amplitude=0.5)], RunTable([0, 1], 0, 0.0, 0),
+                     cfg)
+    assert (trace["cycles"][0] > 0).all() and np.isnan(trace["cycles"][1]).all()
+    assert trace["u"][0].tobytes() == trace["u"][1].tobytes()
+    late = dataclasses.replace(pil, latency=Latency.MEASURED)
+    with pytest.raises(ValueError, match=r"applies its output late, which needs a plant that "
+                                         r"can switch its inputs inside a period"):
+        simulate([late], [StepReference(amplitude=0.5)], RunTable(0, 0, 0.0, 0), cfg)
