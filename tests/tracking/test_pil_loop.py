@@ -291,3 +291,44 @@ def test_reference_task_records_cycles_and_refuses_latency_without_a_switching_p
     with pytest.raises(ValueError, match=r"applies its output late, which needs a plant that "
                                          r"can switch its inputs inside a period"):
         simulate([late], [StepReference(amplitude=0.5)], RunTable(0, 0, 0.0, 0), cfg)
+
+
+def test_latency_table_lookup_is_nearest_and_clipped():
+    from it2track.tracking.pil import LatencyTable
+
+    cycles = np.arange(15, dtype=np.int64).reshape(3, 5) * 100  # e: -1, 0, 1; de: 0 .. 2
+    table = LatencyTable(lo=(-1.0, 0.0), hi=(1.0, 2.0), cycles=cycles)
+    x = np.array([[-1.0, 0.0], [0.49, 0.26], [0.51, 1.74], [5.0, -3.0], [-0.2, 9.0]])
+    assert table.lookup(x).tolist() == [0, 600, 1300, 1000, 900]
+    with pytest.raises(ValueError, match="must agree"):
+        LatencyTable(lo=(-1.0,), hi=(1.0, 2.0), cycles=cycles)
+    with pytest.raises(ValueError, match="lo < hi"):
+        LatencyTable(lo=(1.0, 0.0), hi=(1.0, 2.0), cycles=cycles)
+    with pytest.raises(ValueError, match="integers"):
+        LatencyTable(lo=(-1.0, 0.0), hi=(1.0, 2.0), cycles=cycles * 1.0)
+
+
+def test_tabled_latency_runs_the_host_c_with_the_measured_cycles(build_dir):
+    """The host C with a latency table measured on the chip: every step's output is the host
+    C's at that step's inputs, its cycles the table's at them, applied like ``measured``; at a
+    table fine enough its runs stay close to the PIL loop's."""
+    skip_without(*PIL_TOOLS)
+    from it2track.tracking.pil import LatencyTable, TabledLatencyController
+
+    fls = it2track.heading_fls(0.2)
+    code = generate_c(fls, real=RealType.FLOAT)
+    table = LatencyTable.measure(code, [(-1.0, 1.0), (-1.0, 1.0)], points=33,
+                                 build_dir=build_dir)
+    with pytest.raises(ValueError, match="points=1 must be an integer >= 2"):
+        LatencyTable.measure(code, [(-1.0, 1.0), (-1.0, 1.0)], points=1, build_dir=build_dir)
+    host = CHeadingController(code=code, build_dir=build_dir)
+    tabled = TabledLatencyController(host=host, table=table)
+    pil = PilHeadingController(code=code, latency="measured", build_dir=build_dir)
+    cfg = LoopConfig(duration=1.0)
+    trace = simulate([tabled, pil], TRAJ[1:2], RunTable([0, 1], 0, 0.05, 2), cfg)
+    x = np.stack([trace["e_meas"][0], trace["de"][0]], axis=1)
+    assert np.array_equal(trace["cycles"][0], table.lookup(x))
+    assert np.array_equal(trace["latency"][0], table.lookup(x) / 16e6)
+    assert trace["u"][0].tobytes() == host.output(x[:, 0], x[:, 1], np.zeros((0, 101))).tobytes()
+    for name in ("IAE", "ISE", "pos_rms"):
+        assert abs(trace.metrics[name][0] / trace.metrics[name][1] - 1) < 1e-2, name

@@ -24,6 +24,11 @@ output reaches the motors:
 
 Under ``measured`` and ``period`` a call longer than the control period is an overrun and an
 error. The trace records ``cycles`` (per step) and ``latency`` (the delay applied, s).
+
+For Monte Carlo studies too large for the simulated MCU, :class:`TabledLatencyController` runs
+the same C compiled for the host (whose float32 and q15 results equal the AVR's bit for bit)
+with a latency function of the inputs, a :class:`LatencyTable` of cycles the simulated MCU
+measured on a grid.
 """
 
 from __future__ import annotations
@@ -32,20 +37,21 @@ import enum
 import math
 import os
 import threading
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from ..codegen import CCode, RealType, generate_c
+from ..codegen import CCode, CHeadingController, RealType, generate_c
 from ..codegen.controller import default_build_dir, raise_for_status
 from ..codegen.mcu import AVR_CLOCK_HZ
 from ..codegen.pil import AvrInTheLoop
 from ..fuzzy import IT2Sugeno, T1Sugeno
 from .controllers import HeadingController
 
-__all__ = ["Latency", "PilHeadingController"]
+__all__ = ["Latency", "LatencyTable", "PilHeadingController", "TabledLatencyController"]
 
 FloatArray = NDArray[np.float64]
 
@@ -214,6 +220,175 @@ class PilHeadingController(HeadingController):
             state[0] = seconds
         else:
             state[0] = state[2]
+        return u
+
+    def output_delay(self, state: FloatArray) -> FloatArray:
+        return state[0]
+
+    def step_series(self, state: FloatArray) -> dict[str, FloatArray]:
+        return {"cycles": state[1], "latency": state[0]}
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class LatencyTable:
+    """A latency function of the inputs: the CPU cycles of one controller call, measured on
+    the simulated MCU on a grid of its input box and looked up at the nearest grid point.
+
+    The cycles of a call depend on its inputs (data-dependent software-float timings, the
+    reducers' input-dependent work), so a run's latency varies from step to step. Measuring
+    every step on the simulated MCU is processor in the loop itself (:class:`PilHeadingController`);
+    this table lets the host-compiled C carry a large Monte Carlo with a latency close to the
+    chip's (:class:`TabledLatencyController`).
+
+    Parameters
+    ----------
+    lo, hi : tuple of float
+        Per input, the grid's first and last point (the universe); ``lo < hi``.
+    cycles : ndarray of int, shape (n_0, n_1, ...)
+        Cycles at the grid points ``lo_i + (hi_i - lo_i) j / (n_i - 1)``; each ``n_i >= 2``.
+
+    Raises
+    ------
+    ValueError
+        If the shapes disagree, a bound is not finite or ``lo >= hi``, or a count is negative.
+    """
+
+    lo: tuple[float, ...]
+    hi: tuple[float, ...]
+    cycles: NDArray[np.int64]
+
+    def __post_init__(self) -> None:
+        cycles = np.asarray(self.cycles)
+        if cycles.dtype.kind not in "iu":
+            raise ValueError(f"LatencyTable: cycles must be integers, got {cycles.dtype}")
+        cycles = cycles.astype(np.int64)
+        lo = tuple(float(v) for v in self.lo)
+        hi = tuple(float(v) for v in self.hi)
+        if not (len(lo) == len(hi) == cycles.ndim) or any(n < 2 for n in cycles.shape):
+            raise ValueError(f"LatencyTable: lo, hi ({len(lo)}, {len(hi)} values) and the "
+                             f"cycles' shape {cycles.shape} must agree, >= 2 points per input")
+        if not all(math.isfinite(a) and math.isfinite(b) and a < b for a, b in zip(lo, hi,
+                                                                                  strict=True)):
+            raise ValueError(f"LatencyTable: lo={lo} and hi={hi} must be finite with lo < hi")
+        if (cycles < 0).any():
+            raise ValueError("LatencyTable: cycles must be >= 0")
+        cycles.setflags(write=False)
+        object.__setattr__(self, "lo", lo)
+        object.__setattr__(self, "hi", hi)
+        object.__setattr__(self, "cycles", cycles)
+
+    @classmethod
+    def measure(cls, code: CCode, universes: Sequence[tuple[float, float]], *,
+                points: int = 129, threads: int = 1,
+                build_dir: str | None = None) -> LatencyTable:
+        """Measure ``code``'s cycles on a ``points``-per-input grid of ``universes`` on the
+        simulated MCU (:class:`~it2track.codegen.pil.AvrInTheLoop`).
+
+        Parameters
+        ----------
+        code : CCode
+            Generated code.
+        universes : sequence of (float, float)
+            Per input, the box to tabulate (the inputs are clipped to it before the lookup).
+        points : int
+            Grid points per input (>= 2).
+        threads : int
+            Simulated MCUs measuring in parallel.
+        build_dir : str or None
+            Build cache (default :func:`~it2track.codegen.controller.default_build_dir`).
+
+        Returns
+        -------
+        LatencyTable
+        """
+        if isinstance(points, bool) or not isinstance(points, int) or points < 2:
+            raise ValueError(f"LatencyTable.measure: points={points!r} must be an integer >= 2")
+        if len(universes) != code.n_inputs:
+            raise ValueError(f"LatencyTable.measure: {len(universes)} universes for a "
+                             f"{code.n_inputs}-input controller")
+        axes = [np.linspace(float(a), float(b), points) for a, b in universes]
+        grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, len(axes))
+        where = build_dir or os.fspath(default_build_dir())
+        with AvrInTheLoop(code, threads=threads, build_dir=where) as mcu:
+            _, raw = mcu.step(grid)
+        return cls(lo=tuple(a for a, _ in universes), hi=tuple(b for _, b in universes),
+                   cycles=raw.cycles.reshape((points,) * len(axes)))
+
+    def lookup(self, x: NDArray[np.float64]) -> NDArray[np.int64]:
+        """Cycles at the grid point nearest to each row of ``x`` (clipped to the box).
+
+        Parameters
+        ----------
+        x : ndarray, shape (N, n_inputs)
+            Inputs in the controller's units.
+
+        Returns
+        -------
+        ndarray of int64, shape (N,)
+        """
+        index = []
+        for i, (a, b) in enumerate(zip(self.lo, self.hi, strict=True)):
+            n = self.cycles.shape[i]
+            pos = (np.clip(x[:, i], a, b) - a) * ((n - 1) / (b - a))
+            index.append(np.clip(np.rint(pos), 0, n - 1).astype(np.intp))
+        return self.cycles[tuple(index)]
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class TabledLatencyController(HeadingController):
+    """The controller as the chip runs it, computed on the host: the host-compiled C (its
+    float32 and q15 results equal the AVR's bit for bit) with the latency of a
+    :class:`LatencyTable` at each step's inputs, applied as the ``measured`` model does.
+
+    Parameters
+    ----------
+    host : CHeadingController
+        The compiled controller (its gains apply to the lookup too).
+    table : LatencyTable
+        Cycles as a function of the inputs ``(ke e, kde de)``.
+    name : str
+        Label used in results (default: the host controller's name plus ``" + latency"``).
+
+    Raises
+    ------
+    ValueError
+        For a bad parameter; from :meth:`output`, if a tabulated call is longer than the
+        control period (an overrun).
+    """
+
+    host: CHeadingController
+    table: LatencyTable
+    name: str = ""
+
+    delays_output = True
+    trace_series = ("cycles", "latency")
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.host, CHeadingController):
+            raise ValueError(f"TabledLatencyController: host={self.host!r} must be a "
+                             "CHeadingController")
+        if not isinstance(self.table, LatencyTable) or self.table.cycles.ndim != 2:
+            raise ValueError("TabledLatencyController: table must be a two-input LatencyTable")
+        if not self.name:
+            object.__setattr__(self, "name", f"{self.host.name} + latency")
+
+    def initial_state(self, n: int, ts: float) -> FloatArray:
+        state = np.zeros((3, n))  # rows as PilHeadingController's: delay, cycles, ts
+        state[2] = ts
+        return state
+
+    def output(self, e: FloatArray, de: FloatArray, state: FloatArray) -> FloatArray:
+        u = self.host.output(e, de, state[:0])
+        x = np.stack([e * self.host.ke, de * self.host.kde], axis=1)
+        cycles = self.table.lookup(x).astype(np.float64)
+        seconds = cycles / AVR_CLOCK_HZ
+        over = seconds > state[2]
+        if over.any():
+            j = int(np.flatnonzero(over)[0])
+            raise ValueError(f"{self.name}: a call takes {int(cycles[j])} cycles, longer than "
+                             f"the control period ts = {1e3 * state[2, j]:g} ms (an overrun)")
+        state[0] = seconds
+        state[1] = cycles
         return u
 
     def output_delay(self, state: FloatArray) -> FloatArray:
