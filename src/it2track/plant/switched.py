@@ -286,9 +286,9 @@ class SwitchedDrive:
         inside = np.flatnonzero(mid)
         if inside.size:
             di = d[inside]
-            first = _with_maps(self.drive, self.maps(di))
-            rest = self.ts - di
-            second = _with_maps(self.drive, self.maps(rest))
+            both = self.maps(np.concatenate([di, self.ts - di]))  # one call for both parts
+            first = _with_maps(self.drive, both[:di.size])
+            second = _with_maps(self.drive, both[di.size:])
             pm, wm = first.step(p[:, inside], w[:, inside], vb[:, inside])
             pm, wm = second.step(pm, wm, va[:, inside])
             pose_next[:, inside] = pm
