@@ -19,6 +19,8 @@ latencies repeat: they are whole clock cycles).
 from __future__ import annotations
 
 import copy
+import functools
+import math
 import threading
 from typing import Any
 
@@ -66,38 +68,37 @@ def _expm(a: FloatArray) -> FloatArray:
     return result
 
 
-def _panel_moments(g: FloatArray, nodes: FloatArray, panels: int) -> FloatArray:
-    """``int_0^1 l_j(u) expm(g_i u) du`` for a batch of dimensionless generators ``g``
-    ``(m, d, d)``, composite Gauss-Legendre on ``panels`` panels (the rule of
-    :class:`DifferentialDrive`'s own precomputation, vectorised over the batch).
-
-    Returns ``(m, n_nodes, d, d)``.
-    """
-    n = nodes.size
-    m, dim = g.shape[0], g.shape[1]
+@functools.lru_cache(maxsize=64)
+def _rule(panels: int, nodes: tuple[float, ...]) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """The composite Gauss-Legendre rule of :class:`DifferentialDrive`'s own precomputation on
+    ``panels`` panels of ``[0, 1]``: the points within one panel ``(q,)``, the weights times
+    each panel's Lagrange basis of ``nodes``, ``(panels, q, n)``, and the panel width."""
+    n = len(nodes)
+    x = np.array(nodes)
     width = 1.0 / panels
     q = n + 20
     xq, wq = np.polynomial.legendre.leggauss(q)
     local = (xq + 1.0) / 2.0 * width
-    e_local = _expm(g[:, None, :, :] * local[None, :, None, None])  # (m,q,d,d)
-    e_panel = _expm(g * width)  # (m, d, d)
-    out = np.zeros((m, n, dim, dim))
-    e_start = np.broadcast_to(np.eye(dim), (m, dim, dim)).copy()
+    weighted = np.empty((panels, q, n))
     for p in range(panels):
         u = p * width + local
         basis = np.ones((q, n))
         for j in range(n):
             for k in range(n):
                 if k != j:
-                    basis[:, j] *= (u - nodes[k]) / (nodes[j] - nodes[k])
-        exps = e_start[:, None, :, :] @ e_local  # (m, q, d, d)
-        out += np.einsum("q,qj,mqab->mjab", wq * (width / 2.0), basis, exps)
-        e_start = e_start @ e_panel
-    return out
+                    basis[:, j] *= (u - x[k]) / (x[j] - x[k])
+        weighted[p] = basis * (wq * (width / 2.0))[:, None]
+    return local, weighted, np.array(width)
 
 
 def sub_period_maps(drive: DifferentialDrive, lengths: ArrayLike) -> FloatArray:
     """The coefficients :meth:`DifferentialDrive.step` uses, for periods of other lengths.
+
+    Computed as the drive computes its own (matrix exponentials for the wheels and the
+    heading at the period's end and at its quadrature nodes; the product rule's weights
+    ``int l_j(s) expm(g s) ds`` by composite Gauss-Legendre on panels short enough for the
+    fastest mode), vectorised over the lengths: every exponential of a call in one stacked
+    evaluation, all lengths on the panels the longest needs.
 
     Parameters
     ----------
@@ -132,22 +133,32 @@ def sub_period_maps(drive: DifferentialDrive, lengths: ArrayLike) -> FloatArray:
     out = np.empty((m, 9 + 6 * n))
     if m == 0:
         return out
-    e = _expm(gen[None] * tau[:, None, None])  # (m, 5, 5)
+    # The (i, w, V) block of expm(gen t) is expm of gen's (i, w, V) block (the integrals do not
+    # feed back): one stacked evaluation serves the wheels, the heading and the moments.
+    sub = [0, 1, 4]
+    g3 = gen[np.ix_(sub, sub)]
+    panels = max(1, math.ceil(float(np.linalg.norm(g3 * tau.max(), 1))))
+    local, weighted, width = _rule(panels, tuple(float(v) for v in nodes))
+    q = local.size
+    fractions = np.concatenate([local, [float(width), 1.0], nodes])  # of each length
+    e_all = _expm(gen[None, None] * (tau[:, None] * fractions[None, :])[:, :, None, None])
+    e = e_all[:, q + 1]  # (m, 5, 5): the whole sub-period
     out[:, 0:6] = e[:, [0, 0, 0, 1, 1, 1], [0, 1, 4, 0, 1, 4]]
-    out[:, 6:9] = turn * e[:, 3, [0, 1, 4]]
-    ej = _expm(gen[None, None] * (nodes[None, :, None, None]
-                                              * tau[:, None, None, None]))  # (m, n, 5, 5)
-    g3 = gen[[0, 1, 4]][:, [0, 1, 4]]
-    gt = g3[None] * tau[:, None, None]  # dimensionless generators (m, 3, 3)
-    panels = np.maximum(1, np.ceil(np.linalg.norm(gt, 1, axis=(1, 2)))).astype(np.int64)
-    mom = np.empty((m, n, 3, 3))
-    for p in np.unique(panels):
-        sel = panels == p
-        mom[sel] = _panel_moments(gt[sel], nodes, int(p)) * tau[sel, None, None, None]
+    out[:, 6:9] = turn * e[:, 3, sub]
+    e_local = e_all[:, :q][:, :, sub][:, :, :, sub]  # (m, q, 3, 3)
+    e_panel = e_all[:, q][:, sub][:, :, sub]  # (m, 3, 3)
+    mom = np.zeros((m, n, 3))  # only the speed row (w) of the moments is needed
+    e_start = np.broadcast_to(np.eye(3), (m, 3, 3)).copy()
+    for p in range(panels):
+        rows = np.einsum("mb,mqbc->mqc", e_start[:, 1, :], e_local)  # w row at the points
+        mom += np.einsum("qj,mqc->mjc", weighted[p], rows)
+        e_start = e_start @ e_panel
+    mom *= tau[:, None, None]
+    ej = e_all[:, q + 2:]  # (m, n, 5, 5)
     for j in range(n):
         base = 9 + 6 * j
-        out[:, base:base + 3] = (r / 2.0) * mom[:, j, 1, :]
-        out[:, base + 3:base + 6] = turn * ej[:, j, 3, [0, 1, 4]]
+        out[:, base:base + 3] = (r / 2.0) * mom[:, j, :]
+        out[:, base + 3:base + 6] = turn * ej[:, j, 3, sub]
     return out
 
 
