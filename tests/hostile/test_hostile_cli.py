@@ -105,6 +105,14 @@ case("sim-trajectory-unknown", [*SIM, "--trajectory", "nope"], "--trajectory nop
 case("sim-trajectory-fifo", [*SIM, "--trajectory", "fifo.csv"], "--trajectory fifo.csv",
      "FIFO")
 case("sim-trajectory-binary", [*SIM, "--trajectory", "binary.csv"], "binary.csv", "binary")
+case("sim-plant-unknown", [*SIM, "--plant", "gazebo"], "--plant gazebo", "kinematic, mujoco")
+case("sim-friction-kinematic", [*SIM, "--friction", "wet"], "--friction", "--plant mujoco")
+case("sim-friction-word", [*SIM, "--plant", "mujoco", "--friction", "snowy"],
+     "--friction 'snowy'", "dry, wet, icy")
+case("sim-friction-1e400", [*SIM, "--plant", "mujoco", "--friction", "1e400"],
+     "--friction 1e400", "finite")
+case("sim-friction-negative", [*SIM, "--plant", "mujoco", "--friction", "-0.5"],
+     "--friction -0.5", "(0, 1000]")
 # -- sweep ----------------------------------------------------------------------------------
 OUT = ["--out", "out", "--no-progress"]
 case("sweep-config-binary", ["sweep", "--config", "binary.toml", *OUT], "binary.toml",

@@ -43,6 +43,9 @@ def _fail(message: str) -> NoReturn:
 @click.option("--plant", "plant", default="kinematic", show_default=True,
               help="kinematic (the paper's robot) | mujoco | a TOML file with a [plant] table "
               "(e.g. kind = \"lti\" with num/den or A/B/C/D: any linear plant).")
+@click.option("--friction", default=None,
+              help="Tyre-ground friction of --plant mujoco: dry | wet | icy (mu 0.8, 0.5, 0.1) "
+              "or a friction coefficient (default dry; docs/guide/mujoco.md).")
 @click.option("--step", "step", type=float, default=None,
               help="Step reference for a single-input --plant (its first output follows it).")
 @click.option("--controller", "controller", default="it2", show_default=True,
@@ -127,7 +130,7 @@ def simulate(**opts: Any) -> None:
                   else f"--controller {opts['controller']}")
         _fail(f"{source}: {exc}")
     controller = on_target(controller, opts)
-    plant = _plant_option(opts["plant"])
+    plant = _plant_option(opts["plant"], opts["friction"])
     target: Any
     if opts["step"] is not None:
         try:
@@ -194,11 +197,18 @@ def simulate(**opts: Any) -> None:
         click.echo(f"  {key:<{width}}  {value:.6g}")
 
 
-def _plant_option(value: str) -> Any:
-    """The plant ``--plant`` names: ``kinematic`` (None), ``mujoco``, or a TOML plant file."""
+def _plant_option(value: str, friction: str | None = None) -> Any:
+    """The plant ``--plant`` names: ``kinematic`` (None), ``mujoco`` (on the ``--friction``
+    surface), or a TOML plant file."""
     from ..plant.specs import load_plant, plant_from_dict
 
+    if friction is not None and value != "mujoco":
+        _fail(f"--friction applies to --plant mujoco only, not --plant {value} (the kinematic "
+              "robot never slips; a plant file gives its own surface)")
     try:
+        if value == "mujoco" and friction is not None:
+            return plant_from_dict({"kind": "mujoco", "surface": _surface(friction)},
+                                   where=f"--plant mujoco --friction {friction}")
         if value in ("kinematic", "mujoco"):
             return plant_from_dict({"kind": value}, where="--plant")
         if not value.lower().endswith(".toml"):
@@ -208,6 +218,19 @@ def _plant_option(value: str) -> Any:
         _fail(f"--plant {value}: {exc}" if not str(exc).startswith("--plant") else str(exc))
     except OSError as exc:
         _fail(f"--plant {value}: cannot read: {exc.strerror or exc}")
+
+
+def _surface(friction: str) -> str | float:
+    """``--friction``'s value: a surface name, or the friction coefficient it spells."""
+    from ..plant.mujoco_model import SURFACES
+
+    if friction in SURFACES:
+        return friction
+    try:
+        return float(friction)
+    except ValueError:
+        _fail(f"--friction {friction!r} must be one of {', '.join(SURFACES)} or a friction "
+              "coefficient")
 
 
 def _check_output_file(path: str, option: str) -> None:

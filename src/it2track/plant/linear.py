@@ -132,7 +132,7 @@ class LinearSpec:
     >>> plant = lag.build(ts=0.5)
     >>> state = plant.initial_state(1)
     >>> state = plant.step(state, np.ones((1, 1)), 0.0)
-    >>> round(float(plant.outputs(state)[0, 0]), 12) == round(1 - np.exp(-0.5), 12)
+    >>> bool(round(float(plant.outputs(state)[0, 0]), 12) == round(1 - np.exp(-0.5), 12))
     True
     """
 
