@@ -13,8 +13,9 @@ from it2track.experiments.specs import ControllerKind, ControllerSpec
 from it2track.experiments.study import StudyConfig
 from it2track.tracking import METRIC_NAMES, RunTable, get_trajectory, simulate
 
-EXPECTED = ("metrics.csv", "summary.csv", "claims.md", "report.html", "manifest.json",
-            "robustness.csv", "sensitivity.csv")
+EXPECTED = ("metrics.csv", "summary.csv", "verdicts.csv", "claims.md", "report.html",
+            "manifest.json", "robustness.csv", "sensitivity.csv")
+SMOKE = "smoke run — not evidence"
 
 
 @pytest.fixture(scope="module")
@@ -47,7 +48,7 @@ def test_every_output_exists_and_parses(quick_run):
         summary = list(csv.DictReader(fh))
     assert {"mean", "ci_low", "ci_high", "win_rate"} <= set(summary[0])
     claims = (out / "claims.md").read_text()
-    for cid in ("C1", "C2", "C3", "D1", "D2"):
+    for cid in ("C1", "C2", "C3", "D1", "D2", "D3"):
         assert f"| {cid} |" in claims
         assert f"{cid}:" in stdout
     for section in ("## Verdicts per trajectory", "## Robustness to the paper's open modelling",
@@ -63,6 +64,45 @@ def test_every_output_exists_and_parses(quick_run):
     zero = [r for r in summary if r["noise_std"] == "0.0"]
     assert zero and all(r["n"] == "1" and r["ci_low"] == "" for r in zero)
     HTMLParser().feed((out / "report.html").read_text())
+
+
+def test_quick_is_marked_as_a_smoke_run_wherever_a_verdict_appears(quick_run):
+    out, stdout = quick_run
+    lines = stdout.splitlines()
+    verdicts = [ln for ln in lines if ln.strip()[:3] in {f"{c}:" for c in
+                                                          ("C1", "C2", "C3", "D1", "D2", "D3")}]
+    assert len(verdicts) == 6 and all(ln.endswith(f"({SMOKE})") for ln in verdicts)
+    assert any(ln.strip().startswith(SMOKE) for ln in lines)  # said before the verdicts too
+    claims = (out / "claims.md").read_text()
+    assert claims.startswith(f"# Claims of the paper, tested ({SMOKE})")
+    table = [ln for ln in claims.splitlines() if ln.startswith("| C") or ln.startswith("| D")]
+    assert table and all(SMOKE in ln for ln in table[:6])
+    for section in claims.split("\n## ")[1:]:
+        if section.startswith(("C1:", "C2:", "D1:")):  # every claim's own verdict line
+            assert f"({SMOKE})**" in section, section[:40]
+    page = (out / "report.html").read_text()
+    assert 'id="smoke"' in page and "Verdicts at a glance (smoke run — not evidence)" in page
+    assert page.count(SMOKE) >= 12  # the banner, the subtitle, every verdict cell
+
+
+def test_verdicts_csv_has_a_row_per_claim_path_and_level(quick_run):
+    out, _ = quick_run
+    with (out / "verdicts.csv").open() as fh:
+        rows = list(csv.DictReader(fh))
+    keys = {(r["claim"], r["path"], float(r["sigma"])) for r in rows}
+    levels = (0.0, 0.05, 0.2)
+    paths = ("all", "straight", "curved", "sinusoidal")
+    for claim in ("C1", "C2", "D1", "D2", "D3"):
+        assert {(claim, p, s) for p in paths for s in levels} <= keys, claim
+    assert {("C3", "all", s) for s in levels} <= keys
+    for r in rows:
+        rep = float(r["replication"])
+        assert 0.0 <= rep <= 1.0
+        assert (r["settled"] == "True") == (rep >= 0.95)
+        if float(r["sigma"]) == 0.0:
+            assert r["status"] == "deterministic" and r["n"] == "1" and rep == 1.0
+        else:
+            assert 4 <= int(r["n"]) <= 8  # --quick's first round and cap
 
 
 def test_metrics_agree_with_a_direct_closed_loop_call(quick_run):
@@ -208,15 +248,22 @@ def test_reproduce_with_a_local_worker_writes_the_same_numbers(quick_run, tmp_pa
     result = CliRunner().invoke(main, ["reproduce", "--quick", "--no-progress", "--workers", "1",
                                        "--out", str(tmp_path)])
     assert result.exit_code == 0, result.output
-    for name in ("metrics.csv", "summary.csv", "claims.md"):
+    for name in ("metrics.csv", "summary.csv", "verdicts.csv", "claims.md"):
         assert (tmp_path / name).read_bytes() == (out / name).read_bytes(), name
     manifest = json.loads((tmp_path / "manifest.json").read_text())
     from it2track.cli.reproduce import _quick
     from it2track.experiments.study import study_run_count
 
-    assert manifest["simulations"] == study_run_count(_quick(StudyConfig()))
+    # The plan's runs, plus the sequential design's: every noise-sweep row beyond the first
+    # round's seeds is a run of its own.
+    quick = _quick(StudyConfig())
     with (tmp_path / "metrics.csv").open() as fh:
-        assert manifest["rows"] == sum(1 for _ in fh) - 1
+        rows = list(csv.DictReader(fh))
+    extra = sum(r["experiment"] == "noise" and int(r["seed"]) >= quick.sweep_seeds
+                for r in rows)
+    assert extra > 0
+    assert manifest["simulations"] == study_run_count(quick) + extra
+    assert manifest["rows"] == len(rows)
 
 
 def _tiny_study():

@@ -12,9 +12,12 @@ from it2track.experiments.robustness import (
     CHANGED,
     FLIPPED,
     UNCHANGED,
+    UNSETTLED,
     RobustnessConfig,
-    _change,
+    claim_change,
+    level_change,
     robustness_variants,
+    spread_text,
 )
 from it2track.experiments.specs import ConfigError
 from it2track.experiments.study import StudyConfig, load_study_config, run_study
@@ -55,6 +58,16 @@ CHOICE = "[[choices]]\nname = 'half_track'\nsets = 'robot.half_track'\n"
         ("[[robustness.sensitivity.factors]]\nname = 'x'\npath = 'metrics.heading'\n"
          "levels = [0.0, 1.0]\n", "not continuous"),
         ("[robustness]\nnoise_level = [0.1]\n", "[robustness]: unknown key(s) ['noise_level']"),
+        ("[robustness]\nbaseline_batches = 1\n", "baseline_batches=1 must be an integer >= 2"),
+        ("[robustness.factorial_levels]\nhalf_track = [0.3]\n",
+         "half_track[0] = [0.3] is not one of the choice's alternatives"),
+        ("[robustness.factorial_levels]\ntuning = [true]\n",
+         "'tuning' is not crossed in the factorial"),
+        ("[robustness.factorial_levels]\nhalf_track = []\n", "needs at least one alternative"),
+        ("[robustness.factorial_levels]\ncontrol_period = [0.001]\n",
+         "must be a list of 2 values"),
+        ("[robustness]\nfactorial = ['half_track', 'tuning']\n[robustness.factorial_levels]\n"
+         "control_period = [[0.001, 1000.0]]\n", "'control_period' is not crossed"),
     ],
 )
 def test_bad_choices_and_robustness_name_file_section_key_and_value(tmp_path, text, needle):
@@ -83,17 +96,26 @@ def test_every_default_choice_is_documented_in_the_model_doc():
 
 
 def test_variants_one_at_a_time_then_factorial():
-    rob = RobustnessConfig(factorial=("half_track", "heading_timing"))
+    rob = RobustnessConfig(factorial=("half_track", "heading_timing"), factorial_levels=())
     variants = robustness_variants(rob, LoopConfig())
     assert variants[0].choice == "baseline" and variants[0].settings == ()
+    assert variants[0].label == "the paper's choices"
     oat = [v for v in variants if v.choice != "baseline" and " x " not in v.choice]
     assert len(oat) == sum(len(c.alternatives) for c in DEFAULT_CHOICES)
     fact = [v for v in variants if " x " in v.choice]
     assert [v.value for v in fact] == ["0.28 x previous", "0.056 x previous"]
+    assert [v.label for v in fact] == ["l = 0.28 m, θd from the previous pose",
+                                       "l = 0.056 m, θd from the previous pose"]
     v = fact[1]
     assert v.loop.robot.half_track == 0.056 and v.loop.desired_heading_pose.value == "previous"
     period = next(v for v in oat if v.value == "ts=0.001 noise_rate=1000")
     assert (period.loop.ts, period.loop.noise_rate) == (0.001, 1000.0)
+    assert period.label == "Ts = 1 ms, noise at 1 kHz"
+    # A value that keeps one of its paths at the default still says it (no bare "Ts = 1 ms").
+    held = next(v for v in oat if v.value == "ts=0.001 noise_rate=100")
+    assert held.label == "Ts = 1 ms, noise at 100 Hz"
+    gain = next(v for v in oat if v.choice == "output_gain" and v.value == "0.5")
+    assert (gain.output_gain, gain.label, gain.loop) == (0.5, "output gain 0.5", LoopConfig())
     reading = next(v for v in oat if v.choice == "noise_reading" and v.value.startswith("3.16"))
     assert reading.noise_levels == (math.sqrt(10.0),)
     gains = next(v for v in oat if v.value == "ke=0.5 kde=1")
@@ -101,11 +123,43 @@ def test_variants_one_at_a_time_then_factorial():
     assert next(v for v in oat if v.choice == "heading_integrals").heading == "measured"
 
 
-def test_change_categories():
-    assert _change(["holds", "not shown"], ["holds", "not shown"]) == UNCHANGED
-    assert _change(["not shown", "not shown"], ["holds", "not shown"]) == CHANGED
-    assert _change(["contradicted", "holds"], ["holds", "holds"]) == FLIPPED
-    assert _change(["holds"], ["contradicted"]) == FLIPPED
+def test_the_default_factorial_crosses_half_track_period_and_output_gain():
+    rob = RobustnessConfig()
+    fact = [v for v in robustness_variants(rob, LoopConfig()) if " x " in v.choice]
+    # l in {5.6, 0.28} x Ts in {10 ms at 100 Hz, 1 ms at 1 kHz} x gain in {1, 0.5, 2}:
+    # 12 combinations, of which 7 move two or more choices.
+    assert len(fact) == 7
+    assert {v.choice for v in fact} == {"half_track x control_period x output_gain"}
+    assert {(v.loop.robot.half_track, v.loop.ts, v.loop.noise_rate, v.output_gain)
+            for v in fact} == {(0.28, 0.001, 1000.0, 1.0), (0.28, 0.01, 100.0, 0.5),
+                               (0.28, 0.01, 100.0, 2.0), (5.6, 0.001, 1000.0, 0.5),
+                               (5.6, 0.001, 1000.0, 2.0), (0.28, 0.001, 1000.0, 0.5),
+                               (0.28, 0.001, 1000.0, 2.0)}
+    labels = {v.label for v in fact}
+    assert "l = 0.28 m, Ts = 1 ms, noise at 1 kHz, output gain 2" in labels
+    # Without levels, a choice takes all its alternatives.
+    full = RobustnessConfig(factorial_levels=())
+    assert len([v for v in robustness_variants(full, LoopConfig()) if " x " in v.choice]) == (
+        3 * 5 * 3 - 1 - 2 - 4 - 2)
+
+
+def test_change_is_called_against_the_baselines_spread():
+    assert level_change("holds", True, ["holds", "not shown"]) == UNCHANGED
+    assert level_change("not shown", True, ["holds", "not shown"]) == UNCHANGED
+    assert level_change("not shown", True, ["holds", "holds"]) == CHANGED
+    assert level_change("holds", True, ["not shown"] * 10) == CHANGED
+    assert level_change("contradicted", True, ["holds", "not shown"]) == FLIPPED
+    assert level_change("holds", True, ["contradicted"]) == FLIPPED
+    # An unsettled status is never a change, whatever the spread.
+    assert level_change("contradicted", False, ["holds"]) == UNSETTLED
+    assert level_change("holds", False, ["holds"]) == UNSETTLED
+    with pytest.raises(ValueError, match="spread is empty"):
+        level_change("holds", True, [])
+    assert claim_change([UNCHANGED, FLIPPED, CHANGED]) == FLIPPED
+    assert claim_change([UNSETTLED, CHANGED]) == CHANGED
+    assert claim_change([UNCHANGED, UNCHANGED]) == UNCHANGED
+    assert claim_change([UNCHANGED, UNSETTLED]) == UNSETTLED
+    assert spread_text(["holds", "not shown", "holds"]) == "holds 2, not shown 1"
 
 
 def test_implied_choices_follow_the_studys_own_settings():
@@ -131,7 +185,8 @@ def half_track_study():
     """The study with one open choice, the half-track 0.056 m, judged at sigma = 0.2."""
     choice = next(c for c in DEFAULT_CHOICES if c.name == "half_track")
     rob = RobustnessConfig(choices=(replace(choice, alternatives=((0.056,),)),),
-                           noise_levels=(0.05, 0.2), seeds=8, factorial=(), sensitivity=None)
+                           noise_levels=(0.05, 0.2), seeds=8, factorial=(), sensitivity=None,
+                           baseline_batches=4)
     cfg = replace(StudyConfig(), seeds=2, sweep_seeds=2, noise_levels=(0.05,),
                   fou_sweep=(0.0,), pd=None, tuning=None, robustness=rob)
     return cfg, run_study(cfg)
@@ -171,7 +226,16 @@ def test_a_robustness_verdict_recomputed_from_direct_simulations(half_track_stud
     base = next(v for v in result.robustness.verdicts
                 if v["claim"] == "C1" and v["choice"] == "baseline")
     assert base["status"].split(";")[1] != "holds"  # with the printed 5.6 m it does not
-    assert verdict["change"] in ("changed", "flipped")
+    # The change is called against the baseline's statuses over its 4 independent batches.
+    spread = {r["sigma"]: r["statuses"] for r in result.robustness.spread if r["claim"] == "C1"}
+    assert all(len(v) == 4 for v in spread.values())
+    c1 = next(c for c in result.robustness.claims[1] if c.id == "C1")
+    levels = [level_change(c1.level_status[s], c1.settled("all", s), spread[s])
+              for s in (0.05, 0.2)]
+    assert verdict["level_change"].split(";") == levels
+    assert verdict["change"] == claim_change(levels)
+    assert verdict["replication"].split(";") == [f"{c1.replication[('all', s)]:.3f}"
+                                                 for s in (0.05, 0.2)]
 
 
 def test_robustness_and_screening_do_not_depend_on_batch_or_executor():
@@ -189,7 +253,8 @@ def test_robustness_and_screening_do_not_depend_on_batch_or_executor():
         SensitivityFactor(name="ke", path="controllers.ke", levels=(0.5, 0.8, 1.25, 2.0)),
     ), trajectories=2, seeds=2)
     rob = RobustnessConfig(choices=choices, noise_levels=(0.05,), seeds=3,
-                           factorial=("half_track", "heading_timing"), sensitivity=sens)
+                           factorial=("half_track", "heading_timing"), factorial_levels=(),
+                           sensitivity=sens, baseline_batches=2)
     cfg = replace(StudyConfig(), loop=LoopConfig(duration=1.0), seeds=2, sweep_seeds=2,
                   noise_levels=(0.05,), fou_sweep=(0.0,), pd=None, tuning=None,
                   robustness=rob)

@@ -81,9 +81,10 @@ def test_experiment_sizes_count_runs():
     # paper: FLC + 3 IT2 + 3 slope-matched + 3 dead-zone-matched = 10 controllers x 3
     # trajectories x 2 seeds
     assert sizes["paper"] == 10 * 3 * 2
-    # noise: FLC + 3 IT2 + 2 matched = 6 x 3 trajectories x (6 noisy levels x 3 seeds + one
-    # noise-free run)
-    assert sizes["noise"] == 6 * 3 * (6 * 3 + 1)
+    # noise: FLC + 3 IT2 + 2 matched + the surface copy = 7 x 3 trajectories x (6 noisy
+    # levels x 3 seeds + one noise-free run) in the first round; at most the cap (400) seeds
+    assert sizes["noise"] == 7 * 3 * (6 * 3 + 1)
+    assert sizes["noise_cap"] == 7 * 3 * (6 * 400 + 1)
     # fou: w = 0 (FLC) + 20 widths x (IT2 + matched) = 41 x 3 x 3
     assert sizes["fou"] == 41 * 3 * 3
     assert sizes["pd_tuning"] == sizes["fuzzy_tuning"] == 0

@@ -56,14 +56,17 @@ FILES: dict[str, tuple[Callable[[Path], Any], dict[str, dict[str, str]], dict[st
     ),
     "study": (
         load_study_config,
-        {"study": {"seeds": "2"}, "pd": {}, "controllers": {"kind": '"flc"'}, "simulation": {}},
+        {"study": {"seeds": "2"}, "pd": {}, "controllers": {"kind": '"flc"'}, "simulation": {},
+         "verdicts": {}, "robustness": {}},
         {"study": ["seed", "trajectories", "fous", "main_fou", "noise_std", "noise_levels",
                    "fou_sweep", "seeds", "sweep_seeds", "figure_seed", "matched_baseline",
                    "pd_baseline", "batch_size"],
          "pd": ["seeds", "kp_grid", "kd_grid", "tf", "kp", "kd", "effort_limit",
                 "match_effort"],
          "controllers": ["kind", "fou", "ke", "kde", "label", "path", "kp"],
-         "simulation": ["metric_start", "start_pose", "noise_rate"]},
+         "simulation": ["metric_start", "start_pose", "noise_rate"],
+         "verdicts": ["batch", "cap", "replication", "resamples", "seed"],
+         "robustness": ["seeds", "baseline_batches", "factorial"]},
     ),
 }  # fmt: skip
 

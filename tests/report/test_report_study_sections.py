@@ -16,7 +16,7 @@ import matplotlib.image
 import pytest
 
 from it2track.cli.reproduce import _quick
-from it2track.experiments.analysis import c3_sigma_range, evaluate_claims, summarise
+from it2track.experiments.analysis import c3_sigma_range, summarise
 from it2track.experiments.study import StudyConfig, run_study
 from it2track.report.figures import figure_plan, write_figures
 from it2track.report.figures.robustness import ALL, STATUS_COLORS
@@ -70,9 +70,7 @@ class _Rows(HTMLParser):
 def page(tmp_path_factory):
     result = run_study(_quick(StudyConfig()))
     summary = summarise(result.rows)
-    cfg = result.config
-    claims = evaluate_claims(result.rows, fous=cfg.fous, main_fou=cfg.main_fou,
-                             trajectories=cfg.trajectories)
+    claims = result.claims
     out = tmp_path_factory.mktemp("study-page")
     figures = write_figures(result, summary, out, svg=False)
     path = write_html(out / "report.html", result=result, summary=summary, claims=claims,
@@ -111,8 +109,15 @@ def test_every_claim_has_its_robustness_row(page):
         row = rows.by_id[f"robustness-{cid}"]
         base = next(v for v in rob.verdicts if v["claim"] == cid and v["part"] == "baseline")
         assert row[:2] == [cid, base["verdict"]]
-        for cell, change in zip(row[2:], ("flipped", "changed", "unchanged"), strict=True):
+        for cell, change in zip(row[2:], ("flipped", "changed", "unchanged", "unsettled"),
+                                strict=True):
             assert cell == ("; ".join(groups[change]) or "none"), f"{cid} {change}"
+    # The baseline's spread over its independent seed batches, as the data have it.
+    spread = rows.by_table["spread"]
+    assert len(spread) == 1 + len(rob.spread)
+    for r, row in zip(rob.spread, spread[1:], strict=True):
+        assert row == [r["claim"], f"{r['sigma']:g}", r["spread"], f"{r['agreement']:.2f}",
+                       f"{r['replication_mean']:.2f}"]
 
 
 def test_the_heat_map_shows_the_robustness_verdicts(page):
@@ -129,12 +134,12 @@ def test_the_heat_map_shows_the_robustness_verdicts(page):
               if (p.get_gid() or "").startswith(f"robustness|{ALL}|")}
     checked = 0
     for v in result.robustness.verdicts:
-        label = ("baseline (paper-faithful)" if v["part"] == "baseline"
-                 else f"{v['choice']} = {v['value']}")
+        label = ("baseline (the paper's choices)" if v["part"] == "baseline"
+                 else v["label"])
         for s, status in zip(v["noise_levels"].split(","), v["status"].split(";"),
                              strict=True):
             gid = f"robustness|{ALL}|{v['claim']}|{label}|{float(s):g}"
-            assert matplotlib.colors.same_color(colour[gid], STATUS_COLORS[status]), gid
+            assert matplotlib.colors.same_color(colour[gid][:3], STATUS_COLORS[status]), gid
             checked += 1
     assert checked == len(colour)
 
@@ -176,13 +181,19 @@ def test_tuned_against_tuned(page):
     verdicts = {r[0].split()[0]: r[1] for r in rows.by_table["tuned-claims"][1:]}
     assert verdicts == {c.id: c.verdict + (f" ({c.detail})" if c.detail else "")
                         for c in result.tuned_claims}
+    reps = {r[0].split()[0]: r[2] for r in rows.by_table["tuned-claims"][1:]}
+    for c in result.tuned_claims:
+        want = [(s, p) for (path, s), p in sorted(c.replication.items())
+                if path == "all" and s > 0]
+        assert want and reps[c.id] == ", ".join(f"{c.level_status[s]} ({p:.2f})"
+                                                for s, p in want)
 
 
 def test_assumptions_cite_the_model_document_for_every_open_choice(page):
     result, *_, text, _ = page
     plain = html.unescape(text)
     for c in result.robustness.config.choices:
-        assert f"{c.name} = {c.label(c.default)} (docs/model.md#{c.doc})" in plain, c.name
+        assert f"{c.name}: {c.describe(c.default)} (docs/model.md#{c.doc})" in plain, c.name
     assert "DESIGN.md" not in plain
 
 

@@ -29,15 +29,20 @@ def _rob() -> SimpleNamespace:
     (level, trajectory) in the cells several times (one per metric)."""
     cycle = itertools.cycle(STATUSES)
     variants = [("baseline", "paper", "baseline", "0.05, 0.1"),
-                ("half_track", "0.28 m", "one-at-a-time", "0.05, 0.1"),
+                ("half_track", "0.28", "one-at-a-time", "0.05, 0.1"),
                 ("noise_reading", "0.316228", "one-at-a-time", "0.316228")]
+    labels = {"paper": "the paper's choices", "0.28": "l = 0.28 m",
+              "0.316228": "σ = 0.316 rad"}
     changes = itertools.cycle(("unchanged", "flipped", "changed"))
     verdicts, cells = [], []
     for (choice, value, part, levels), claim in itertools.product(variants, ("C1", "C3")):
         # The verdicts write levels with %g; the cells keep the exact sigma (sqrt(0.1)).
         sig = [0.1 ** 0.5 if s.strip() == "0.316228" else float(s) for s in levels.split(",")]
         status = [next(cycle) for _ in sig]
+        settled = ["no" if (claim, value) == ("C1", "0.28") and i == 0 else "yes"
+                   for i in range(len(sig))]
         verdicts.append({"claim": claim, "choice": choice, "value": value, "part": part,
+                         "label": labels[value], "settled": ";".join(settled),
                          "noise_levels": levels, "status": ";".join(status),
                          "change": "unchanged" if part == "baseline" else next(changes),
                          "verdict": "v"})
@@ -47,7 +52,7 @@ def _rob() -> SimpleNamespace:
             for metric in ("IAE", "ISE"):  # several cells per (level, trajectory): one status
                 cells.append({"claim": claim, "choice": choice, "value": value, "sigma": s,
                               "trajectory": traj, "verdict": STATUSES[(len(cells) // 2) % 4],
-                              "metric": metric})
+                              "metric": metric, "n": 7})
     sens = SimpleNamespace(trajectories=4, factors=(1, 2, 3), seeds=2)
     return SimpleNamespace(
         verdicts=verdicts, cells=cells,
@@ -64,8 +69,7 @@ def _rob() -> SimpleNamespace:
 
 
 def _label(v: dict) -> str:
-    return "baseline (paper-faithful)" if v["part"] == "baseline" else (
-        f"{v['choice']} = {v['value']}")
+    return "baseline (the paper's choices)" if v["part"] == "baseline" else v["label"]
 
 
 def test_every_heat_map_cell_has_the_colour_of_its_status():
@@ -85,14 +89,20 @@ def test_every_heat_map_cell_has_the_colour_of_its_status():
             c["verdict"])
     assert set(drawn) == set(expected), set(drawn) ^ set(expected)
     for gid, status in expected.items():
-        assert matplotlib.colors.same_color(drawn[gid].get_facecolor(),
+        assert matplotlib.colors.same_color(drawn[gid].get_facecolor()[:3],
                                             STATUS_COLORS[status]), gid
     # A variant's levels share its cell's width; the noise reading's single level fills it.
-    one = drawn[f"robustness|{ALL}|C1|noise_reading = 0.316228|0.316228"]
-    two = drawn[f"robustness|{ALL}|C1|half_track = 0.28 m|0.05"]
+    one = drawn[f"robustness|{ALL}|C1|σ = 0.316 rad|0.316228"]
+    two = drawn[f"robustness|{ALL}|C1|l = 0.28 m|0.05"]
     assert one.get_width() == pytest.approx(2 * two.get_width())
     rows = [t.get_text() for t in fig.axes[0].get_yticklabels()]
     assert rows == list(dict.fromkeys(_label(v) for v in rob.verdicts))
+    # Unsettled statuses are pale and hatched; settled ones solid.
+    assert two.get_hatch() == "////" and two.get_alpha() == pytest.approx(0.35)
+    other = drawn[f"robustness|{ALL}|C1|l = 0.28 m|0.1"]
+    assert other.get_hatch() is None and other.get_alpha() == 1.0
+    # The title's count is the cells' own.
+    assert "7 realisations per cell" in fig._suptitle.get_text()
 
 
 def test_flips_and_changes_are_outlined_and_nothing_else():

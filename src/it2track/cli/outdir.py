@@ -25,7 +25,8 @@ def _fail(message: str) -> NoReturn:
 
 #: Results every run writes (the others vary with the config; ``_make_staging`` takes them):
 #: checked before any work starts.
-_FIXED_OUTPUTS = ("metrics.csv", "summary.csv", "claims.md", "report.html", "manifest.json")
+_FIXED_OUTPUTS = ("metrics.csv", "summary.csv", "verdicts.csv", "claims.md", "report.html",
+                  "manifest.json")
 _STAGING_PREFIX = ".reproduce-"
 _OWNER_FILE = "owner.json"
 _OWNER_PROGRAM = "it2track reproduce"

@@ -73,8 +73,9 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
     """Regenerate every result of the paper, with statistics and verdicts on its claims.
 
     Writes figures (PNG, and SVG unless --quick or --no-svg), metrics.csv, summary.csv,
-    robustness.csv, sensitivity.csv, claims.md, mcu_costs.csv, report.html and manifest.json
-    into OUT. Files appear only when complete.
+    verdicts.csv, robustness.csv, sensitivity.csv, claims.md, mcu_costs.csv, report.html and
+    manifest.json into OUT. Files appear only when complete. --quick is a smoke run: every
+    verdict it prints is marked "smoke run — not evidence".
     Figures are drawn by worker processes while the study runs; the microcontroller costs are
     measured by another process meanwhile.
     """
@@ -82,7 +83,7 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
 
     from tqdm import tqdm
 
-    from ..experiments.analysis import evaluate_claims, summarise
+    from ..experiments.analysis import summarise
     from ..experiments.specs import ConfigError
     from ..experiments.study import (
         ROW_KEYS,
@@ -153,34 +154,44 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
                     # figures are drawn while the experiments run.
                     early = figure_data(config)
                     renderer.submit(early, [])
+
+                    def grow(n: int) -> None:  # a sequential round adds runs
+                        bar.total += n
+                        bar.refresh()
+
                     if workers or scheduler:
                         with make_executor(workers=workers or None, scheduler=scheduler,
                                            **_dask_settings(**dask)) as ex:
                             result = run_study(config, progress=bar.update, executor=ex,
-                                               early=early)
+                                               early=early, grow=grow)
                     else:
-                        result = run_study(config, progress=bar.update, early=early)
+                        result = run_study(config, progress=bar.update, early=early,
+                                           grow=grow)
                 except (ValueError, OSError, ExecutorError, BrokenExecutor) as exc:
                     _fail(f"the study stopped: {type(exc).__name__}: {exc}; nothing was "
                           "written")
             with stages.stage("statistics and verdicts"):
                 summary = summarise(result.rows)
-                claims = evaluate_claims(result.rows, fous=config.fous,
-                                         main_fou=config.main_fou,
-                                         trajectories=config.trajectories)
+                if quick:  # every verdict a smoke run prints says what it is
+                    result = _mark_smoke(result)
+                claims = result.claims
             renderer.submit(result, summary)
-            with stages.stage("metrics.csv, summary.csv, claims.md"):
+            with stages.stage("metrics.csv, summary.csv, verdicts.csv, claims.md"):
                 outputs.write_metrics_csv(staging / "metrics.csv", result.rows,
                                           [*ROW_KEYS, *METRIC_NAMES])
                 outputs.write_summary_csv(staging / "summary.csv", summary)
+                outputs.write_verdicts_csv(staging / "verdicts.csv", result.verdict_rows)
                 if result.robustness is not None:
                     outputs.write_robustness_csv(staging / "robustness.csv", result.robustness)
                     if result.robustness.sensitivity:
                         outputs.write_sensitivity_csv(staging / "sensitivity.csv",
                                                       result.robustness)
-                outputs.write_claims_md(staging / "claims.md", claims,
-                                        preamble=outputs.claims_preamble(config),
-                                        sections=outputs.study_sections(result, claims))
+                outputs.write_claims_md(
+                    staging / "claims.md", claims,
+                    preamble=outputs.claims_preamble(config, seeds=result.seeds_by_level,
+                                                     smoke=quick),
+                    levels=outputs.levels_markdown(claims, result.verdict_rows),
+                    sections=outputs.study_sections(result, claims), smoke=quick)
             with stages.stage("figures"), stages.figure_bar(renderer):
                 try:
                     figures = renderer.results(result)
@@ -203,14 +214,14 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
                                for label, rec in result.tuning.items()}
         manifest = outputs.manifest(
             config=cfg, command=command.strip(), elapsed_s=time.perf_counter() - started,
-            extra={"rows": len(result.rows["seed"]), "simulations": total,
+            extra={"rows": len(result.rows["seed"]), "simulations": total + result.extra_runs,
                    "mcu": mcu_costs.provenance(),
                    "files": sorted(p.name for p in staging.iterdir())},
         )
         with stages.stage("report.html"):
             write_html(staging / "report.html", result=result, summary=summary,
                        claims=claims, manifest=manifest, figures=figures,
-                       elapsed_s=time.perf_counter() - started, mcu=mcu_costs)
+                       elapsed_s=time.perf_counter() - started, mcu=mcu_costs, smoke=quick)
         manifest["elapsed_s"] = round(time.perf_counter() - started, 3)
         manifest["stage_s"] = stages.record()
         manifest["files"] = sorted([*(p.name for p in staging.iterdir()), "manifest.json"])
@@ -223,10 +234,38 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
             _discard_staging(staging)
     elapsed = time.perf_counter() - started
     stages.summary(elapsed)
-    click.echo(f"{len(result.rows['seed'])} result rows from {total} simulations in "
+    runs = total + result.extra_runs
+    click.echo(f"{len(result.rows['seed'])} result rows from {runs} simulations in "
                f"{elapsed:.1f} s -> {out}/")
+    if quick:
+        click.echo(f"  {_SMOKE_NOTE}")
     for c in claims:
         click.echo(f"  {c.id}: {c.verdict}")
+
+
+#: The terminal's line above a --quick run's verdicts.
+_SMOKE_NOTE = ("smoke run — not evidence: --quick runs every part of the study on a few "
+               "short realisations; run without --quick for verdicts")
+
+
+def _mark_smoke(result: Any) -> Any:
+    """The result with every verdict it prints (headline, per path, tuned, robustness)
+    marked as a smoke run's."""
+    from dataclasses import replace
+
+    from ..report.outputs import SMOKE
+
+    def mark(c: Any) -> Any:
+        per = {t: {**v, "verdict": f"{v['verdict']} ({SMOKE})"}
+               for t, v in c.per_trajectory.items()}
+        return replace(c, verdict=f"{c.verdict} ({SMOKE})", per_trajectory=per)
+
+    rob = result.robustness
+    if rob is not None:
+        rob = replace(rob, verdicts=[{**v, "verdict": f"{v['verdict']} ({SMOKE})"}
+                                     for v in rob.verdicts])
+    return replace(result, claims=[mark(c) for c in result.claims],
+                   tuned_claims=[mark(c) for c in result.tuned_claims], robustness=rob)
 
 
 class _Stages:
@@ -299,7 +338,7 @@ def _preflight_study(config: Any, config_path: str | None) -> None:
             _fail(f"{source} [study] {key}: {big[0]!r} exceeds {MAX_NOISE_STD:g} rad, the largest "
                   "heading-noise standard deviation allowed")
     sizes = experiment_sizes(config)
-    rows = sum(v for k, v in sizes.items() if k not in ("pd_tuning", "fuzzy_tuning"))
+    rows = sizes["paper"] + sizes["noise_cap"] + sizes["fou"]  # the noise sweep at its cap
     loop = config.loop
     n_traced = 1 + len(config.fous)
     try:

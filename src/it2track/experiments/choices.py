@@ -22,6 +22,7 @@ Paths (:data:`PATHS`) and what a value means:
 ``noise.sigma``                    ``"sweep"`` (the robustness noise levels) or one sigma, rad
 ``metrics.heading``                integrals on the ``"true"`` or the ``"measured"`` heading
 ``controllers.ke``, ``controllers.kde``  input gains of every fuzzy controller
+``controllers.output_gain``        output gain g of every untuned fuzzy controller (V0 +- g u)
 ``controllers.tuned``              ``true``: the tuned fuzzy controllers instead of the paper's
 
 Applying a set of path values to the study's loop gives a :class:`Variant`: the loop, the
@@ -47,6 +48,8 @@ __all__ = [
     "apply_settings",
     "baseline_value",
     "choices_from_list",
+    "describe_settings",
+    "describe_value",
     "format_value",
 ]
 
@@ -109,6 +112,7 @@ PATHS: dict[str, Callable[[Any, str], Any]] = {
     "metrics.heading": _word(["true", "measured"]),
     "controllers.ke": _number(True),
     "controllers.kde": _number(False),
+    "controllers.output_gain": _number(True),
     "controllers.tuned": _flag,
 }
 
@@ -176,6 +180,10 @@ class Choice:
     def settings(self, value: tuple[Any, ...]) -> dict[str, Any]:
         """``{path: value}`` of one of the choice's values."""
         return dict(zip(self.sets, value, strict=True))
+
+    def describe(self, value: tuple[Any, ...]) -> str:
+        """A value in the reader's words, e.g. ``"Ts = 5 ms, noise at 200 Hz"``."""
+        return describe_settings(self.settings(value))
 
     def label(self, value: tuple[Any, ...]) -> str:
         """``0.056`` for one path, ``ts=0.001 noise_rate=1000`` for several."""
@@ -257,6 +265,7 @@ def baseline_value(path: str, loop: LoopConfig) -> Any:
         "metrics.heading": "true",
         "controllers.ke": 1.0,
         "controllers.kde": 1.0,
+        "controllers.output_gain": 1.0,
         "controllers.tuned": False,
     }[path]
 
@@ -276,6 +285,8 @@ class Variant:
     loop : LoopConfig
     ke, kde : float
         Input gains of every fuzzy controller.
+    output_gain : float
+        Output gain of every untuned fuzzy controller.
     tuned : bool
         The tuned fuzzy controllers instead of the paper's.
     noise_levels : tuple of float
@@ -290,15 +301,19 @@ class Variant:
     loop: LoopConfig
     ke: float = 1.0
     kde: float = 1.0
+    output_gain: float = 1.0
     tuned: bool = False
     noise_levels: tuple[float, ...]
     heading: str = "true"
+    label: str = ""
 
 
 def apply_settings(loop: LoopConfig, noise_levels: Sequence[float],
-                   settings: Mapping[str, Any], *, choice: str, value: str) -> Variant:
+                   settings: Mapping[str, Any], *, choice: str, value: str,
+                   label: str = "") -> Variant:
     """The :class:`Variant` of the study's ``loop`` and robustness ``noise_levels`` with the
-    path values ``settings`` (validated by :data:`PATHS`' parsers beforehand).
+    path values ``settings`` (validated by :data:`PATHS`' parsers beforehand); ``label``: the
+    values in the reader's words (default: those of the paths that differ from the loop's).
 
     Raises
     ------
@@ -320,7 +335,7 @@ def apply_settings(loop: LoopConfig, noise_levels: Sequence[float],
                 out["noise_levels"] = (v,)
         elif path == "metrics.heading":
             out["heading"] = v
-        elif path in ("controllers.ke", "controllers.kde"):
+        elif path in ("controllers.ke", "controllers.kde", "controllers.output_gain"):
             out[key] = v
         elif path == "controllers.tuned":
             out["tuned"] = v
@@ -332,7 +347,60 @@ def apply_settings(loop: LoopConfig, noise_levels: Sequence[float],
     except ValueError as exc:
         raise ValueError(f"choice {choice} = {value}: {exc}") from None
     changed = tuple((p, v) for p, v in settings.items() if v != baseline_value(p, loop))
-    return Variant(choice=choice, value=value, settings=changed, loop=new_loop, **out)
+    label = label or (describe_settings(dict(changed)) if changed else "the paper's choices")
+    return Variant(choice=choice, value=value, settings=changed, loop=new_loop, label=label,
+                   **out)
+
+
+def _seconds(v: float) -> str:
+    return f"{v * 1000:g} ms" if v < 1.0 else f"{v:g} s"
+
+
+def _hertz(v: float) -> str:
+    return f"{v / 1000:g} kHz" if v >= 1000.0 else f"{v:g} Hz"
+
+
+def describe_value(path: str, value: Any) -> str:
+    """One path value in the reader's words, e.g. ``"l = 0.28 m"``, ``"Ts = 5 ms"``,
+    ``"noise at 200 Hz"``, ``"start on the path"``.
+
+    Examples
+    --------
+    >>> describe_value("simulation.noise_rate", 1000.0)
+    'noise at 1 kHz'
+    """
+    if path == "robot.half_track":
+        return f"l = {value:g} m"
+    if path == "simulation.ts":
+        return f"Ts = {_seconds(value)}"
+    if path == "simulation.noise_rate":
+        return f"noise at {_hertz(value)}"
+    if path == "simulation.start_pose":
+        return ("start on the path" if value == ON_PATH
+                else "start at (" + ", ".join(f"{v:g}" for v in value) + ")")
+    if path == "simulation.desired_heading_pose":
+        return f"θd from the {value} pose"
+    if path == "simulation.metric_start":
+        return f"integrals from t = {value:g} s"
+    if path == "noise.sigma":
+        return "σ swept" if value == SWEEP else f"σ = {value:.3g} rad"
+    if path == "metrics.heading":
+        return f"integrals on the {value} heading"
+    if path == "controllers.ke":
+        return f"Ke = {value:g}"
+    if path == "controllers.kde":
+        return f"Kde = {value:g}"
+    if path == "controllers.output_gain":
+        return f"output gain {value:g}"
+    if path == "controllers.tuned":
+        return "tuned controllers" if value else "untuned controllers"
+    raise ValueError(f"unknown path {path!r}")
+
+
+def describe_settings(settings: Mapping[str, Any]) -> str:
+    """Several path values in the reader's words, ``", "``-joined (``"Ts = 5 ms, noise at
+    200 Hz"``)."""
+    return ", ".join(describe_value(p, v) for p, v in settings.items())
 
 
 def _c(name: str, sets: Sequence[str], default: Sequence[Any],
@@ -368,6 +436,11 @@ DEFAULT_CHOICES: tuple[Choice, ...] = (
     _c("input_gains", ["controllers.ke", "controllers.kde"], [1.0, 1.0],
        [[0.5, 1.0], [2.0, 1.0], [1.0, 0.5], [1.0, 2.0]],
        "input scaling gains Ke, Kde: the paper shows none (1, 1)", "input-gains"),
+    _c("output_gain", ["controllers.output_gain"], [1.0], [[0.5], [2.0]],
+       "the motor mixing (the paper's Fig. 5) is missing: V_R,L = V0 +- g u with g = 1 (ours), "
+       "0.5 or 2 on every untuned fuzzy controller; g scales the turning rate as l / g does (g = "
+       "0.5 is l = 11.2 m, g = 2 is l = 2.8 m, exactly while no wheel voltage saturates)",
+       "output-gain"),
     _c("tuning", ["controllers.tuned"], [False], [[True]],
        "the paper's untuned controllers, or each tuned like the PD baseline (Ke, Kde and an "
        "output gain, effort-matched)", "tuning"),

@@ -6,24 +6,33 @@ Three parts, all simulated through the study's shared run plan (:mod:`.study`):
    defaults, re-judges every claim (C1-C3, D1, D2, :func:`~.analysis.evaluate_claims`) at the
    robustness noise levels with ``seeds`` realisations per cell (common random numbers).
 2. **Factorial**: every combination of the values of the choices named in ``factorial``
-   (the combinations with two or more non-default values; the others are part 1).
+   (restricted to ``factorial_levels`` where given; the combinations with two or more
+   non-default values, the others being part 1).
 3. **Global sensitivity** (SALib, Morris elementary effects) of the key paired differences
    -- ISE of IT2FLC(main) - FLC and of IT2FLC(widest) - IT2FLC(narrowest), per trajectory --
    over the continuous choices (:class:`SensitivityConfig`), ranked.
 
 A claim's *status* at a noise level is ``holds``, ``contradicted`` or ``not shown`` (over all
-trajectories, and per trajectory). Against the baseline (the study's own choices, judged the
-same way), a variant leaves a claim *unchanged* (the same status at every level), *changes* it
-(a level moves to or from "not shown") or *flips* it (a level goes from holds to contradicted
-or back). A variant that judges at other noise levels (the noise readings) is compared with
-the baseline at the study's noise level ``noise_std``.
+trajectories, and per trajectory), with its replication probability (:mod:`.replication`).
+With ``seeds`` realisations per cell, a status moves with the seed set by itself: the
+baseline (the study's own choices) is therefore judged on ``baseline_batches`` independent
+seed batches of the same size (batch 0 the variants' own seeds), and its *spread* at a level
+is the set of statuses those batches give. Against it, a variant's level is
+
+- *unsettled* when the variant's status there has a replication probability below the
+  target (it could be seed noise);
+- *unchanged* when its (settled) status is among the baseline's spread;
+- *flipped* when the spread holds the opposite status (holds vs contradicted) and not its own;
+- *changed* otherwise (a settled status the baseline never showed, e.g. not shown vs holds).
+
+A variant *flips* a claim when it flips some level, else *changes* it when it changes some
+level, else leaves it *unchanged* when every level is unchanged, else leaves it *unsettled*.
+A variant that judges at other noise levels (the noise readings) is compared with the
+baseline at the study's noise level ``noise_std``.
 """
 
 from __future__ import annotations
 
-import dataclasses
-import itertools
-import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -38,16 +47,18 @@ from .analysis import (
     ClaimResult,
     evaluate_claims,
 )
-from .choices import (
-    DEFAULT_CHOICES,
-    PATHS,
-    Choice,
-    Variant,
-    apply_settings,
-    baseline_value,
-    format_value,
+from .choices import Variant
+from .claimcells import claim_definitions
+from .replication import replicate_claims
+from .robustness_config import (
+    RobustnessConfig,
+    check_defaults,
+    check_factor_levels,
+    rebase,
+    robustness_config_from_table,
+    robustness_variants,
 )
-from .specs import ConfigError, Table
+from .sensitivity import SensitivityConfig, SensitivityFactor, morris_analysis, morris_design
 
 __all__ = [
     "CHANGE_ORDER",
@@ -55,267 +66,22 @@ __all__ = [
     "RobustnessResult",
     "SensitivityConfig",
     "SensitivityFactor",
+    "check_defaults",
+    "check_factor_levels",
+    "claim_change",
     "judge_variants",
+    "level_change",
     "morris_analysis",
+    "morris_design",
+    "rebase",
+    "robustness_config_from_table",
     "robustness_variants",
+    "spread_text",
 ]
 
-UNCHANGED, CHANGED, FLIPPED = "unchanged", "changed", "flipped"
+UNCHANGED, CHANGED, FLIPPED, UNSETTLED = "unchanged", "changed", "flipped", "unsettled"
 #: Severity order of the change categories.
-CHANGE_ORDER = (UNCHANGED, CHANGED, FLIPPED)
-
-
-@dataclass(frozen=True, kw_only=True)
-class SensitivityFactor:
-    """A continuous choice varied by the Morris screening: a path and its grid of levels
-    (as many as the screening's ``num_levels``, in increasing order)."""
-
-    name: str
-    path: str
-    levels: tuple[float, ...]
-
-    def __post_init__(self) -> None:
-        if self.path not in PATHS:
-            raise ValueError(f"factor {self.name!r}: path {self.path!r} is not a known path")
-        if self.path in ("metrics.heading", "controllers.tuned", "simulation.start_pose",
-                         "simulation.desired_heading_pose"):
-            raise ValueError(f"factor {self.name!r}: {self.path!r} is not continuous")
-        for v in self.levels:
-            PATHS[self.path](v, f"factor {self.name!r} levels")
-        if len(self.levels) < 2 or list(self.levels) != sorted(set(self.levels)):
-            raise ValueError(f"factor {self.name!r}: levels={list(self.levels)!r} must be >= 2 "
-                             "distinct values in increasing order")
-
-
-@dataclass(frozen=True, kw_only=True)
-class SensitivityConfig:
-    """Morris screening (SALib) of the key paired differences over continuous choices.
-
-    Parameters
-    ----------
-    factors : tuple of SensitivityFactor
-        The choices varied, each on the same number of grid levels (SALib's ``num_levels``,
-        even).
-    trajectories : int
-        Morris trajectories ``r``: the screening simulates ``r (k + 1)`` design points for
-        ``k`` factors.
-    seeds : int
-        Noise realisations per design point (common random numbers across points).
-    seed : int
-        Seed of SALib's sampling and of its bootstrap intervals.
-    """
-
-    factors: tuple[SensitivityFactor, ...] = (
-        SensitivityFactor(name="half_track", path="robot.half_track",
-                          levels=(0.056, 0.26, 1.2, 5.6)),
-        SensitivityFactor(name="ts", path="simulation.ts", levels=(0.001, 0.0025, 0.005, 0.01)),
-        SensitivityFactor(name="sigma", path="noise.sigma", levels=(0.05, 0.1, 0.2, 0.32)),
-        SensitivityFactor(name="ke", path="controllers.ke", levels=(0.5, 0.8, 1.25, 2.0)),
-        SensitivityFactor(name="kde", path="controllers.kde", levels=(0.5, 0.8, 1.25, 2.0)),
-        SensitivityFactor(name="metric_start", path="simulation.metric_start",
-                          levels=(0.0, 0.5, 1.0, 2.0)),
-    )
-    trajectories: int = 6
-    seeds: int = 8
-    seed: int = 0
-
-    def __post_init__(self) -> None:
-        if not self.factors:
-            raise ValueError("sensitivity factors: needs at least one factor")
-        names = [f.name for f in self.factors]
-        if len(set(names)) != len(names):
-            raise ValueError(f"sensitivity factors: names {names} must be unique")
-        if len({len(f.levels) for f in self.factors}) != 1 or len(self.factors[0].levels) % 2:
-            raise ValueError("sensitivity factors: every factor needs the same, even number of "
-                             "levels (Morris num_levels)")
-        for key in ("trajectories", "seeds"):
-            v = getattr(self, key)
-            if isinstance(v, bool) or not isinstance(v, int) or v < 2:
-                raise ValueError(f"sensitivity {key}={v!r} must be an integer >= 2")
-        if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
-            raise ValueError(f"sensitivity seed={self.seed!r} must be an integer >= 0")
-
-    @property
-    def num_levels(self) -> int:
-        return len(self.factors[0].levels)
-
-    def to_dict(self) -> dict[str, Any]:
-        return {"trajectories": self.trajectories, "seeds": self.seeds, "seed": self.seed,
-                "factors": [{"name": f.name, "path": f.path, "levels": list(f.levels)}
-                            for f in self.factors]}
-
-
-@dataclass(frozen=True, kw_only=True)
-class RobustnessConfig:
-    """The robustness experiment (see the module docstring).
-
-    Parameters
-    ----------
-    choices : tuple of Choice
-        The open choices (``[[choices]]``).
-    noise_levels : tuple of float
-        Levels (> 0) at which every variant is judged (a noise reading judges at its own).
-    seeds : int
-        Realisations per cell (>= 2).
-    factorial : tuple of str
-        Choices crossed in the factorial (none: no factorial).
-    sensitivity : SensitivityConfig or None
-        The Morris screening (None: none).
-    """
-
-    choices: tuple[Choice, ...] = DEFAULT_CHOICES
-    noise_levels: tuple[float, ...] = (0.05, 0.1, 0.2)
-    seeds: int = 40
-    factorial: tuple[str, ...] = ("input_gains", "half_track")
-    sensitivity: SensitivityConfig | None = field(default_factory=SensitivityConfig)
-
-    def __post_init__(self) -> None:
-        if not self.noise_levels or any(not math.isfinite(s) or s <= 0
-                                        for s in self.noise_levels):
-            raise ValueError(f"robustness noise_levels={list(self.noise_levels)!r} must be "
-                             "noise levels > 0")
-        if len(set(self.noise_levels)) != len(self.noise_levels):
-            raise ValueError(f"robustness noise_levels={list(self.noise_levels)!r} lists a "
-                             "level twice")
-        if isinstance(self.seeds, bool) or not isinstance(self.seeds, int) or self.seeds < 2:
-            raise ValueError(f"robustness seeds={self.seeds!r} must be an integer >= 2 (a "
-                             "single realisation shows nothing)")
-        names = [c.name for c in self.choices]
-        for name in self.factorial:
-            if name not in names:
-                raise ValueError(f"robustness factorial names {name!r}, not a choice; "
-                                 f"choices: {names}")
-        if len(set(self.factorial)) != len(self.factorial) or len(self.factorial) == 1:
-            raise ValueError(f"robustness factorial={list(self.factorial)!r} needs none or "
-                             "at least two distinct choices")
-
-    def to_dict(self) -> dict[str, Any]:
-        return {"noise_levels": list(self.noise_levels), "seeds": self.seeds,
-                "factorial": list(self.factorial),
-                "sensitivity": None if self.sensitivity is None else self.sensitivity.to_dict(),
-                "choices": [c.to_dict() for c in self.choices]}
-
-
-def robustness_config_from_table(t: Table, choices: tuple[Choice, ...]) -> RobustnessConfig:
-    """``[robustness]`` (+ ``[robustness.sensitivity]`` and its ``[[...factors]]``)."""
-    values: dict[str, Any] = {"choices": choices}
-    if "noise_levels" in t:
-        values["noise_levels"] = tuple(t.get_list("noise_levels", float))
-    if "seeds" in t:
-        values["seeds"] = t.get("seeds", int)
-    if "factorial" in t:
-        values["factorial"] = tuple(t.get_list("factorial", str))
-    else:  # the default crossing, if the (possibly user-given) choices have it
-        names = {c.name for c in choices}
-        default = RobustnessConfig.__dataclass_fields__["factorial"].default
-        assert isinstance(default, tuple)
-        values["factorial"] = default if all(n in names for n in default) else ()
-    use_sens = t.get("sensitivity_analysis", bool, True)
-    st = t.sub("sensitivity")
-    if use_sens:
-        sv: dict[str, Any] = {}
-        for key in ("trajectories", "seeds", "seed"):
-            if key in st:
-                sv[key] = st.get(key, int)
-        if "factors" in st:
-            factors = []
-            for i, entry in enumerate(st.get("factors", list)):
-                ft = Table(entry, f"{st.where}.factors #{i + 1}")
-                name = ft.get("name", str)
-                path = ft.get("path", str)
-                levels = tuple(ft.get_list("levels", float))
-                ft.done()
-                try:
-                    factors.append(SensitivityFactor(name=name, path=path, levels=levels))
-                except ValueError as exc:
-                    raise ConfigError(f"{ft.where}: {exc}") from None
-            sv["factors"] = tuple(factors)
-        try:
-            values["sensitivity"] = SensitivityConfig(**sv)
-        except ValueError as exc:
-            raise ConfigError(f"{st.where}: {exc}") from None
-    else:
-        values["sensitivity"] = None
-    st.done()
-    t.done()
-    try:
-        return RobustnessConfig(**values)
-    except ValueError as exc:
-        raise ConfigError(f"{t.where}: {exc}") from None
-
-
-def check_defaults(choices: Sequence[Choice], loop: Any, where: str) -> None:
-    """Every choice's default must be the study's own setting (the baseline of the robustness
-    experiment), so that the table of choices cannot misstate what was run."""
-    for c in choices:
-        for path, value in zip(c.sets, c.default, strict=True):
-            own = baseline_value(path, loop)
-            if value != own:
-                raise ConfigError(
-                    f"{where} [[choices]] {c.name!r}: default {path} = {format_value(value)} "
-                    f"but the study runs {format_value(own)}; the default must be the study's "
-                    "own setting"
-                )
-
-
-def check_factor_levels(sens: SensitivityConfig, loop: Any) -> None:
-    """Every combination of the screening's loop levels must be a valid loop (e.g. each
-    integral window a whole number of every period)."""
-    loop_factors = [f for f in sens.factors if f.path.split(".")[0] in ("robot", "simulation")]
-    for combo in itertools.product(*(f.levels for f in loop_factors)):
-        settings = {f.path: v for f, v in zip(loop_factors, combo, strict=True)}
-        apply_settings(loop, (1.0,), settings, choice="sensitivity",
-                       value=", ".join(f"{f.name}={v:g}"
-                                       for f, v in zip(loop_factors, combo, strict=True)))
-
-
-def rebase(choices: Sequence[Choice], loop: Any) -> tuple[Choice, ...]:
-    """The choices with the study's own settings as defaults: a choice whose default differs
-    (e.g. the study sets ``half_track = 0.3``) gets the study's value as its default and its
-    former default among the alternatives. Used for the implied list (no ``[[choices]]``
-    given); an explicit list must match (:func:`check_defaults`)."""
-    out = []
-    for c in choices:
-        own = tuple(baseline_value(p, loop) for p in c.sets)
-        if own == c.default:
-            out.append(c)
-            continue
-        alternatives = tuple(a for a in (c.default, *c.alternatives) if a != own)
-        out.append(dataclasses.replace(c, default=own, alternatives=alternatives))
-    return tuple(out)
-
-
-# --------------------------------------------------------------------------------------------
-# Variants
-# --------------------------------------------------------------------------------------------
-
-
-def robustness_variants(config: RobustnessConfig, loop: Any) -> list[Variant]:
-    """The baseline, then every one-at-a-time alternative, then the factorial cells."""
-    levels = config.noise_levels
-    out = [apply_settings(loop, levels, {}, choice="baseline", value="paper")]
-    for c in config.choices:
-        for alt in c.alternatives:
-            out.append(apply_settings(loop, levels, c.settings(alt), choice=c.name,
-                                      value=c.label(alt)))
-    if config.factorial:
-        chosen = [next(c for c in config.choices if c.name == n) for n in config.factorial]
-        name = " x ".join(c.name for c in chosen)
-        for combo in itertools.product(*([c.default, *c.alternatives] for c in chosen)):
-            moved = sum(v != c.default for c, v in zip(chosen, combo, strict=True))
-            if moved < 2:
-                continue
-            settings: dict[str, Any] = {}
-            for c, v in zip(chosen, combo, strict=True):
-                settings.update(c.settings(v))
-            label = " x ".join(c.label(v) for c, v in zip(chosen, combo, strict=True))
-            out.append(apply_settings(loop, levels, settings, choice=name, value=label))
-    return out
-
-
-# --------------------------------------------------------------------------------------------
-# Judging
-# --------------------------------------------------------------------------------------------
+CHANGE_ORDER = (UNSETTLED, UNCHANGED, CHANGED, FLIPPED)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -330,24 +96,38 @@ class RobustnessResult:
     claims : list of list of ClaimResult
         The claims judged under each variant (same order as ``variants``).
     verdicts : list of dict
-        One row per (claim, variant): ``claim, choice, value, part`` (``"baseline"``,
-        ``"one-at-a-time"``, ``"factorial"``), ``noise_levels`` (text), ``verdict`` (over
-        the variant's levels), ``status`` (per-level statuses ``"holds"``/``"contradicted"``/
-        ``"not shown"``, ``;``-joined in level order), ``baseline_status`` (the baseline's at
-        the compared levels), ``change`` (``"unchanged"``, ``"changed"``, ``"flipped"``),
-        ``per_trajectory`` (``traj: verdict`` pairs, ``;``-joined). The heat-map's data.
+        One row per (claim, variant): ``claim, choice, value, label`` (the value in the
+        reader's words), ``part`` (``"baseline"``, ``"one-at-a-time"``, ``"factorial"``),
+        ``noise_levels`` (text), ``verdict`` (over the variant's settled levels), ``status``
+        (per-level statuses ``"holds"``/``"contradicted"``/``"not shown"``, ``;``-joined in
+        level order), ``replication`` and ``settled`` (per level), ``baseline_spread`` (the
+        baseline's statuses over its batches at the compared levels), ``level_change`` (per
+        level, :func:`level_change`), ``change`` (the claim's, :func:`claim_change`;
+        ``"baseline"`` for the baseline), ``per_trajectory`` (``traj: verdict`` pairs,
+        ``;``-joined). The heat-map's data.
     cells : list of dict
         robustness.csv: one row per claim, variant and evidence cell: ``claim, choice,
-        value, sigma, trajectory, verdict`` (the claim's status at this level on this
-        trajectory), ``level_verdict`` (at this level over all trajectories),
-        ``baseline_level_verdict``, ``change``, ``metric, comparison, n, estimate, ci_low,
-        ci_high, p_holm, outcome``.
+        value, label, sigma, trajectory, verdict`` (the claim's status at this level on this
+        trajectory), ``level_verdict`` (at this level over all trajectories), ``replication``
+        and ``settled`` (of that level status), ``baseline_spread``, ``change`` (the level's),
+        ``metric, comparison, n, estimate, ci_low, ci_high, p_holm, outcome``.
     flips : dict of str -> dict
-        Per claim: ``{"unchanged": [...], "changed": [...], "flipped": [...]}`` of
-        ``"choice = value"`` labels (one-at-a-time and factorial).
+        Per claim: ``{"unchanged": [...], "changed": [...], "flipped": [...],
+        "unsettled": [...]}`` of variant labels (one-at-a-time and factorial).
     ranking : list of dict
-        Choices ranked by how many (claim, level) statuses their alternatives move in the
-        one-at-a-time part: ``choice, flipped, changed, score`` (score = 2 flipped + changed).
+        Choices ranked by how many (claim, level) statuses their alternatives move beyond
+        the baseline's spread in the one-at-a-time part: ``choice, flipped, changed, score``
+        (score = 2 flipped + changed).
+    spread : list of dict
+        The baseline over its independent seed batches, per claim and noisy level:
+        ``claim, sigma, batches, spread`` (``"holds 2, not shown 8"``), ``statuses`` (batch
+        order), ``agreement`` (fraction of pairs of batches with the same status: the
+        observed replication rate) and ``replication_mean`` (the bootstrap's estimate of it,
+        averaged over the batches).
+    target : float
+        The replication probability that settles a level.
+    seeds_per_batch : int
+        Realisations per cell of every variant and baseline batch.
     sensitivity : list of dict
         Morris indices: ``output, trajectory, factor, mu_star, mu_star_conf, mu, sigma``.
     sensitivity_ranking : list of dict
@@ -363,6 +143,9 @@ class RobustnessResult:
     cells: list[dict[str, Any]]
     flips: dict[str, dict[str, list[str]]]
     ranking: list[dict[str, Any]]
+    spread: list[dict[str, Any]] = field(default_factory=list)
+    target: float = 0.95
+    seeds_per_batch: int = 0
     sensitivity: list[dict[str, Any]] = field(default_factory=list)
     sensitivity_ranking: list[dict[str, Any]] = field(default_factory=list)
     sensitivity_points: int = 0
@@ -374,13 +157,59 @@ def _part(v: Variant) -> str:
     return "factorial" if " x " in v.choice else "one-at-a-time"
 
 
-def _change(status: Sequence[str], base: Sequence[str]) -> str:
-    if list(status) == list(base):
+_OPPOSITE = {HOLDS: CONTRADICTED, CONTRADICTED: HOLDS}
+
+
+def level_change(status: str, settled: bool, spread: Sequence[str]) -> str:
+    """How a variant's status at one level compares with the baseline's spread over
+    independent seed batches (module docstring).
+
+    Examples
+    --------
+    >>> level_change("holds", True, ["holds", "not shown"])
+    'unchanged'
+    >>> level_change("contradicted", True, ["holds", "not shown"])
+    'flipped'
+    >>> level_change("contradicted", False, ["holds"])
+    'unsettled'
+    """
+    if not spread:
+        raise ValueError("level_change: the baseline spread is empty")
+    if not settled:
+        return UNSETTLED
+    if status in spread:
         return UNCHANGED
-    opposite = {(HOLDS, CONTRADICTED), (CONTRADICTED, HOLDS)}
-    if any((a, b) in opposite for a, b in zip(status, base, strict=True)):
+    if _OPPOSITE.get(status) in spread:
         return FLIPPED
     return CHANGED
+
+
+def claim_change(levels: Sequence[str]) -> str:
+    """A claim's change under a variant from its levels' (:func:`level_change`): flipped if
+    any level flips, else changed if any changes, else unchanged if every level is, else
+    unsettled."""
+    for how in (FLIPPED, CHANGED):
+        if how in levels:
+            return how
+    return UNCHANGED if all(x == UNCHANGED for x in levels) else UNSETTLED
+
+
+def spread_text(spread: Sequence[str]) -> str:
+    """``"holds 2, not shown 8"``: the baseline's statuses over its batches."""
+    counts = {st: spread.count(st) for st in dict.fromkeys(spread)}
+    return ", ".join(f"{st} {k}" for st, k in counts.items())
+
+
+def _judge_all(rows: Mapping[str, np.ndarray], *, fous: Sequence[float], main_fou: float,
+               trajectories: Sequence[str], heading: str, target: float, resamples: int,
+               seed: int) -> list[ClaimResult]:
+    metrics = MEASURED_INTEGRALS if heading == "measured" else INTEGRALS
+    defs = claim_definitions(fous=fous, main_fou=main_fou, trajectories=trajectories,
+                             metrics=metrics, available=sorted(set(rows["controller"])))
+    results = evaluate_claims(rows, fous=fous, main_fou=main_fou, trajectories=trajectories,
+                              experiment="robustness", claims=defs)
+    return replicate_claims(rows, defs, results, experiment="robustness",
+                            resamples=resamples, seed=seed, target=target)
 
 
 def judge_variants(
@@ -392,68 +221,109 @@ def judge_variants(
     main_fou: float,
     trajectories: Sequence[str],
     reference_sigma: float,
+    baseline_batches: Sequence[Mapping[str, np.ndarray]] = (),
+    target: float = 0.95,
+    resamples: int = 1000,
+    seed: int = 0,
 ) -> RobustnessResult:
-    """Judge every claim under every variant and compare with the baseline (``variants[0]``).
+    """Judge every claim under every variant, with replication probabilities, and compare
+    each with the baseline's spread over independent seed batches (module docstring).
 
     ``rows[i]`` are the metrics rows of variant ``i`` (experiment ``"robustness"``,
-    controllers under their paper labels). ``reference_sigma`` is the baseline level a
-    variant with other noise levels is compared with.
+    controllers under their paper labels); ``variants[0]`` is the baseline, and its rows are
+    the first of its batches, ``baseline_batches`` the others (the same controllers and size,
+    other seeds). ``reference_sigma`` is the baseline level a variant with other noise levels
+    is compared with. ``target``, ``resamples``, ``seed``: the replication probability that
+    settles a level and its bootstrap (:mod:`.replication`).
     """
     if not variants or variants[0].choice != "baseline":
         raise ValueError("judge_variants: the first variant must be the baseline")
-    all_claims = []
-    for v, r in zip(variants, rows, strict=True):
-        metrics = MEASURED_INTEGRALS if v.heading == "measured" else INTEGRALS
-        all_claims.append(evaluate_claims(r, fous=fous, main_fou=main_fou,
-                                          trajectories=trajectories, experiment="robustness",
-                                          metrics=metrics))
-    base = {c.id: c for c in all_claims[0]}
+    def judge(r: Mapping[str, np.ndarray], heading: str, b: int) -> list[ClaimResult]:
+        return _judge_all(r, fous=fous, main_fou=main_fou, trajectories=trajectories,
+                          heading=heading, target=target, resamples=b, seed=seed)
+
+    all_claims = [judge(r, v.heading, resamples) for v, r in zip(variants, rows, strict=True)]
+    # The other batches' statuses make the spread; their replication probabilities only enter
+    # the spread table's average, whose Monte Carlo error averages over the batches.
+    spare = max(100, resamples // 5)
+    batches = [all_claims[0]] + [judge(r, variants[0].heading, spare)
+                                 for r in baseline_batches]
+    spread: dict[tuple[str, float], list[str]] = {}
+    rep_of: dict[tuple[str, float], list[float]] = {}
+    for claims in batches:
+        for c in claims:
+            for s, st in c.level_status.items():
+                spread.setdefault((c.id, s), []).append(st)
+                rep_of.setdefault((c.id, s), []).append(c.replication.get(("all", s), 1.0))
     verdicts, cells = [], []
     flips: dict[str, dict[str, list[str]]] = {
-        c.id: {UNCHANGED: [], CHANGED: [], FLIPPED: []} for c in all_claims[0]}
+        c.id: {UNCHANGED: [], CHANGED: [], FLIPPED: [], UNSETTLED: []}
+        for c in all_claims[0] if c.level_status}
     moves: dict[str, list[int]] = {}
     for v, claims in zip(variants, all_claims, strict=True):
         for c in claims:
-            b = base[c.id]
             if not c.level_status:  # not evaluated (e.g. no baseline controller)
                 continue
             levels = sorted(c.level_status)
             status = [c.level_status[s] for s in levels]
-            compared = [s if s in b.level_status else reference_sigma for s in levels]
-            base_status = [b.level_status.get(s, "") for s in compared]
-            change = _change(status, base_status)
-            label = f"{v.choice} = {v.value}"
-            if v.choice != "baseline":
-                flips[c.id][change].append(label)
+            compared = [s if (c.id, s) in spread else reference_sigma for s in levels]
+            spreads = [spread.get((c.id, s), []) for s in compared]
+            settled = [c.settled("all", s) for s in levels]
+            if v.choice == "baseline":
+                changes = [UNCHANGED] * len(levels)
+                change = "baseline"
+            else:
+                changes = [level_change(st, ok, sp)
+                           for st, ok, sp in zip(status, settled, spreads, strict=True)]
+                change = claim_change(changes)
+                flips[c.id][change].append(v.label)
                 if _part(v) == "one-at-a-time":
                     m = moves.setdefault(v.choice, [0, 0])
-                    for a, bb in zip(status, base_status, strict=True):
-                        if a != bb:
-                            m[0 if _change([a], [bb]) == FLIPPED else 1] += 1
+                    m[0] += changes.count(FLIPPED)
+                    m[1] += changes.count(CHANGED)
             verdicts.append({
-                "claim": c.id, "choice": v.choice, "value": v.value, "part": _part(v),
-                "noise_levels": ", ".join(f"{s:g}" for s in levels), "verdict": c.verdict,
-                "status": ";".join(status), "baseline_status": ";".join(base_status),
-                "change": change,
+                "claim": c.id, "choice": v.choice, "value": v.value, "label": v.label,
+                "part": _part(v), "noise_levels": ", ".join(f"{s:g}" for s in levels),
+                "verdict": c.verdict, "status": ";".join(status),
+                "replication": ";".join(f"{c.replication.get(('all', s), 1.0):.3f}"
+                                        for s in levels),
+                "settled": ";".join("yes" if ok else "no" for ok in settled),
+                "baseline_spread": ";".join(spread_text(sp) for sp in spreads),
+                "level_change": ";".join(changes), "change": change,
                 "per_trajectory": ";".join(f"{t}: {p['verdict']}"
                                            for t, p in c.per_trajectory.items()),
             })
-            base_of = dict(zip(levels, base_status, strict=True))
-            change_of = {s: _change([c.level_status[s]], [base_of[s]]) for s in levels}
             traj_status = _trajectory_status(c, levels)
+            at = dict(zip(levels, zip(changes, spreads, settled, strict=True), strict=True))
             for e in c.evidence:
                 s = e["sigma"]
+                how, sp, ok = at[s]
                 cells.append(_cell_row(c.id, v, e, traj_status.get((s, e.get("trajectory",
                                                                              "straight")), ""),
-                                       c.level_status[s], base_of[s], change_of[s]))
+                                       c.level_status[s], c.replication.get(("all", s), 1.0),
+                                       ok, spread_text(sp), how))
     order = [c.name for c in config.choices]
     ranked = sorted(moves.items(), key=lambda kv: (-(2 * kv[1][0] + kv[1][1]),
                                                    order.index(kv[0])))
     ranking: list[dict[str, Any]] = [
         {"choice": k, "flipped": f, "changed": ch, "score": 2 * f + ch}
         for k, (f, ch) in ranked]
+    spread_rows = []
+    for (cid, s), sts in spread.items():
+        if s == 0.0:
+            continue
+        k = len(sts)
+        pairs = k * (k - 1) / 2
+        same = sum(sts[i] == sts[j] for i in range(k) for j in range(i + 1, k))
+        spread_rows.append({
+            "claim": cid, "sigma": s, "batches": k, "spread": spread_text(sts),
+            "statuses": list(sts), "agreement": same / pairs if pairs else 1.0,
+            "replication_mean": float(np.mean(rep_of[(cid, s)])),
+        })
     return RobustnessResult(config=config, variants=list(variants), claims=all_claims,
-                            verdicts=verdicts, cells=cells, flips=flips, ranking=ranking)
+                            verdicts=verdicts, cells=cells, flips=flips, ranking=ranking,
+                            spread=spread_rows, target=target,
+                            seeds_per_batch=config.seeds)
 
 
 def _trajectory_status(c: ClaimResult, levels: Sequence[float]) -> dict[tuple[float, str], str]:
@@ -476,7 +346,8 @@ def _trajectory_status(c: ClaimResult, levels: Sequence[float]) -> dict[tuple[fl
 
 
 def _cell_row(claim: str, v: Variant, e: Mapping[str, Any], traj_status: str,
-              level_status: str, base_status: str, change: str) -> dict[str, Any]:
+              level_status: str, replication: float, settled: bool, spread: str,
+              change: str) -> dict[str, Any]:
     low, high = e["ci_low"], e["ci_high"]
     if "comparison" in e:
         metric, comparison, estimate = e["metric"], e["comparison"], e["diff_mean"]
@@ -486,68 +357,10 @@ def _cell_row(claim: str, v: Variant, e: Mapping[str, Any], traj_status: str,
         comparison = f"smallest mean ({e['best controller']}) vs band"
         estimate = e[key]
     return {
-        "claim": claim, "choice": v.choice, "value": v.value, "sigma": e["sigma"],
-        "trajectory": e.get("trajectory", "straight"), "verdict": traj_status,
-        "level_verdict": level_status, "baseline_level_verdict": base_status,
-        "change": change, "metric": metric, "comparison": comparison, "n": e["n"],
-        "estimate": estimate, "ci_low": low, "ci_high": high, "p_holm": e["p_holm"],
-        "outcome": e["outcome"],
+        "claim": claim, "choice": v.choice, "value": v.value, "label": v.label,
+        "sigma": e["sigma"], "trajectory": e.get("trajectory", "straight"),
+        "verdict": traj_status, "level_verdict": level_status, "replication": replication,
+        "settled": settled, "baseline_spread": spread, "change": change, "metric": metric,
+        "comparison": comparison, "n": e["n"], "estimate": estimate, "ci_low": low,
+        "ci_high": high, "p_holm": e["p_holm"], "outcome": e["outcome"],
     }
-
-
-# --------------------------------------------------------------------------------------------
-# Global sensitivity (Morris)
-# --------------------------------------------------------------------------------------------
-
-
-def morris_design(sens: SensitivityConfig) -> tuple[np.ndarray, list[dict[str, Any]]]:
-    """SALib's Morris sample on the unit grid and the path values of each design point.
-
-    Returns ``(X, points)``: ``X`` of shape ``(r (k + 1), k)`` in ``[0, 1]`` (grid
-    ``i / (num_levels - 1)``), ``points[j] = {path: value}``.
-    """
-    from SALib.sample import morris as morris_sample
-
-    problem = _problem(sens)
-    x = morris_sample.sample(problem, sens.trajectories, num_levels=sens.num_levels,
-                             seed=sens.seed)
-    p = sens.num_levels - 1
-    points = []
-    for row in x:
-        idx = np.rint(row * p).astype(int)
-        points.append({f.path: f.levels[i] for f, i in zip(sens.factors, idx, strict=True)})
-    return x, points
-
-
-def _problem(sens: SensitivityConfig) -> dict[str, Any]:
-    return {"num_vars": len(sens.factors), "names": [f.name for f in sens.factors],
-            "bounds": [[0.0, 1.0]] * len(sens.factors)}
-
-
-def morris_analysis(sens: SensitivityConfig, x: np.ndarray,
-                    outputs: Mapping[tuple[str, str], np.ndarray]
-                    ) -> tuple[list[dict[str, Any]], list[dict[str, Any]]]:
-    """Morris indices of every output (``(name, trajectory) -> y``, one value per design
-    point) and the overall ranking (mean over outputs of ``mu_star / max mu_star``).
-
-    ``mu_star`` is in the output's unit per unit of the normalised grid (the full range of a
-    factor's levels is 1).
-    """
-    from SALib.analyze import morris as morris_analyze
-
-    problem = _problem(sens)
-    rows = []
-    scores = dict.fromkeys(problem["names"], 0.0)
-    for (name, traj), y in outputs.items():
-        res = morris_analyze.analyze(problem, x, np.asarray(y, dtype=np.float64),
-                                     num_levels=sens.num_levels, seed=sens.seed)
-        top = float(np.max(res["mu_star"])) or 1.0
-        for i, factor in enumerate(problem["names"]):
-            rows.append({"output": name, "trajectory": traj, "factor": factor,
-                         "mu_star": float(res["mu_star"][i]),
-                         "mu_star_conf": float(res["mu_star_conf"][i]),
-                         "mu": float(res["mu"][i]), "sigma": float(res["sigma"][i])})
-            scores[factor] += float(res["mu_star"][i]) / top / len(outputs)
-    ranked = sorted(scores.items(), key=lambda kv: -kv[1])
-    ranking = [{"factor": f, "score": s, "rank": i + 1} for i, (f, s) in enumerate(ranked)]
-    return rows, ranking

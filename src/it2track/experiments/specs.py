@@ -10,12 +10,15 @@
 from __future__ import annotations
 
 import enum
+import functools
 import math
 import tomllib
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, fields, replace
 from pathlib import Path
 from typing import Any
+
+import numpy as np
 
 from .._files import InputFileError, read_text
 from ..fuzzy import Reducer, TNorm
@@ -29,6 +32,7 @@ from ..tracking import (
     HeadingController,
     LoopConfig,
     PDHeadingController,
+    SurfaceTableController,
 )
 
 __all__ = [
@@ -54,6 +58,7 @@ class ControllerKind(enum.Enum):
     IT2 = "it2"  # the paper's IT2FLC with FoU width `fou`
     T1_MATCHED = "t1-matched"  # type-1 FLC with the dead zone of the IT2FLC of width `fou`
     T1_SLOPE_MATCHED = "t1-slope-matched"  # ... with its dead zone and its edge slope
+    T1_SURFACE = "t1-surface"  # type-1 table of the IT2FLC of width `fou`'s control surface
     PD = "pd"  # PD heading controller with a filtered derivative
     FILE = "file"  # a fuzzy system loaded from a .t2fis / .fis / .toml file
 
@@ -66,8 +71,10 @@ class ControllerSpec:
     ----------
     kind : ControllerKind
     fou : float
-        FoU width for ``IT2``, ``T1_MATCHED`` and ``T1_SLOPE_MATCHED`` (``0 <= fou < 1.6``;
-        ``0 < fou <= 0.4`` for ``T1_SLOPE_MATCHED``).
+        FoU width for ``IT2``, ``T1_MATCHED``, ``T1_SLOPE_MATCHED`` and ``T1_SURFACE``
+        (``0 <= fou < 1.6``; ``0 < fou <= 0.4`` for ``T1_SLOPE_MATCHED``; ``T1_SURFACE``
+        tabulates the IT2FLC of that width with its ``reducer`` and ``tnorm``,
+        :class:`~it2track.tracking.SurfaceTableController`).
     ke, kde : float
         Input gains of the fuzzy controllers (``ke > 0``, ``kde >= 0``).
     output_gain : float
@@ -128,8 +135,9 @@ class ControllerSpec:
             raise ValueError(f"controller fou={self.fou!r} must satisfy 0 <= fou < 1.6")
         if self.kind is ControllerKind.FLC and self.fou != 0.0:
             raise ValueError("controller kind 'flc' is the FoU-0 FLC; use kind 'it2' with fou")
-        if self.kind is ControllerKind.IT2 and self.fou == 0.0:
-            raise ValueError("controller kind 'it2' needs fou > 0 (fou 0 is kind 'flc')")
+        if self.kind in (ControllerKind.IT2, ControllerKind.T1_SURFACE) and self.fou == 0.0:
+            raise ValueError(f"controller kind {self.kind.value!r} needs fou > 0 (fou 0 is "
+                             "kind 'flc')")
         if self.kind is ControllerKind.T1_SLOPE_MATCHED and not 0.0 < self.fou <= 0.4:
             raise ValueError(f"controller kind 't1-slope-matched' needs 0 < fou <= 0.4 (a dead "
                              f"zone to match), got fou={self.fou!r}")
@@ -174,7 +182,7 @@ class ControllerSpec:
             gains += f" G {self.output_gain:g}"
         if self.tnorm != "product" and k is not ControllerKind.PD:
             gains += f" {self.tnorm} t-norm"
-        if self.reducer != "exhaustive" and k is ControllerKind.IT2:
+        if self.reducer != "exhaustive" and k in (ControllerKind.IT2, ControllerKind.T1_SURFACE):
             gains += f" {self.reducer}"
         if k is ControllerKind.FLC:
             return "FLC" + gains
@@ -184,6 +192,8 @@ class ControllerSpec:
             return f"T1 dead-zone-matched {self.fou:g}" + gains
         if k is ControllerKind.T1_SLOPE_MATCHED:
             return f"T1 slope-matched {self.fou:g}" + gains
+        if k is ControllerKind.T1_SURFACE:
+            return f"T1 surface copy {self.fou:g}" + gains
         if k is ControllerKind.PD:
             return f"PD kp {self.kp:.3g} kd {self.kd:.3g}"
         return Path(self.path).name + gains
@@ -194,33 +204,31 @@ class ControllerSpec:
         k = self.kind
         if k is ControllerKind.PD:
             return PDHeadingController(kp=self.kp, kd=self.kd, tf=self.tf, name=self.label)
-        if k is ControllerKind.FLC:
-            fls: Any = heading_fls(0.0, tnorm=tnorm)
-        elif k is ControllerKind.IT2:
-            fls = heading_fls(self.fou, reducer=Reducer.from_name(self.reducer).value, tnorm=tnorm)
-        elif k is ControllerKind.T1_MATCHED:
-            fls = dead_zone_matched_fls(self.fou, tnorm=tnorm)
-        elif k is ControllerKind.T1_SLOPE_MATCHED:
-            from .baselines import slope_matched_fls
-
-            fls = slope_matched_fls(self.fou, tnorm=tnorm)
-        else:
+        if k is ControllerKind.T1_SURFACE:
+            return SurfaceTableController(
+                e_nodes=_SURFACE_AXIS, de_nodes=_SURFACE_AXIS,
+                table=_surface_table(self.fou, self.reducer, self.tnorm, self.output_gain),
+                ke=self.ke, kde=self.kde, name=self.label)
+        if k is ControllerKind.FILE:
             from ..io import load
 
-            fls = load(self.path)
-        if self.output_gain != 1.0:
-            from .baselines import scaled_consequents
+            fls: Any = load(self.path)
+            if self.output_gain != 1.0:
+                from .baselines import scaled_consequents
 
-            fls = scaled_consequents(fls, self.output_gain)
+                fls = scaled_consequents(fls, self.output_gain)
+        else:
+            fls = _paper_system(k, self.fou, self.reducer, tnorm.value, self.output_gain)
         return FuzzyHeadingController(fls=fls, ke=self.ke, kde=self.kde, name=self.label)
 
     def to_dict(self) -> dict[str, Any]:
         """Plain values (TOML/JSON-ready), only the fields that matter for the kind."""
         keep = {"kind", "label"}
         k = self.kind
-        if k in (ControllerKind.IT2, ControllerKind.T1_MATCHED, ControllerKind.T1_SLOPE_MATCHED):
+        if k in (ControllerKind.IT2, ControllerKind.T1_MATCHED, ControllerKind.T1_SLOPE_MATCHED,
+                 ControllerKind.T1_SURFACE):
             keep |= {"fou"}
-        if k is ControllerKind.IT2:
+        if k in (ControllerKind.IT2, ControllerKind.T1_SURFACE):
             keep |= {"reducer"}
         if k is not ControllerKind.PD:
             keep |= {"ke", "kde", "tnorm"}
@@ -279,13 +287,14 @@ class ControllerSpec:
 
 
 _FUZZY = (ControllerKind.FLC, ControllerKind.IT2, ControllerKind.T1_MATCHED,
-          ControllerKind.T1_SLOPE_MATCHED)
+          ControllerKind.T1_SLOPE_MATCHED, ControllerKind.T1_SURFACE)
 #: Which fields apply to which kinds: any other kind must leave them at their defaults
 #: (a configuration must not even give them): a value that would be silently ignored -- and
 #: would still change a sweep's identity -- is an error.
 _APPLIES_TO: dict[str, tuple[ControllerKind, ...]] = {
-    "fou": (ControllerKind.IT2, ControllerKind.T1_MATCHED, ControllerKind.T1_SLOPE_MATCHED),
-    "reducer": (ControllerKind.IT2,),
+    "fou": (ControllerKind.IT2, ControllerKind.T1_MATCHED, ControllerKind.T1_SLOPE_MATCHED,
+            ControllerKind.T1_SURFACE),
+    "reducer": (ControllerKind.IT2, ControllerKind.T1_SURFACE),
     "tnorm": _FUZZY,
     "ke": (*_FUZZY, ControllerKind.FILE),
     "kde": (*_FUZZY, ControllerKind.FILE),
@@ -295,6 +304,41 @@ _APPLIES_TO: dict[str, tuple[ControllerKind, ...]] = {
     "tf": (ControllerKind.PD,),
     "path": (ControllerKind.FILE,),
 }
+
+
+@functools.lru_cache(maxsize=256)
+def _paper_system(kind: ControllerKind, fou: float, reducer: str, tnorm: str,
+                  gain: float) -> Any:
+    """The fuzzy system of a built-in kind (immutable, so one object serves every spec that
+    asks for it: the study builds hundreds of specs over a handful of systems)."""
+    t = TNorm.from_name(tnorm)
+    if kind is ControllerKind.FLC:
+        fls: Any = heading_fls(0.0, tnorm=t)
+    elif kind is ControllerKind.IT2:
+        fls = heading_fls(fou, reducer=Reducer.from_name(reducer).value, tnorm=t)
+    elif kind is ControllerKind.T1_MATCHED:
+        fls = dead_zone_matched_fls(fou, tnorm=t)
+    else:
+        from .baselines import slope_matched_fls
+
+        fls = slope_matched_fls(fou, tnorm=t)
+    if gain != 1.0:
+        from .baselines import scaled_consequents
+
+        fls = scaled_consequents(fls, gain)
+    return fls
+
+
+#: Grid of the surface tables (both inputs): 401 points on [-1, 1], step 0.005.
+SURFACE_POINTS = 401
+_SURFACE_AXIS = np.linspace(-1.0, 1.0, SURFACE_POINTS)
+
+
+@functools.lru_cache(maxsize=16)
+def _surface_table(fou: float, reducer: str, tnorm: str, gain: float) -> np.ndarray:
+    """The IT2FLC's output on the surface grid (computed once per process; read-only)."""
+    fls = _paper_system(ControllerKind.IT2, fou, reducer, tnorm, gain)
+    return SurfaceTableController.from_system(fls, points=SURFACE_POINTS).table
 
 
 class Table:

@@ -22,6 +22,7 @@ __all__ = [
     "Interval",
     "binomial_interval",
     "holm_adjust",
+    "interval_text",
     "mean_interval",
     "paired_comparison",
     "t_tail",
@@ -175,3 +176,33 @@ def binomial_interval(k: int, n: int, level: float = 0.95) -> tuple[float, float
     low = 0.0 if k == 0 else float(beta.ppf(a / 2.0, k, n - k + 1))
     high = 1.0 if k == n else float(beta.ppf(1.0 - a / 2.0, k + 1, n - k))
     return low, high
+
+
+def interval_text(mean: float, low: float, high: float, digits: int = 3) -> str:
+    """``"mean [low, high]"`` with enough significant digits (at least ``digits``) that the
+    printed mean lies inside the printed interval and differs from a printed bound unless the
+    numbers themselves are equal -- never ``2.748 [2.75, 2.75]``.
+
+    Raises
+    ------
+    ValueError
+        If a value is not finite, ``low > high``, or ``mean`` lies outside ``[low, high]``.
+
+    Examples
+    --------
+    >>> interval_text(2.7483, 2.7480, 2.7486)
+    '2.7483 [2.748, 2.7486]'
+    >>> interval_text(0.5, 0.25, 0.75)
+    '0.5 [0.25, 0.75]'
+    """
+    values = (float(mean), float(low), float(high))
+    if not all(math.isfinite(v) for v in values) or not values[1] <= values[0] <= values[2]:
+        raise ValueError(f"interval_text: need finite low <= mean <= high, got {values}")
+    m, lo, hi = values
+    for d in range(max(1, int(digits)), 18):
+        tm, tl, th = (f"{v:.{d}g}" for v in values)
+        inside = float(tl) <= float(tm) <= float(th)
+        distinct = (tl != tm or lo == m) and (th != tm or hi == m)
+        if inside and distinct:
+            return f"{tm} [{tl}, {th}]"
+    return f"{m!r} [{lo!r}, {hi!r}]"  # pragma: no cover - 17 digits always separate doubles

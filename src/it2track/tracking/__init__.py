@@ -28,6 +28,7 @@ from .simulate import (
     wrap_angle,
 )
 from .siso import REFERENCE_FIELDS
+from .surface_table import SurfaceTableController
 from .trajectories import (
     PAPER_TRAJECTORIES,
     FunctionTrajectory,
@@ -58,6 +59,7 @@ __all__ = [
     "Reference",
     "RunTable",
     "StepReference",
+    "SurfaceTableController",
     "Target",
     "Trace",
     "Trajectory",

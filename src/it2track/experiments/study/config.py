@@ -25,6 +25,7 @@ from ..robustness import (
     rebase,
     robustness_variants,
 )
+from ..sequential import SequentialDesign
 from ..specs import ConfigError, ControllerKind, ControllerSpec
 
 __all__ = ["PDTuning", "StudyConfig", "quick_config"]
@@ -116,11 +117,13 @@ class StudyConfig:
     fou_sweep : tuple of float
         FoU widths of the continuous sweep.
     seeds, sweep_seeds : int
-        Realisations per cell in the ``paper`` experiment and in the sweeps.
+        Realisations per cell in the ``paper`` experiment and in the sweeps (the ``noise``
+        sweep's first round: :attr:`verdicts`).
     figure_seed : int
         Seed index of the time series shown in the figures.
     matched_baseline : bool
-        Include the matched type-1 FLCs (dead zone; dead zone and edge slope).
+        Include the matched type-1 FLCs (dead zone; dead zone and edge slope) and, in the
+        noise sweep, the type-1 table of the main IT2FLC's control surface (D3).
     pd : PDTuning or None
         PD baseline tuning (None: no PD baseline).
     tuning : FuzzyTuning or None
@@ -132,6 +135,9 @@ class StudyConfig:
         The user's own controllers (e.g. ``kind = "file"``), added to every experiment.
     batch_size : int
         Runs per simulation chunk (memory vs speed; results do not depend on it).
+    verdicts : SequentialDesign
+        Seeds by need in the noise sweep and the replication probability of every level
+        (:mod:`it2track.experiments.sequential`); its ``first`` round is ``sweep_seeds``.
     """
 
     loop: LoopConfig = field(default_factory=LoopConfig)
@@ -150,11 +156,12 @@ class StudyConfig:
     robustness: RobustnessConfig | None = field(default_factory=RobustnessConfig)
     extra_controllers: tuple[ControllerSpec, ...] = ()
     batch_size: int = 4096
+    verdicts: SequentialDesign = field(default_factory=SequentialDesign)
 
     def __post_init__(self) -> None:
         def bad(key: str, why: str) -> ValueError:
             value = getattr(self, key)
-            shown = "..." if key in ("robustness", "tuning", "pd") else repr(value)
+            shown = "..." if key in ("robustness", "tuning", "pd", "verdicts") else repr(value)
             return ValueError(f"study {key}={shown}: {why}")
 
         if not self.trajectories:
@@ -177,6 +184,13 @@ class StudyConfig:
                 raise bad(key, "must be an integer >= 1")
         if self.figure_seed < 0:
             raise bad("figure_seed", "must be >= 0")
+        if not isinstance(self.verdicts, SequentialDesign):
+            raise bad("verdicts", "must be a SequentialDesign")
+        if self.verdicts.cap < self.sweep_seeds:
+            raise bad("verdicts", f"cap={self.verdicts.cap} must be >= sweep_seeds="
+                      f"{self.sweep_seeds} (the first round)")
+        if self.verdicts.first != self.sweep_seeds:
+            object.__setattr__(self, "verdicts", replace(self.verdicts, first=self.sweep_seeds))
         for key in ("trajectories", "fous", "noise_levels", "fou_sweep"):
             values = list(getattr(self, key))
             if len(set(values)) != len(values):
@@ -226,6 +240,7 @@ class StudyConfig:
         builtin = {s.label for s in own} | {"PD (tuned)", "PD (given)"}
         builtin |= {tuned_label(x) for x in builtin}
         builtin |= {f"T1 slope-matched {w:g}" for w in self.fous}
+        builtin |= {f"T1 surface copy {w:g}" for w in self.fous}
         clash = sorted(set(labels) & builtin)
         if clash:
             raise bad("extra_controllers", f"label(s) {clash} are used by the study's own "
@@ -261,8 +276,16 @@ class StudyConfig:
             specs.append(pd)
         return specs + list(tuned) + list(self.extra_controllers)
 
+    def surface_copies(self, widths: Sequence[float]) -> list[ControllerSpec]:
+        """The type-1 tables of the control surfaces of the IT2FLCs of ``widths`` (none
+        without ``matched_baseline``)."""
+        if not self.matched_baseline:
+            return []
+        return [ControllerSpec(kind=ControllerKind.T1_SURFACE, fou=w) for w in widths]
+
     def noise_controllers(self, pd: ControllerSpec | None) -> list[ControllerSpec]:
-        specs = self.paper_fuzzy() + self.matched_baselines([self.main_fou])
+        specs = (self.paper_fuzzy() + self.matched_baselines([self.main_fou])
+                 + self.surface_copies([self.main_fou]))
         if pd is not None:
             specs.append(pd)
         return specs + list(self.extra_controllers)
@@ -293,6 +316,7 @@ class StudyConfig:
                 "figure_seed": self.figure_seed, "matched_baseline": self.matched_baseline,
                 "batch_size": self.batch_size,
             },
+            "verdicts": self.verdicts.to_dict(),
             "tuning": None if self.tuning is None else self.tuning.to_dict(),
             "robustness": None if self.robustness is None else self.robustness.to_dict(),
             "pd": None if self.pd is None else {
@@ -355,8 +379,9 @@ def quick_config(config: StudyConfig) -> StudyConfig:
 
     Fewer seeds, levels and widths; runs of at most 3 s; the PD and the fuzzy controllers tuned
     on tiny grids (the user's given PD gains kept); the robustness experiment with 3
-    realisations at two levels, without the expensive control periods below 5 ms, and a
-    two-trajectory Morris screening without the period factor.
+    realisations at two levels and two baseline batches, without the expensive control periods
+    below 5 ms, and a two-trajectory Morris screening without the period factor; seeds by need
+    from 4 to at most 8 per (path, sigma), 200 bootstrap resamples.
     """
     pd = config.pd
     if pd is not None and pd.kp is None:  # keep the user's PD settings, tune on a small grid
@@ -386,6 +411,10 @@ def quick_config(config: StudyConfig) -> StudyConfig:
             sens = replace(sens, trajectories=2, seeds=2, factors=factors) if factors else None
         levels = tuple(sorted({config.noise_std, max(rob.noise_levels)}))
         rob = replace(rob, choices=tuple(choices), seeds=3, noise_levels=levels,
-                      factorial=factorial if len(factorial) > 1 else (), sensitivity=sens)
+                      factorial=factorial if len(factorial) > 1 else (), sensitivity=sens,
+                      baseline_batches=2)
+    verdicts = replace(config.verdicts, first=4, batch=4, cap=max(4, min(config.verdicts.cap, 8)),
+                       resamples=200)
     return replace(config, loop=loop, seeds=6, sweep_seeds=4, noise_levels=(0.0, 0.05, 0.2),
-                   fou_sweep=(0.0, 0.1, 0.2, 0.3), pd=pd, tuning=tuning, robustness=rob)
+                   fou_sweep=(0.0, 0.1, 0.2, 0.3), pd=pd, tuning=tuning, robustness=rob,
+                   verdicts=verdicts)

@@ -10,6 +10,7 @@ from ...tracking import check_task, get_trajectory
 from ..baselines import FuzzyTuning
 from ..choices import choices_from_list
 from ..robustness import RobustnessConfig, check_defaults, robustness_config_from_table
+from ..sequential import SequentialDesign
 from ..specs import (
     ConfigError,
     ControllerSpec,
@@ -30,8 +31,9 @@ def load_study_config(path: str | Path, **overrides: Any) -> StudyConfig:
     Sections: ``[simulation]``, ``[robot]`` (+ ``[robot.motor]``), ``[study]``, ``[pd]`` (or
     ``pd_baseline = false`` in ``[study]``), ``[tuning]`` (or ``tuning = false``),
     ``[[choices]]`` (the open modelling choices), ``[robustness]`` (+
-    ``[robustness.sensitivity]``; or ``robustness = false``), ``[[controllers]]`` (extra
-    controllers).
+    ``[robustness.sensitivity]``; or ``robustness = false``), ``[verdicts]`` (seeds by need and
+    the replication probability: ``batch``, ``cap``, ``replication``, ``resamples``, ``seed``),
+    ``[[controllers]]`` (extra controllers).
     ``overrides`` replace ``[study]`` values (e.g. ``seeds`` from the command line).
 
     Raises
@@ -73,6 +75,21 @@ def load_study_config(path: str | Path, **overrides: Any) -> StudyConfig:
     use_tuning = study_t.get("tuning", bool, True)
     use_robustness = study_t.get("robustness", bool, True)
     study_t.done()
+    verdicts_t = root.sub("verdicts")
+    vv: dict[str, Any] = {}
+    for key, name in (("batch", "batch"), ("cap", "cap"), ("resamples", "resamples"),
+                      ("seed", "seed")):
+        if key in verdicts_t:
+            vv[name] = verdicts_t.get(key, int)
+    if "replication" in verdicts_t:
+        vv["target"] = verdicts_t.get("replication", float)
+    verdicts_t.done()
+    try:
+        values["verdicts"] = SequentialDesign(
+            first=min(values.get("sweep_seeds", StudyConfig.sweep_seeds),
+                      vv.get("cap", SequentialDesign.cap)), **vv)
+    except ValueError as exc:
+        raise ConfigError(f"{verdicts_t.where}: {exc}") from None
     tuning_t = root.sub("tuning")
     pd_tuned = use_pd and "kp" not in root.sub("pd")
     if not pd_tuned and use_tuning:

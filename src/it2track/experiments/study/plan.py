@@ -27,7 +27,8 @@ from .config import StudyConfig
 __all__ = ["experiment_sizes", "study_run_count"]
 
 
-_FOU_KINDS = (ControllerKind.IT2, ControllerKind.T1_MATCHED, ControllerKind.T1_SLOPE_MATCHED)
+_FOU_KINDS = (ControllerKind.IT2, ControllerKind.T1_MATCHED, ControllerKind.T1_SLOPE_MATCHED,
+              ControllerKind.T1_SURFACE)
 
 
 def _specs_fou(spec: ControllerSpec) -> float:
@@ -39,7 +40,10 @@ class _Experiment:
     """Runs of a grid of controllers x trajectories x noise levels x seeds under one loop.
 
     ``labels`` (default: the specs' labels) name the controllers in the rows, e.g. the paper
-    label of a controller run with other gains in a robustness variant.
+    label of a controller run with other gains in a robustness variant. The seeds are
+    ``seed_start .. seed_start + n_seeds - 1`` (an independent batch, or a sequential
+    round's extension); ``trajectories`` (indices into the study's; default all) restricts
+    the paths.
     """
 
     name: str
@@ -48,6 +52,8 @@ class _Experiment:
     n_seeds: int
     loop: LoopConfig | None = None
     labels: tuple[str, ...] | None = None
+    seed_start: int = 0
+    trajectories: tuple[int, ...] | None = None
 
 
 def _experiments(config: StudyConfig, pd: ControllerSpec | None,
@@ -96,12 +102,16 @@ class _Plan:
 
 def _grid(exp: _Experiment, n_traj: int) -> RunTable:
     """The experiment's rows: every seed at noisy levels, seed 0 alone at sigma = 0."""
+    paths = np.arange(n_traj) if exp.trajectories is None else np.asarray(exp.trajectories)
+    seeds = list(range(exp.seed_start, exp.seed_start + exp.n_seeds))
     parts = []
     for sigma in exp.noise_levels:  # keep the levels' order
         if sigma > 0.0:
-            parts.append(run_grid(len(exp.specs), n_traj, [sigma], exp.n_seeds))
+            part = run_grid(len(exp.specs), paths.size, [sigma], seeds)
         else:
-            parts.append(run_grid(len(exp.specs), n_traj, [0.0], 1))
+            part = run_grid(len(exp.specs), paths.size, [0.0], 1)
+        parts.append(RunTable(part.controller, paths[part.trajectory], part.noise_std,
+                              part.seed))
     if len(parts) == 1:
         return parts[0]
     # Order rows controller, trajectory, level, seed as run_grid does.
@@ -180,12 +190,15 @@ def _variant_specs(config: StudyConfig, variant: Variant,
         return specs, [s.label for s in paper]
     base = paper + config.matched_baselines([config.main_fou])
     # replace() re-derives the label from the new gains (e.g. "FLC Ke 0.5 Kde 1")
-    specs = [replace(s, ke=variant.ke, kde=variant.kde, label="") for s in base]
+    specs = [replace(s, ke=variant.ke, kde=variant.kde, output_gain=variant.output_gain,
+                     label="") for s in base]
     return specs, [s.label for s in base]
 
 
 def _robustness_experiments(config: StudyConfig, tuned: Mapping[str, ControllerSpec]
                             ) -> tuple[list[Variant], list[_Experiment]]:
+    """One experiment per variant (the baseline first), then the baseline's other
+    independent seed batches (``robustness:batch:j``, seeds ``j n .. (j + 1) n - 1``)."""
     rob = config.robustness
     if rob is None:
         return [], []
@@ -195,6 +208,9 @@ def _robustness_experiments(config: StudyConfig, tuned: Mapping[str, ControllerS
         specs, labels = _variant_specs(config, v, tuned)
         exps.append(_Experiment(f"robustness:{i}", tuple(specs), v.noise_levels, rob.seeds,
                                 loop=v.loop, labels=tuple(labels)))
+    base = exps[0]
+    for j in range(1, rob.baseline_batches):
+        exps.append(replace(base, name=f"robustness:batch:{j}", seed_start=j * rob.seeds))
     return variants, exps
 
 
@@ -262,7 +278,8 @@ def _all_experiments(config: StudyConfig, pd: ControllerSpec | None,
 
 
 def experiment_sizes(config: StudyConfig) -> dict[str, int]:
-    """Number of rows of each experiment of ``metrics.csv``, and of tuning runs
+    """Number of rows of each experiment of ``metrics.csv`` (``"noise"``: its first round;
+    ``"noise_cap"``: at most, every unit at the sequential design's cap), and of tuning runs
     (``"pd_tuning"``, ``"fuzzy_tuning"``)."""
     pd = None if config.pd is None else ControllerSpec(kind=ControllerKind.PD, kp=1.0)
     tuned = [replace(s, label=tuned_label(s.label)) for s in config.tuned_roles()]
@@ -287,6 +304,8 @@ def experiment_sizes(config: StudyConfig) -> dict[str, int]:
         * per_level((config.noise_std,), config.seeds),
         "noise": len(config.noise_controllers(pd)) * n_t
         * per_level(config.noise_levels, config.sweep_seeds),
+    "noise_cap": len(config.noise_controllers(pd)) * n_t
+        * per_level(config.noise_levels, config.verdicts.cap),
         "fou": len(config.fou_controllers()) * n_t
         * per_level((config.noise_std,), config.sweep_seeds),
     }

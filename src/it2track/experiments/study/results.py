@@ -76,6 +76,23 @@ class StudyResult:
     robustness : RobustnessResult or None
         The robustness experiment (verdict table, robustness.csv cells, flips, ranking,
         Morris sensitivity indices and ranking); None when the study has none.
+    claims : list of ClaimResult
+        The verdicts on C1-C3 and D1-D3 from the ``noise`` experiment, with the replication
+        probability of every level and verdicts over the settled levels (the headline).
+    verdict_rows : list of dict
+        ``verdicts.csv``: one row per claim x path (and all) x noise level
+        (:func:`~it2track.experiments.verdicts.verdict_rows`).
+    seeds_by_level : dict of (str, str, float) -> int
+        Realisations each (controller, path, sigma) of the ``noise`` experiment got (the
+        sequential design's outcome).
+    rounds : list of dict
+        The sequential design's extension rounds (:class:`~..sequential.SettledResult`).
+    extra_runs : int
+        Simulations the sequential design's extension rounds added to the plan's.
+    surface_copy : dict
+        The type-1 table of the main IT2FLC's surface (D3): ``label``, ``grid`` (nodes per
+        axis), ``points`` (check grid), ``max`` and ``rms`` surface error, V (empty without
+        it).
     """
 
     config: StudyConfig
@@ -92,6 +109,12 @@ class StudyResult:
     tuned_claims: list[Any] = field(default_factory=list)
     ordering: list[dict[str, Any]] = field(default_factory=list)
     robustness: RobustnessResult | None = None
+    claims: list[Any] = field(default_factory=list)
+    verdict_rows: list[dict[str, Any]] = field(default_factory=list)
+    seeds_by_level: dict[tuple[str, str, float], int] = field(default_factory=dict)
+    rounds: list[dict[str, Any]] = field(default_factory=list)
+    surface_copy: dict[str, Any] = field(default_factory=dict)
+    extra_runs: int = 0
 
     def select(self, **where: Any) -> dict[str, np.ndarray]:
         """Rows matching every ``column=value`` (floats compared exactly)."""

@@ -5,25 +5,33 @@ rows, the robustness verdicts and the Morris screening.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
 
 from ...tracking import (
+    FuzzyHeadingController,
     HeadingController,
     LoopConfig,
     RunTable,
+    SurfaceTableController,
     Trajectory,
     get_trajectory,
     simulate_metrics,
 )
 from ..analysis import evaluate_claims, ordering_probability
+from ..claimcells import claim_definitions
 from ..executors import Executor
+from ..replication import replicate_claims
 from ..robustness import judge_variants, morris_analysis
+from ..sequential import SeedBatch, SettledResult, concat_rows, settle
+from ..specs import ControllerKind, ControllerSpec
+from ..verdicts import verdict_rows
 from .config import StudyConfig
 from .plan import (
+    _Experiment,
     _experiments,
     _Plan,
     _plan,
@@ -62,18 +70,29 @@ def _simulate_plan(
     plan: _Plan, config: StudyConfig, executor: Executor | None,
     progress: Callable[[int], object] | None,
 ) -> list[dict[str, np.ndarray]]:
-    """Metrics of every run of the plan, per loop (in ``plan.runs`` order)."""
-    controllers = tuple(spec.build() for spec in plan.specs)
+    """Metrics of every run of the plan, per loop (in ``plan.runs`` order). Each loop's runs
+    go with only the controllers they use (a run does not depend on its batch's other
+    controllers), so the engine prepares no others."""
+    built: dict[int, HeadingController] = {}
     trajectories = tuple(get_trajectory(t) for t in config.trajectories)
+    per_loop = []
+    for runs in plan.runs:
+        used, local = np.unique(runs.controller, return_inverse=True)
+        for i in used.tolist():
+            if i not in built:
+                built[i] = plan.specs[i].build()
+        per_loop.append((tuple(built[i] for i in used.tolist()),
+                         RunTable(local.reshape(-1).astype(np.int64), runs.trajectory,
+                                  runs.noise_std, runs.seed)))
     if executor is None:
-        return [simulate_metrics(controllers, trajectories, runs, loop,
+        return [simulate_metrics(ctrls, trajectories, runs, loop,
                                  batch_size=config.batch_size, progress=progress)
-                for loop, runs in zip(plan.loops, plan.runs, strict=True)]
+                for loop, (ctrls, runs) in zip(plan.loops, per_loop, strict=True)]
     chunks = (
-        _Chunk(controllers, trajectories, loop,
+        _Chunk(ctrls, trajectories, loop,
                runs.take(slice(a, min(a + config.batch_size, len(runs)))), config.batch_size,
                a, li)
-        for li, (loop, runs) in enumerate(zip(plan.loops, plan.runs, strict=True))
+        for li, (loop, (ctrls, runs)) in enumerate(zip(plan.loops, per_loop, strict=True))
         for a in range(0, len(runs), config.batch_size)
     )
     out: list[dict[str, np.ndarray]] = [{} for _ in plan.loops]
@@ -93,8 +112,14 @@ def run_study(
     progress: Callable[[int], object] | None = None,
     executor: Executor | None = None,
     early: StudyResult | None = None,
+    grow: Callable[[int], object] | None = None,
 ) -> StudyResult:
     """Run every experiment of the study (see the module docstring).
+
+    The ``noise`` experiment gets its seeds by need (:mod:`~..sequential`): after the plan's
+    first round, the (path, sigma) units behind unsettled levels get more realisations, up to
+    ``config.verdicts.cap``; the claims are judged on all of them, with the replication
+    probability of every level.
 
     Parameters
     ----------
@@ -104,10 +129,13 @@ def run_study(
         The numbers do not depend on it. Tuning, traces and surfaces run here.
     progress : callable, optional
         Called with the number of runs finished, as they finish (for a progress bar sized by
-        :func:`.study_run_count`).
+        :func:`.study_run_count`, the runs before any extension round).
     early : StudyResult, optional
         :func:`.figure_data` of this ``config``, already computed (``it2track reproduce`` draws
         its figures early): reused instead of simulated again.
+    grow : callable, optional
+        Called with the number of runs an extension round of the sequential design adds,
+        before they are simulated (to grow a progress bar).
     """
     if early is not None and not isinstance(early, StudyResult):
         raise ValueError(f"run_study: early= must be figure_data(config), got {early!r:.80}")
@@ -124,6 +152,12 @@ def run_study(
     plan = _plan(config, [*study_exps, *rob_exps, *morris_exps])
     metrics = _simulate_plan(plan, config, executor, progress)
     rows = _rows_of(plan, metrics, config.trajectories, names=("paper", "noise", "fou"))
+    noise_exp = next(e for e in study_exps if e.name == "noise")
+    settled, defs, extra_runs = _settle_noise(config, noise_exp, rows, executor, progress,
+                                              grow)
+    is_noise = rows["experiment"] == "noise"
+    rows = concat_rows([{k: v[~is_noise] for k, v in rows.items()}, settled.rows])
+    design = config.verdicts
 
     robustness = None
     if config.robustness is not None:
@@ -132,9 +166,10 @@ def run_study(
         for r in variant_rows:
             r["experiment"] = np.full(len(r["seed"]), "robustness", dtype=object)
         robustness = judge_variants(
-            variants, variant_rows, config=config.robustness, fous=config.fous,
+            variants, variant_rows[:len(variants)], config=config.robustness, fous=config.fous,
             main_fou=config.main_fou, trajectories=config.trajectories,
-            reference_sigma=config.noise_std)
+            reference_sigma=config.noise_std, baseline_batches=variant_rows[len(variants):],
+            target=design.target, resamples=design.resamples, seed=design.seed)
         if x_morris is not None and config.robustness.sensitivity is not None:
             outputs = _sensitivity_outputs(config, plan, metrics, morris_exps)
             sens, ranking = morris_analysis(config.robustness.sensitivity, x_morris, outputs)
@@ -151,14 +186,79 @@ def run_study(
         sub["controller"] = np.array([back[c] for c in sub["controller"]], dtype=object)
         tuned_fous = [w for w in config.fous if f"IT2FLC FoU {w:g}" in tuned]
         if "FLC" in tuned and config.main_fou in tuned_fous:
-            tuned_claims = [c for c in evaluate_claims(
-                sub, fous=tuned_fous, main_fou=config.main_fou,
-                trajectories=config.trajectories, experiment="paper")
-                if c.id in ("C1", "C2", "C3")]
+            tdefs = [d for d in claim_definitions(
+                fous=tuned_fous, main_fou=config.main_fou, trajectories=config.trajectories,
+                available=sorted(set(sub["controller"]))) if d.id in ("C1", "C2", "C3")]
+            tuned_claims = replicate_claims(
+                sub, tdefs, evaluate_claims(sub, fous=tuned_fous, main_fou=config.main_fou,
+                                            trajectories=config.trajectories,
+                                            experiment="paper", claims=tdefs),
+                experiment="paper", resamples=design.resamples, seed=design.seed,
+                target=design.target)
     ordering = ordering_probability(rows, fous=config.fous, trajectories=config.trajectories)
 
     return replace(
         early if early is not None else figure_data(config), rows=rows, pd=pd,
         pd_tuning=pd_record, tuned=tuned, tuning=tuning_records, tuned_claims=tuned_claims,
-        ordering=ordering, robustness=robustness,
+        ordering=ordering, robustness=robustness, claims=settled.claims,
+        verdict_rows=verdict_rows(defs, settled.claims),
+        seeds_by_level=dict(settled.n), rounds=settled.rounds,
+        surface_copy=_surface_copy(config), extra_runs=extra_runs,
     )
+
+
+def _settle_noise(config: StudyConfig, noise: _Experiment, rows: dict[str, np.ndarray],
+                  executor: Executor | None, progress: Callable[[int], object] | None,
+                  grow: Callable[[int], object] | None
+                  ) -> tuple[SettledResult, list[Any], int]:
+    """The noise experiment's sequential design, from the plan's first round; also the
+    number of runs its extension rounds simulated."""
+    labels = [s.label for s in noise.specs]
+    spec_of = dict(zip(labels, noise.specs, strict=True))
+    path_index = {t: i for i, t in enumerate(config.trajectories)}
+    defs = claim_definitions(fous=config.fous, main_fou=config.main_fou,
+                             trajectories=config.trajectories, available=labels)
+
+    def simulate(batches: Sequence[SeedBatch]) -> dict[str, np.ndarray]:
+        exps = []
+        for b in batches:
+            cells = list(b.cells)
+            path, sigma = cells[0][1], cells[0][2]
+            exps.append(_Experiment("noise", tuple(spec_of[c] for c, _, _ in cells), (sigma,),
+                                    b.stop - b.start, seed_start=b.start,
+                                    trajectories=(path_index[path],)))
+        plan = _plan(config, exps)
+        done[0] += plan.n_runs
+        if grow is not None:
+            grow(plan.n_runs)
+        metrics = _simulate_plan(plan, config, executor, progress)
+        return _rows_of(plan, metrics, config.trajectories, names=("noise",))
+
+    done = [0]
+    first = {k: v[rows["experiment"] == "noise"] for k, v in rows.items()}
+    settled = settle(simulate, claims=defs, controllers=labels,
+                     trajectories=config.trajectories, levels=config.noise_levels,
+                     design=config.verdicts, rows=first, fous=config.fous,
+                     main_fou=config.main_fou)
+    # Rows in the grid's order (controller, path, level, seed) whatever the rounds were.
+    r = settled.rows
+    order = np.lexsort((
+        r["seed"], np.array([config.noise_levels.index(s) for s in r["noise_std"].tolist()]),
+        np.array([path_index[t] for t in r["trajectory"]]),
+        np.array([labels.index(c) for c in r["controller"]])))
+    settled.rows = {k: v[order] for k, v in r.items()}
+    return settled, defs, done[0]
+
+
+def _surface_copy(config: StudyConfig) -> dict[str, Any]:
+    """The main IT2FLC's surface table and its surface error (D3), if the study has it."""
+    copies = config.surface_copies([config.main_fou])
+    if not copies:
+        return {}
+    spec = copies[0]
+    table = spec.build()
+    assert isinstance(table, SurfaceTableController)
+    it2 = ControllerSpec(kind=ControllerKind.IT2, fou=config.main_fou).build()
+    assert isinstance(it2, FuzzyHeadingController)
+    err = table.surface_error(it2.fls, points=601)
+    return {"label": spec.label, "grid": int(table.e_nodes.size), **err}

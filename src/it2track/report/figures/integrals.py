@@ -16,6 +16,7 @@ from matplotlib.patches import Patch, Rectangle
 
 from ...experiments.analysis import INTEGRALS
 from ...experiments.study import StudyResult
+from ..counts import count_text
 from ..identity import (
     _FLC,
     _IT2,
@@ -155,7 +156,8 @@ def _fig_integral_errors(result: StudyResult, summ: _Summary, ctrls: Mapping[str
                           label="95 % interval of the mean"))
     fig.legend(handles=handles, loc="outside lower center", ncols=min(len(handles), 5),
                frameon=False)
-    n_seeds = next((int(r["n"]) for k, r in summ.rows.items() if k[0] == "paper"), 0)
+    n_seeds = count_text(int(r["n"]) for k, r in summ.rows.items()
+                         if k[0] == "paper" and k[3] == sigma)
     fig.suptitle(f"Integral heading errors (cf. paper Fig. 11): mean over {n_seeds} noise "
                  f"realisations at σ = {sigma:g} rad, with 95 % intervals; dotted line = FLC mean",
                  fontsize=10.5)

@@ -5,9 +5,11 @@ ranking (issue 9; the data: :class:`~it2track.experiments.robustness.RobustnessR
     A heat map a reader takes in at a glance: one row per variant (the paper-faithful baseline,
     each alternative of each open choice one at a time, the factorial cells), one column per
     claim, each cell split into the noise levels it was judged at and coloured by the claim's
-    status there (holds / contradicted / not shown / deterministic). A thick outline marks a
-    variant that *flips* the claim against the baseline, a dashed one a variant that *changes*
-    it. Facets: all trajectories together, then each trajectory alone.
+    status there (holds / contradicted / not shown / deterministic), pale and hatched where that
+    status is unsettled (replication probability below the target). A thick outline marks a
+    variant that *flips* the claim beyond the baseline's spread over independent seed batches,
+    a dashed one a variant that *changes* it. Facets: all trajectories together, then each
+    trajectory alone.
 ``sensitivity``
     Morris screening (SALib) of the key paired differences over the continuous choices: the
     factors ranked by their normalised mean elementary effect, and ``mu*`` per output.
@@ -24,6 +26,8 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch, Rectangle
+
+from ..counts import count_text
 
 __all__ = ["STATUS_COLORS", "robustness_cells"]
 
@@ -50,6 +54,7 @@ class _Cell:
     index: int  # position of the level among the variant's levels
     count: int  # number of levels of the variant
     status: str
+    settled: bool = True
 
 
 def _levels(text: str) -> list[float]:
@@ -57,8 +62,9 @@ def _levels(text: str) -> list[float]:
 
 
 def _variant_label(v: Mapping[str, Any]) -> str:
-    return "baseline (paper-faithful)" if v["part"] == "baseline" else (
-        f"{v['choice']} = {v['value']}")
+    if v["part"] == "baseline":
+        return "baseline (the paper's choices)"
+    return str(v.get("label") or f"{v['choice']} = {v['value']}")
 
 
 def robustness_cells(
@@ -110,8 +116,11 @@ def robustness_cells(
                              f"{len(levels)} noise levels")
         levels_of[(row, claim)] = levels
         change[(row, claim)] = str(v["change"])
-        strips += [_Cell(ALL, row, claim, s, i, len(levels), st)
-                   for i, (s, st) in enumerate(zip(levels, status, strict=True))]
+        settled = [x == "yes" for x in str(v.get("settled", "")).split(";")]
+        if len(settled) != len(levels):
+            settled = [True] * len(levels)
+        strips += [_Cell(ALL, row, claim, s, i, len(levels), st, ok)
+                   for i, (s, st, ok) in enumerate(zip(levels, status, settled, strict=True))]
     seen: set[tuple[str, int, str, str]] = set()
     for c in cells:
         key = (str(c["choice"]), str(c["value"]))
@@ -142,7 +151,8 @@ def _draw_facet(a: Axes, facet: str, rows: Sequence[str], claims: Sequence[str],
         width = (1.0 - gap) / c.count
         rect = Rectangle((x0 + c.index * width, c.row + gap / 2), width, 1.0 - gap,
                          facecolor=STATUS_COLORS.get(c.status, _MISSING), edgecolor="white",
-                         linewidth=0.4)
+                         linewidth=0.4, alpha=1.0 if c.settled else 0.35,
+                         hatch=None if c.settled else "////")
         rect.set_gid(f"robustness|{facet}|{c.claim}|{rows[c.row]}|{c.sigma:g}")
         a.add_patch(rect)
     if facet == ALL:
@@ -180,7 +190,8 @@ def _fig_robustness(rob: Any, trajectories: Sequence[str]) -> Figure:
     # Variants judged at their own noise level (the noise readings) say which.
     own = {row: sorted(s) for row, s in row_levels.items() if sorted(s) != sorted(levels)}
     facets = [ALL, *trajectories]
-    choice_of = [r.split(" = ")[0] for r in rows]
+    keys = list(dict.fromkeys((str(v["choice"]), str(v["value"])) for v in rob.verdicts))
+    choice_of = [k[0] for k in keys]
     groups = [i for i in range(1, len(rows)) if choice_of[i] != choice_of[i - 1]]
     fig = Figure(figsize=(2.3 + 2.2 * len(facets), 1.6 + 0.24 * len(rows)),
                  layout="constrained")
@@ -194,17 +205,22 @@ def _fig_robustness(rob: Any, trajectories: Sequence[str]) -> Figure:
                           for status, color in STATUS_COLORS.items() if status in present]
     if present - set(STATUS_COLORS):
         handles.append(Patch(facecolor=_MISSING, edgecolor="#999999", label="not evaluated"))
+    if any(not c.settled for c in strips):
+        handles.append(Patch(facecolor="#d0d0d6", alpha=0.35, hatch="////",
+                             label="unsettled (replication < target)"))
     handles += [
-        Line2D([], [], color="black", lw=1.8, label="flips the verdict (holds ↔ contradicted)"),
+        Line2D([], [], color="black", lw=1.8,
+               label="flips it beyond the baseline's seed spread"),
         Line2D([], [], color="black", lw=1.0, ls=(0, (2, 1.5)),
-               label="changes it (a level to or from 'not shown')"),
+               label="changes it beyond that spread"),
     ]
     fig.legend(handles=handles, loc="outside lower center", ncols=len(handles), frameon=False,
                fontsize=7.5)
     level_text = ", ".join(f"{s:g}" for s in levels)
+    n = count_text(int(c["n"]) for c in rob.cells if float(c["sigma"]) > 0.0)
     fig.suptitle("Do the verdicts survive the paper's open modelling choices?\nEach cell: a "
                  f"claim under one variant, split into σ = {level_text} rad (left to right; "
-                 f"{rob.config.seeds} realisations per cell)", fontsize=10)
+                 f"{n} realisations per cell)", fontsize=10)
     return fig
 
 

@@ -15,6 +15,7 @@ from matplotlib.lines import Line2D
 
 from ...experiments.analysis import INTEGRALS
 from ...experiments.study import StudyResult
+from ..counts import count_text
 from ..identity import _FLC, _IT2, _T1M, _Ctrl, _info, _num, _order_key, _Summary
 from .style import _FLC_COLOR, _metric_label, _Palette, _Style
 
@@ -89,10 +90,11 @@ def _fig_noise_sweep(result: StudyResult, summ: _Summary, ctrls: Mapping[str, _C
             a.set_title(f"{traj}: {metric}")
     handles, hl = ax[0, 0].get_legend_handles_labels()
     fig.legend(handles, hl, loc="outside lower center", ncols=min(len(hl), 6), frameon=False)
-    n_seeds = next((int(r["n"]) for k, r in summ.rows.items() if k[0] == "noise"), 0)
+    n_seeds = count_text(int(r["n"]) for k, r in summ.rows.items()
+                         if k[0] == "noise" and k[3] > 0.0)
     fig.suptitle(f"Integral errors vs heading-noise level: mean and 95 % band over {n_seeds} "
-                 f"realisations per point (dotted: the study's σ = {cfg.noise_std:g} rad)",
-                 fontsize=10.5)
+                 "realisations per point (σ = 0: one noise-free run; dotted: the study's "
+                 f"σ = {cfg.noise_std:g} rad)", fontsize=10.5)
     return fig
 
 
@@ -138,7 +140,8 @@ def _fig_fou_sweep(result: StudyResult, summ: _Summary, ctrls: Mapping[str, _Ctr
     handles, _ = ax[0, 0].get_legend_handles_labels()
     handles.append(Line2D([], [], color="#bbbbbb", ls=":", label="the paper's FoU widths"))
     fig.legend(handles=handles, loc="outside lower center", ncols=len(handles), frameon=False)
-    n_seeds = next((int(r["n"]) for k, r in summ.rows.items() if k[0] == "fou"), 0)
+    n_seeds = count_text(int(r["n"]) for k, r in summ.rows.items()
+                         if k[0] == "fou" and k[3] == sigma)
     fig.suptitle(f"FoU sweep at σ = {sigma:g} rad: IT2FLC(w) vs the type-1 FLC with the same "
                  f"dead zone; mean and 95 % band over {n_seeds} realisations", fontsize=10.5)
     return fig

@@ -22,9 +22,14 @@ def _reference_heading(x: np.ndarray, y: np.ndarray, t: np.ndarray) -> np.ndarra
 
 
 def _sigma_text(result: StudyResult) -> str:
-    cfg = result.config
-    return (f"heading noise σ = {cfg.noise_std:g} rad (held at {cfg.loop.noise_rate:g} Hz), "
-            f"noise seed index {cfg.figure_seed}")
+    """The noise of the traced runs, from the runs themselves."""
+    runs = [t.runs for t in result.traces.values()]
+    sigmas = sorted({float(s) for r in runs for s in r.noise_std})
+    seeds = sorted({int(s) for r in runs for s in r.seed})
+    sigma = ", ".join(f"{s:g}" for s in sigmas)
+    seed = ", ".join(str(s) for s in seeds)
+    return (f"heading noise σ = {sigma} rad (held at {result.config.loop.noise_rate:g} Hz), "
+            f"noise seed index {seed}")
 
 
 # ---------------------------------------------------------------------------------------------

@@ -17,6 +17,7 @@ from typing import Any
 
 from ...atomicfile import atomic_write_text
 from ...experiments.study import StudyResult
+from ..counts import count_text
 from ..mcu_job import McuCosts
 from .assumptions import assumptions_section
 from .baselines import baselines_section
@@ -49,18 +50,23 @@ def render_html(
     figures: Mapping[str, Path],
     elapsed_s: float,
     mcu: McuCosts | None = None,
+    smoke: bool = False,
 ) -> str:
     """The report as one HTML string (see :func:`write_html`)."""
     cfg = result.config
+    paper_n = count_text(int(r["n"]) for r in summary
+                         if r.get("experiment") == "paper" and float(r["noise_std"]) > 0.0)
     sub = (f"Study run in {elapsed_s:.1f} s · {len(cfg.trajectories)} trajectories · "
-           f"main noise level σ = {cfg.noise_std:g} rad · {cfg.seeds} realisations per cell")
+           f"main noise level σ = {cfg.noise_std:g} rad · {paper_n} realisations per cell of "
+           "the Monte Carlo comparison" + (" · smoke run — not evidence" if smoke else ""))
     refs = figure_refs(result, summary, figures)
     sections = [
         setup_section(result, summary),
         assumptions_section(result),
         results_section(refs),
         claims_section(claims, trajectories=cfg.trajectories, ordering=result.ordering,
-                       fous=cfg.fous),
+                       fous=cfg.fous, levels=result.verdict_rows,
+                       target=cfg.verdicts.target),
         baselines_section(result),
         robustness_section(result, refs),
         *([] if mcu is None else [mcu_section(mcu, refs.get("mcu_costs"))]),
@@ -68,8 +74,8 @@ def render_html(
         rerun_section(result, manifest, elapsed_s),
     ]
     nav = [s for s in SECTIONS if mcu is not None or s[0] != "mcu"]
-    return str(render("page.html.j2", subtitle=sub, glance=glance(claims), nav=nav,
-                      sections=sections))
+    return str(render("page.html.j2", subtitle=sub, glance=glance(claims, smoke=smoke),
+                      nav=nav, sections=sections, smoke=smoke))
 
 
 def write_html(
@@ -82,6 +88,7 @@ def write_html(
     figures: Mapping[str, Path],
     elapsed_s: float,
     mcu: McuCosts | None = None,
+    smoke: bool = False,
 ) -> Path:
     """Write the study's self-contained HTML report.
 
@@ -93,7 +100,7 @@ def write_html(
     summary : list of dict
         From :func:`it2track.experiments.analysis.summarise`.
     claims : list of ClaimResult
-        From :func:`it2track.experiments.analysis.evaluate_claims`.
+        The study's verdicts (``result.claims``, with replication probabilities).
     manifest : dict
         Provenance; ``manifest["command"]`` is shown as the command to rerun.
     figures : dict of str -> Path
@@ -104,6 +111,9 @@ def write_html(
     mcu : McuCosts, optional
         The microcontroller measurement (:mod:`it2track.report.mcu_job`); its figure, if any,
         is ``figures["mcu_costs"]``. Without it the page has no microcontroller section.
+    smoke : bool
+        A ``--quick`` run: the page says "smoke run — not evidence" at the top and beside
+        the verdicts.
 
     Returns
     -------
@@ -111,7 +121,7 @@ def write_html(
         ``path``.
     """
     text = render_html(result=result, summary=summary, claims=claims, manifest=manifest,
-                       figures=figures, elapsed_s=elapsed_s, mcu=mcu)
+                       figures=figures, elapsed_s=elapsed_s, mcu=mcu, smoke=smoke)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     atomic_write_text(path, text)

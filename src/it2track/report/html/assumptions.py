@@ -148,7 +148,7 @@ def assumption_items(result: StudyResult) -> list[tuple[str, str]]:
          "(docs/model.md#statistics)."),
     ]
     if result.robustness is not None:
-        choices = "; ".join(f"{c.name} = {c.label(c.default)} (docs/model.md#{c.doc})"
+        choices = "; ".join(f"{c.name}: {c.describe(c.default)} (docs/model.md#{c.doc})"
                             for c in result.robustness.config.choices)
         items.append(("Open modelling choices", "every choice the paper leaves open or "
                       "misprints is data (the [[choices]] of the study's configuration), here at "

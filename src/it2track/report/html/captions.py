@@ -8,24 +8,36 @@ from typing import Any
 
 from ...experiments.specs import ControllerKind
 from ...experiments.study import StudyResult
+from ..counts import count_text, realisations_text
 from ..identity import PAPER_FIGURE_NUMBER, slug, surface_limit
 from .facts import _gains_text, _gap_sentence
 
 __all__ = ["figure_captions"]
 
 
-def _n_of(summary: Sequence[Mapping[str, Any]], experiment: str) -> int:
-    return next((int(r["n"]) for r in summary if r.get("experiment") == experiment), 0)
+def _trace_noise(result: StudyResult) -> tuple[str, str]:
+    """σ and seed index of the traced runs, from the runs themselves."""
+    runs = [t.runs for t in result.traces.values()]
+    sigmas = sorted({float(s) for r in runs for s in r.noise_std})
+    seeds = sorted({int(s) for r in runs for s in r.seed})
+    return (", ".join(f"{s:g}" for s in sigmas), ", ".join(str(s) for s in seeds))
 
 
 def figure_captions(result: StudyResult, summary: Sequence[Mapping[str, Any]]
                     ) -> dict[str, tuple[str, str]]:
     """Figure key -> (title, caption) for the figures of :func:`~.figures.write_figures`."""
     cfg = result.config
-    sigma = f"σ = {cfg.noise_std:g} rad"
-    seed = f"noise realisation with seed index {cfg.figure_seed}"
+    trace_sigma, trace_seed = _trace_noise(result)
+    sigma = f"σ = {trace_sigma} rad"
+    seed = f"noise realisation with seed index {trace_seed}"
     fous = ", ".join(f"{w:g}" for w in cfg.fous)
-    n_paper, n_noise, n_fou = (_n_of(summary, e) for e in ("paper", "noise", "fou"))
+    n_paper, n_noise, n_fou = (realisations_text(summary, e) for e in ("paper", "noise", "fou"))
+    paper_sigma = ", ".join(f"{s:g}" for s in sorted(
+        {float(r["noise_std"]) for r in summary if r.get("experiment") == "paper"}))
+    fou_sigma = ", ".join(f"{s:g}" for s in sorted(
+        {float(r["noise_std"]) for r in summary if r.get("experiment") == "fou"}))
+    by_need = ("" if "–" not in n_noise else " (more where a verdict needed them: "
+               "docs/model.md#seeds-by-need)")
     caps: dict[str, tuple[str, str]] = {}
     for traj in cfg.trajectories:
         num = PAPER_FIGURE_NUMBER.get(traj)
@@ -51,7 +63,8 @@ def figure_captions(result: StudyResult, summary: Sequence[Mapping[str, Any]]
     caps["integral_errors"] = (
         "Integral errors (paper Fig. 11, with Monte Carlo statistics)",
         f"IAE, ITAE, ISE and ITSE of the true heading error θd − θ, mean over {n_paper} noise "
-        f"realisations at {sigma} (the same realisations for every controller), with 95 % "
+        f"realisations at σ = {paper_sigma} rad (the same realisations for every controller), "
+        "with 95 % "
         "Student-t intervals of the mean. For each FoU width w the solid bar is the IT2FLC and "
         "the hatched bar the type-1 FLC with the same dead zone 0.2 − w/2; dotted red line: the "
         "FLC's mean. Bars too short to read carry their value.",
@@ -59,14 +72,16 @@ def figure_captions(result: StudyResult, summary: Sequence[Mapping[str, Any]]
     caps["noise_sweep"] = (
         "Noise-level sweep",
         f"The four integral errors against the heading-noise standard deviation σ (square-root "
-        f"axis), mean and 95 % band over {n_noise} realisations per point; the dotted vertical "
-        f"marks the study's {sigma}. Panels marked [log] use a log (or, where errors are "
+        f"axis), mean and 95 % band over {n_noise} realisations per point{by_need}; σ = 0 is one "
+        "noise-free run (no band). The dotted vertical marks the study's "
+        f"σ = {cfg.noise_std:g} rad. Panels marked [log] use a log (or, where errors are "
         "exactly zero, symmetric-log) axis. On the straight line the robot starts on the path, "
         "so with σ below the dead zone a fuzzy controller never acts and its error is 0.",
     )
     caps["fou_sweep"] = (
         "FoU-width sweep: footprint vs dead zone",
-        f"ISE and IAE against the FoU width w at {sigma}, mean and 95 % band over {n_fou} "
+        f"ISE and IAE against the FoU width w at σ = {fou_sigma} rad, mean and 95 % band over "
+        f"{n_fou} "
         "realisations, for the IT2FLC(w) (solid) and the type-1 FLC with the same dead zone "
         "0.2 − w/2 (dashed); both start from the FLC at w = 0 (red dot). Dotted verticals: "
         "the paper's widths. Where the dashed curve lies at or below the solid one, narrowing "
@@ -100,7 +115,8 @@ def figure_captions(result: StudyResult, summary: Sequence[Mapping[str, Any]]
     )
     caps["win_rates"] = (
         "Paired win rates",
-        f"Per trajectory and criterion, over the {n_paper} noise realisations at {sigma}: the "
+        f"Per trajectory and criterion, over the {n_paper} noise realisations at "
+        f"σ = {paper_sigma} rad: the "
         "fraction in which the controller's error is smaller than the FLC's on the same "
         "realisation, ties counting ½ (win rate = P(smaller) + ½ P(equal)). 0.5: no "
         "difference — including exact ties, e.g. when neither controller leaves its dead zone, "
@@ -119,11 +135,14 @@ def figure_captions(result: StudyResult, summary: Sequence[Mapping[str, Any]]
             "(left to right) and coloured by the claim's status there: holds (green), "
             "contradicted (red, Holm-controlled), not shown (grey); white: not evaluated "
             "under that variant. A noise reading is judged at its own σ (one strip, its σ "
-            "beside the row). Thick outline: the variant flips the claim against the "
-            "baseline (a level goes from holds to contradicted or back); dashed: it changes "
-            "it (a level moves to or from not shown). Left: all trajectories together, as "
+            "beside the row). Thick outline: the variant flips the claim beyond the baseline's "
+            "spread over independent seed batches (a settled status the baseline never gave, "
+            "whose opposite it did); dashed: it changes it beyond that spread (a settled status "
+            "the baseline never gave). Left: all trajectories together, as "
             f"the verdicts; then each trajectory alone ({trajs}; C3 concerns the straight "
-            f"line only). {rob.config.seeds} realisations per cell.",
+            f"line only). {count_text(int(c['n']) for c in rob.cells if float(c['sigma']) > 0)} "
+            "realisations per cell; pale hatched strips: statuses whose replication probability "
+            "is below the target (unsettled), which never count as a change.",
         )
         sens = rob.config.sensitivity
         if sens is not None and rob.sensitivity_ranking:

@@ -9,6 +9,8 @@ from typing import Any
 import numpy as np
 from markupsafe import Markup
 
+from ...experiments.judgement import evidence_texts
+from ...experiments.stats import interval_text
 from .env import fmt, render
 
 __all__ = ["claims_section", "glance", "verdict_class"]
@@ -21,7 +23,7 @@ def verdict_class(verdict: str) -> str:
     """CSS class of a verdict: green "holds", red "does not hold", amber "holds only for …",
     grey "not shown" / "not evaluated" (any parenthetical detail after the verdict is ignored)."""
     v = verdict.strip().lower()
-    if v.startswith("holds only"):
+    if v.startswith(("holds only", "holds at")):
         return "v-partial"
     if v == "holds" or v.startswith(("holds ", "holds(", "holds;", "holds,")):
         return "v-holds"
@@ -67,7 +69,8 @@ def _evidence(evidence: Sequence[Mapping[str, Any]]) -> dict[str, Any] | None:
     rows = []
     for row in evidence:
         text, cls = _outcome(row)
-        rows.append({"cells": [(fmt(row.get(k, "")), is_num)
+        shown = evidence_texts(row) if "ci_low" in row else {}
+        rows.append({"cells": [(shown.get(k, fmt(row.get(k, ""))), is_num)
                                for k, is_num in zip(cols, numeric, strict=True)],
                      "outcome": text, "outcome_cls": cls})
     return {"header": [*cols, "outcome"] if has_outcome else cols, "rows": rows,
@@ -93,9 +96,28 @@ def _claim(claim: Any) -> dict[str, Any]:
     }
 
 
-def glance(claims: Sequence[Any]) -> Markup:
-    """The verdicts in a box at the top of the page (empty without claims)."""
-    return render("sections/glance.html.j2", claims=[_claim(c) for c in claims])
+def glance(claims: Sequence[Any], *, smoke: bool = False) -> Markup:
+    """The verdicts in a box at the top of the page (empty without claims); ``smoke``: a
+    ``--quick`` run's, marked as such."""
+    return render("sections/glance.html.j2", claims=[_claim(c) for c in claims], smoke=smoke)
+
+
+def _levels(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
+    """``verdicts.csv``'s rows over all paths, per claim: one cell per noise level with the
+    status, its replication probability and the realisations behind it."""
+    out: dict[str, dict[str, Any]] = {}
+    for r in rows:
+        if r["path"] != "all":
+            continue
+        c = out.setdefault(str(r["claim"]), {"id": r["claim"], "cells": []})
+        det = r["status"] == "deterministic"
+        c["cells"].append({
+            "sigma": f"{float(r['sigma']):g}", "status": str(r["status"]),
+            "settled": bool(r["settled"]),
+            "replication": "" if det else f"{float(r['replication']):.2f}",
+            "n": r["n"], "decisive": r["decisive"] if det else "",
+        })
+    return list(out.values())
 
 
 def _c3_range(claims: Sequence[Any]) -> dict[str, Any] | None:
@@ -129,20 +151,23 @@ def _ordering(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
         out.append({"sigma": f"{float(r['sigma']):g}", "trajectory": r["trajectory"],
                     "k": r["k"], "n": r["n"], "p": fmt(r["p"], 3),
                     "interval": "deterministic (one run)" if r["deterministic"]
-                    else f"[{fmt(r['ci_low'], 3)}, {fmt(r['ci_high'], 3)}]"})
+                    else interval_text(r["p"], r["ci_low"], r["ci_high"]).split(" ", 1)[1]})
     return out
 
 
 def claims_section(claims: Sequence[Any], *, trajectories: Sequence[str] = (),
                    ordering: Sequence[Mapping[str, Any]] = (),
-                   fous: Sequence[float] = ()) -> Markup:
-    """The claims table (statement, verdict, criterion), the verdicts per trajectory, how
-    "contradicted" is multiplicity-controlled, C3 as a noise range, the probability that one
-    realisation shows the paper's ordering, and each claim's evidence cells."""
+                   fous: Sequence[float] = (), levels: Sequence[Mapping[str, Any]] = (),
+                   target: float = 0.95) -> Markup:
+    """The claims table (statement, verdict, criterion), every level's status with its
+    replication probability (``levels``: ``verdicts.csv``'s rows), the verdicts per
+    trajectory, how "contradicted" is multiplicity-controlled, C3 as a noise range, the
+    probability that one realisation shows the paper's ordering, and each claim's evidence
+    cells."""
     rows = [_claim(c) for c in claims]
     per_traj = [r for r in rows if r["per_trajectory"]]
     corrections = [(r["id"], r["correction"]) for r in rows if r["correction"]]
     return render("sections/claims.html.j2", claims=rows, trajectories=list(trajectories),
                   per_trajectory=per_traj, corrections=corrections, c3=_c3_range(claims),
-                  ordering=_ordering(ordering),
+                  ordering=_ordering(ordering), levels=_levels(levels), target=f"{target:g}",
                   order=" > ".join(["FLC", *(f"FoU {w:g}" for w in sorted(fous))]))

@@ -10,6 +10,7 @@ from typing import Any
 from markupsafe import Markup
 
 from ...experiments.study import StudyResult
+from ..counts import count_text
 from .env import render
 
 __all__ = ["MODEL_DOC", "robustness_section"]
@@ -22,8 +23,8 @@ def _choice_rows(rob: Any) -> list[dict[str, str]]:
     rows = []
     for c in rob.config.choices:
         rows.append({
-            "name": c.name, "sets": ", ".join(c.sets), "default": c.label(c.default),
-            "alternatives": "; ".join(c.label(a) for a in c.alternatives),
+            "name": c.name, "sets": ", ".join(c.sets), "default": c.describe(c.default),
+            "alternatives": "; ".join(c.describe(a) for a in c.alternatives),
             "description": c.description,
             "doc": f"{MODEL_DOC}#{c.doc}" if c.doc else MODEL_DOC,
         })
@@ -31,8 +32,8 @@ def _choice_rows(rob: Any) -> list[dict[str, str]]:
 
 
 def claim_robustness(rob: Any) -> list[dict[str, Any]]:
-    """Per claim: the baseline verdict and the ``choice = value`` labels that flip, change and
-    leave unchanged its verdict (in the order of ``rob.flips``)."""
+    """Per claim: the baseline verdict and the variants (in the reader's words) that flip,
+    change, leave unchanged and leave unsettled its verdict (in the order of ``rob.flips``)."""
     out = []
     for cid, groups in rob.flips.items():
         base = next((v for v in rob.verdicts if v["claim"] == cid and v["part"] == "baseline"),
@@ -42,7 +43,8 @@ def claim_robustness(rob: Any) -> list[dict[str, Any]]:
         out.append({"id": cid, "baseline": base["verdict"],
                     "flipped": list(groups.get("flipped", [])),
                     "changed": list(groups.get("changed", [])),
-                    "unchanged": list(groups.get("unchanged", []))})
+                    "unchanged": list(groups.get("unchanged", [])),
+                    "unsettled": list(groups.get("unsettled", []))})
     return out
 
 
@@ -60,17 +62,23 @@ def robustness_section(result: StudyResult, figures: Mapping[str, Mapping[str, A
         sens is not None) else {}
     ranking = [{"rank": r["rank"], "factor": r["factor"], "levels": levels.get(r["factor"], ""),
                 "score": f"{float(r['score']):.2f}"} for r in rob.sensitivity_ranking]
+    spread = [{"claim": r["claim"], "sigma": f"{float(r['sigma']):g}", "spread": r["spread"],
+               "agreement": f"{float(r['agreement']):.2f}",
+               "estimate": f"{float(r['replication_mean']):.2f}"} for r in rob.spread]
     return render(
         "sections/robustness.html.j2",
         rob=rob,
         model_doc=MODEL_DOC,
         levels=", ".join(f"{s:g}" for s in rob.config.noise_levels),
-        seeds=rob.config.seeds,
+        seeds=count_text(int(c["n"]) for c in rob.cells if float(c["sigma"]) > 0.0),
+        batches=rob.config.baseline_batches,
+        target=f"{rob.target:g}",
+        spread=spread,
         noise_std=f"{result.config.noise_std:g}",
         choices=_choice_rows(rob),
         claims=claim_robustness(rob),
         ranking_text=", ".join(f"{r['choice']} ({r['score']})" for r in rob.ranking),
-        factorial=" x ".join(rob.config.factorial),
+        factorial=" × ".join(rob.config.factorial),
         heat_map=figures.get("robustness"),
         sensitivity=figures.get("sensitivity"),
         sensitivity_ranking=ranking,

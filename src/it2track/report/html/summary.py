@@ -10,7 +10,9 @@ from typing import Any
 from markupsafe import Markup
 
 from ...experiments.analysis import INTEGRALS
+from ...experiments.stats import interval_text
 from ...experiments.study import StudyResult
+from ..counts import count_text
 from ..identity import INTEGRAL_UNITS
 from .env import fmt, num, render
 
@@ -26,6 +28,13 @@ def _win_cell(row: Mapping[str, Any] | None) -> str:
     if math.isfinite(ties) and ties > 0:
         text += f" (ties {ties:.0%})"
     return text
+
+
+def _interval(row: Mapping[str, Any]) -> str:
+    """Mean [95 % interval], with the digits that keep the printed mean inside it."""
+    if row.get("ci_low") in ("", None):
+        return fmt(num(row["mean"]))
+    return interval_text(num(row["mean"]), num(row["ci_low"]), num(row["ci_high"]))
 
 
 def summary_section(result: StudyResult, summary: Sequence[Mapping[str, Any]]) -> Markup:
@@ -48,10 +57,10 @@ def summary_section(result: StudyResult, summary: Sequence[Mapping[str, Any]]) -
             cells: list[Any] = [t, c]
             for m in INTEGRALS:
                 cell = index.get((t, c, m))
-                cells.append("" if cell is None else f"{fmt(cell['mean'])} "
-                             f"[{fmt(cell['ci_low'], 3)}, {fmt(cell['ci_high'], 3)}]")
+                cells.append("" if cell is None else _interval(cell))
             cells.append(_win_cell(index.get((t, c, "ISE"))))
             body.append(cells)
-    return render("sections/summary.html.j2", table=body, header=header, n=int(rows[0]["n"]),
+    return render("sections/summary.html.j2", table=body, header=header,
+                  n=count_text(int(r["n"]) for r in rows),
                   sigma=f"{num(rows[0]['noise_std']):g}",
                   numeric=[False, False] + [True] * (len(INTEGRALS) + 1))
