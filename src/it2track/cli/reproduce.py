@@ -65,16 +65,22 @@ def _quick(config: Any) -> Any:
               help="Inputs per axis of the microcontroller measurement's grid on [-1, 1]^2, "
               f"2 to {MAX_MCU_GRID} (the benchmark's grid); the time grows with its square: "
               "~3 s at 21. Refused with --no-mcu, and with --quick unless --mcu is given.")
+@click.option("--chip/--no-chip", default=None,
+              help="Judge C1, C2 and D1 again with the controllers as the simulated ATmega328P "
+              "runs them (float32, measured latency), per reducer, into chip_verdicts.csv, "
+              "claims.md and the report (default: yes, except with --quick, where --chip runs "
+              "a tiny smoke version; needs the Debian packages gcc, gcc-avr, binutils-avr, "
+              "avr-libc, libsimavr-dev, else the report names what to install).")
 @click.option("--no-progress", is_flag=True, help="No progress bar or stage messages.")
 def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
               sweep_seeds: int | None, quick: bool, workers: int, scheduler: str | None,
-              svg: bool | None, mcu: bool | None, mcu_grid: int, no_progress: bool,
-              **dask: Any) -> None:
+              svg: bool | None, mcu: bool | None, mcu_grid: int, chip: bool | None,
+              no_progress: bool, **dask: Any) -> None:
     """Regenerate every result of the paper, with statistics and verdicts on its claims.
 
     Writes figures (PNG, and SVG unless --quick or --no-svg), metrics.csv, summary.csv,
-    verdicts.csv, robustness.csv, sensitivity.csv, claims.md, mcu_costs.csv, report.html and
-    manifest.json into OUT. Files appear only when complete. --quick is a smoke run: every
+    verdicts.csv, robustness.csv, sensitivity.csv, claims.md, mcu_costs.csv,
+    chip_verdicts.csv, report.html and manifest.json into OUT. Files appear only when complete. --quick is a smoke run: every
     verdict it prints is marked "smoke run — not evidence".
     Figures are drawn by worker processes while the study runs; the microcontroller costs are
     measured by another process meanwhile.
@@ -94,6 +100,7 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
     )
     from ..report import outputs
     from ..report.html import write_html
+    from ..report.chip import CHIP_CSV, chip_markdown, write_chip_csv
     from ..report.mcu_job import TABLE_NAME, McuJob, McuStatus, write_cost_csv
     from ..report.render import FigureError, FigureRenderer, default_figure_workers
     from ..tracking import METRIC_NAMES
@@ -134,6 +141,9 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
             also.append("sensitivity.csv")
     if mcu:
         also += ["mcu_costs.csv", "mcu_costs.png", *(["mcu_costs.svg"] if svg else [])]
+    chip_on = (not quick) if chip is None else chip
+    if chip_on:
+        also.append("chip_verdicts.csv")
     staging = _make_staging(out_dir, also)
     skipped = "--quick" if quick and not _given(ctx, "mcu") else "--no-mcu"
     mcu_job = McuJob.skipped(f"skipped with {skipped}", fou=config.main_fou, grid=mcu_grid)
@@ -175,6 +185,8 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
                 if quick:  # every verdict a smoke run prints says what it is
                     result = _mark_smoke(result)
                 claims = result.claims
+            with stages.stage("the verdicts on the chip"):
+                chip_outcome = _chip(config, result, chip, quick=quick)
             renderer.submit(result, summary)
             with stages.stage("metrics.csv, summary.csv, verdicts.csv, claims.md"):
                 outputs.write_metrics_csv(staging / "metrics.csv", result.rows,
@@ -191,7 +203,11 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
                     preamble=outputs.claims_preamble(config, seeds=result.seeds_by_level,
                                                      smoke=quick),
                     levels=outputs.levels_markdown(claims, result.verdict_rows),
-                    sections=outputs.study_sections(result, claims), smoke=quick)
+                    sections=outputs.study_sections(result, claims)
+                    + ("\n" + chip_markdown(chip_outcome) if chip_outcome else ""),
+                    smoke=quick)
+                if chip_outcome is not None and chip_outcome.result is not None:
+                    write_chip_csv(staging / CHIP_CSV, chip_outcome.result)
             with stages.stage("figures"), stages.figure_bar(renderer):
                 try:
                     figures = renderer.results(result)
@@ -215,13 +231,14 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
         manifest = outputs.manifest(
             config=cfg, command=command.strip(), elapsed_s=time.perf_counter() - started,
             extra={"rows": len(result.rows["seed"]), "simulations": total + result.extra_runs,
-                   "mcu": mcu_costs.provenance(),
+                   "mcu": mcu_costs.provenance(), "chip": _chip_provenance(chip_outcome),
                    "files": sorted(p.name for p in staging.iterdir())},
         )
         with stages.stage("report.html"):
             write_html(staging / "report.html", result=result, summary=summary,
                        claims=claims, manifest=manifest, figures=figures,
-                       elapsed_s=time.perf_counter() - started, mcu=mcu_costs, smoke=quick)
+                       elapsed_s=time.perf_counter() - started, mcu=mcu_costs, smoke=quick,
+                       chip=chip_outcome)
         manifest["elapsed_s"] = round(time.perf_counter() - started, 3)
         manifest["stage_s"] = stages.record()
         manifest["files"] = sorted([*(p.name for p in staging.iterdir()), "manifest.json"])
@@ -241,6 +258,73 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
         click.echo(f"  {_SMOKE_NOTE}")
     for c in claims:
         click.echo(f"  {c.id}: {c.verdict}")
+    for line in _chip_lines(chip_outcome):
+        click.echo(f"  {line}")
+
+
+#: The chip experiment of ``--quick --chip``: a smoke version (3 realisations, no extension
+#: round, a 9-point latency grid, one replay per reducer).
+QUICK_CHIP = {"first": 3, "batch": 1, "cap": 3, "points": 9, "replay": 1}
+
+
+def _chip(config: Any, result: Any, chip: bool | None, *, quick: bool) -> Any:
+    """The chip experiment's outcome: ``None`` with ``--no-chip`` (nothing is written), the
+    reason it was skipped (``--quick`` without ``--chip``, a missing toolchain, a failure), or
+    its result."""
+    from ..codegen.tools import PIL_TOOLS, BuildError, ToolMissingError, missing_tools
+    from ..experiments.chip import ChipConfig, run_chip
+    from ..report.chip import ChipOutcome
+
+    if chip is False:
+        return None
+    if chip is None and quick:
+        return ChipOutcome(None, reason="skipped with --quick (add --chip for a smoke version)")
+    missing = missing_tools(PIL_TOOLS)
+    if missing:
+        why = f"the toolchain is missing: install the Debian package(s) {', '.join(missing)}"
+        click.echo(f"note: the verdicts on the chip were not judged ({why}); the report says "
+                   "so", err=True)
+        return ChipOutcome(None, reason=why)
+    settings = ChipConfig(**QUICK_CHIP) if quick else ChipConfig()
+    try:
+        got = run_chip(config, settings, host_rows=result.verdict_rows)
+    except (ToolMissingError, BuildError, OSError, ValueError) as exc:
+        why = f"it failed: {type(exc).__name__}: {exc}"
+        click.echo(f"note: the verdicts on the chip were not judged ({why})", err=True)
+        return ChipOutcome(None, reason=why)
+    if not got.matches:
+        click.echo("warning: the replay on simavr did not match the host C's outputs (see "
+                   "claims.md)", err=True)
+    return ChipOutcome(got, smoke=quick)
+
+
+def _chip_provenance(outcome: Any) -> Any:
+    if outcome is None:
+        return None
+    if outcome.result is None:
+        return {"skipped": outcome.reason}
+    r = outcome.result
+    return {"config": r.config.to_dict(), "design": r.design.to_dict(), "seconds": r.seconds,
+            "replay_matches": r.matches, "replays": len(r.replay)}
+
+
+def _chip_lines(outcome: Any) -> list[str]:
+    """The terminal's lines on the chip's verdicts."""
+    from ..experiments.chip import survival
+
+    if outcome is None:
+        return []
+    if outcome.result is None:
+        return [f"chip: not judged ({outcome.reason})"]
+    r = outcome.result
+    lines = []
+    for s in survival(r.rows):
+        lines.append(f"chip {s['reducer']} {s['claim']}: {s['kept']} of {s['host_settled']} "
+                     "settled study levels keep their status")
+    n = len(r.replay)
+    lines.append(f"chip replay on simavr: {n} runs, "
+                 + ("outputs match bit for bit" if r.matches else "outputs DO NOT match"))
+    return lines
 
 
 #: The terminal's line above a --quick run's verdicts.

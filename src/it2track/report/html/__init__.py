@@ -18,10 +18,12 @@ from typing import Any
 from ...atomicfile import atomic_write_text
 from ...experiments.study import StudyResult
 from ..counts import count_text
+from ..chip import ChipOutcome
 from ..mcu_job import McuCosts
 from .assumptions import assumptions_section
 from .baselines import baselines_section
 from .captions import figure_captions
+from .chip import chip_section
 from .claims import claims_section, glance
 from .env import render
 from .mcu import mcu_section
@@ -37,7 +39,8 @@ __all__ = ["figure_captions", "render_html", "write_html"]
 SECTIONS = (("setup", "Setup"), ("assumptions", "Assumptions"), ("results", "Results"),
             ("claims", "Claims"), ("baselines", "Fair baselines"),
             ("robustness", "Robustness to the open modelling choices"),
-            ("mcu", "Microcontroller cost"), ("summary", "Summary table"),
+            ("mcu", "Microcontroller cost"), ("chip", "The verdicts on the chip"),
+            ("summary", "Summary table"),
             ("rerun", "How to rerun"))
 
 
@@ -51,6 +54,7 @@ def render_html(
     elapsed_s: float,
     mcu: McuCosts | None = None,
     smoke: bool = False,
+    chip: ChipOutcome | None = None,
 ) -> str:
     """The report as one HTML string (see :func:`write_html`)."""
     cfg = result.config
@@ -70,10 +74,12 @@ def render_html(
         baselines_section(result),
         robustness_section(result, refs),
         *([] if mcu is None else [mcu_section(mcu, refs.get("mcu_costs"))]),
+        *([] if chip is None else [chip_section(chip)]),
         summary_section(result, summary),
         rerun_section(result, manifest, elapsed_s),
     ]
-    nav = [s for s in SECTIONS if mcu is not None or s[0] != "mcu"]
+    nav = [s for s in SECTIONS if (mcu is not None or s[0] != "mcu")
+           and (chip is not None or s[0] != "chip")]
     return str(render("page.html.j2", subtitle=sub, glance=glance(claims, smoke=smoke),
                       nav=nav, sections=sections, smoke=smoke))
 
@@ -89,6 +95,7 @@ def write_html(
     elapsed_s: float,
     mcu: McuCosts | None = None,
     smoke: bool = False,
+    chip: ChipOutcome | None = None,
 ) -> Path:
     """Write the study's self-contained HTML report.
 
@@ -114,6 +121,9 @@ def write_html(
     smoke : bool
         A ``--quick`` run: the page says "smoke run — not evidence" at the top and beside
         the verdicts.
+    chip : ChipOutcome, optional
+        The verdicts on the chip (:mod:`it2track.experiments.chip`) or why they were not
+        judged; without it the page has no such section.
 
     Returns
     -------
@@ -121,7 +131,7 @@ def write_html(
         ``path``.
     """
     text = render_html(result=result, summary=summary, claims=claims, manifest=manifest,
-                       figures=figures, elapsed_s=elapsed_s, mcu=mcu, smoke=smoke)
+                       figures=figures, elapsed_s=elapsed_s, mcu=mcu, smoke=smoke, chip=chip)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     atomic_write_text(path, text)
