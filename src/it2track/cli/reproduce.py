@@ -285,7 +285,7 @@ def _chip(config: Any, result: Any, chip: bool | None, *, quick: bool) -> Any:
         click.echo(f"note: the verdicts on the chip were not judged ({why}); the report says "
                    "so", err=True)
         return ChipOutcome(None, reason=why)
-    settings = ChipConfig(**QUICK_CHIP) if quick else ChipConfig()
+    settings = ChipConfig(**QUICK_CHIP) if quick else ChipConfig.for_study(config)
     try:
         got = run_chip(config, settings, host_rows=result.verdict_rows)
     except (ToolMissingError, BuildError, OSError, ValueError) as exc:

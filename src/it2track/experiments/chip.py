@@ -91,6 +91,26 @@ class ChipConfig:
         if self.cap < self.first:
             raise ValueError(f"chip cap={self.cap!r} must be >= first={self.first!r}")
 
+    @classmethod
+    def for_study(cls, config: Any, *, points: int = 65, replay: int = 1) -> ChipConfig:
+        """Half the study's realisations (its sequential design's first round, batch and cap
+        halved, at least 2, 1 and the first): 50, 50 and 200 for the default study.
+
+        Parameters
+        ----------
+        config : StudyConfig
+        points, replay : int
+            As for the class.
+
+        Returns
+        -------
+        ChipConfig
+        """
+        d = config.verdicts
+        first = max(2, d.first // 2)
+        return cls(first=first, batch=max(1, d.batch // 2), cap=max(first, d.cap // 2),
+                   points=points, replay=replay)
+
     def design(self, base: SequentialDesign) -> SequentialDesign:
         """``base`` (the study's design) with this experiment's realisations."""
         return replace(base, first=self.first, batch=self.batch, cap=self.cap)
@@ -186,8 +206,7 @@ class _Builder:
             fls = fuzzy.fls  # type: ignore[attr-defined]
             code = generate_c(fls, real=RealType.FLOAT)
             started = time.perf_counter()
-            table = LatencyTable.measure(code, [i.universe for i in fls.inputs],
-                                         points=self.points, build_dir=self.build_dir)
+            table = self._table(code, [i.universe for i in fls.inputs])
             self.table_seconds += time.perf_counter() - started
             host = CHeadingController(code=code, ke=fuzzy.ke,  # type: ignore[attr-defined]
                                       kde=fuzzy.kde,  # type: ignore[attr-defined]
@@ -195,6 +214,38 @@ class _Builder:
             got = TabledLatencyController(host=host, table=table, name=spec.label)
             self._made[spec] = got
         return got
+
+    def _table(self, code: Any, universes: Sequence[tuple[float, float]]) -> Any:
+        """The latency table of ``code``, measured once and cached in the build folder by the
+        code's digest, the grid and the universes (simavr's cycle counts are deterministic)."""
+        import hashlib
+        import os
+        import secrets
+        from pathlib import Path
+
+        from ..codegen.controller import default_build_dir
+        from ..tracking.pil import LatencyTable
+
+        root = Path(self.build_dir) if self.build_dir else default_build_dir()
+        key = hashlib.sha256(f"{code.digest()} {self.points} {list(universes)}".encode()
+                             ).hexdigest()[:20]
+        path = root / f"latency-{key}.npy"
+        lo = tuple(float(a) for a, _ in universes)
+        hi = tuple(float(b) for _, b in universes)
+        if path.is_file():
+            try:
+                cycles = np.load(path, allow_pickle=False)
+                if cycles.shape == (self.points,) * len(universes):
+                    return LatencyTable(lo=lo, hi=hi, cycles=cycles)
+            except (OSError, ValueError):
+                pass  # measured again below
+        table = LatencyTable.measure(code, universes, points=self.points,
+                                     build_dir=self.build_dir)
+        root.mkdir(parents=True, exist_ok=True)
+        tmp = root / f".latency-{key}-{secrets.token_hex(4)}.npy"
+        np.save(tmp, table.cycles, allow_pickle=False)
+        os.replace(tmp, path)
+        return table
 
 
 def run_chip(
