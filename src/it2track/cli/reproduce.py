@@ -80,8 +80,9 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
 
     Writes figures (PNG, and SVG unless --quick or --no-svg), metrics.csv, summary.csv,
     verdicts.csv, robustness.csv, sensitivity.csv, claims.md, mcu_costs.csv,
-    chip_verdicts.csv, report.html and manifest.json into OUT. Files appear only when complete. --quick is a smoke run: every
-    verdict it prints is marked "smoke run — not evidence".
+    chip_verdicts.csv, report.html and manifest.json into OUT. Files appear only when
+    complete. --quick is a smoke run: every verdict it prints is marked "smoke run — not
+    evidence".
     Figures are drawn by worker processes while the study runs; the microcontroller costs are
     measured by another process meanwhile.
     """
@@ -99,8 +100,8 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
         study_run_count,
     )
     from ..report import outputs
-    from ..report.html import write_html
     from ..report.chip import CHIP_CSV, chip_markdown, write_chip_csv
+    from ..report.html import write_html
     from ..report.mcu_job import TABLE_NAME, McuJob, McuStatus, write_cost_csv
     from ..report.render import FigureError, FigureRenderer, default_figure_workers
     from ..tracking import METRIC_NAMES

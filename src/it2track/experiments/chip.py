@@ -198,7 +198,7 @@ class _Builder:
 
     def __call__(self, spec: ControllerSpec) -> Any:
         from ..codegen import CHeadingController, RealType, generate_c
-        from ..tracking.pil import LatencyTable, TabledLatencyController
+        from ..tracking.pil import TabledLatencyController
 
         got = self._made.get(spec)
         if got is None:
@@ -390,7 +390,7 @@ def _replay(config: Any, chip: ChipConfig, reducers: Sequence[str], build: _Buil
     from ..codegen.controller import default_build_dir
     from ..codegen.pil import AvrInTheLoop
     from ..tracking import RunTable, get_trajectory, simulate
-    from ..tracking.pil import PilHeadingController
+    from ..tracking.pil import Latency, PilHeadingController
 
     where = build_dir or os.fspath(default_build_dir())
     sigma = _replay_sigma(config)
@@ -399,7 +399,7 @@ def _replay(config: Any, chip: ChipConfig, reducers: Sequence[str], build: _Buil
         tabled = build(_main_spec(config, reducer))
         code = tabled.host.code
         pil = PilHeadingController(code=code, ke=tabled.host.ke, kde=tabled.host.kde,
-                                   latency="measured", name=f"{tabled.name} on the MCU",
+                                   latency=Latency.MEASURED, name=f"{tabled.name} on the MCU",
                                    build_dir=where)
         for k in range(chip.replay):
             path = config.trajectories[k % len(config.trajectories)]

@@ -17,8 +17,8 @@ from typing import Any
 
 from ...atomicfile import atomic_write_text
 from ...experiments.study import StudyResult
-from ..counts import count_text
 from ..chip import ChipOutcome
+from ..counts import count_text
 from ..mcu_job import McuCosts
 from .assumptions import assumptions_section
 from .baselines import baselines_section

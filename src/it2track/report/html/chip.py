@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from markupsafe import Markup
 
-from ..chip import ChipOutcome, replay_sentence, chip_summary
+from ..chip import ChipOutcome, chip_summary, replay_sentence
 from .env import render
 
 __all__ = ["chip_section"]
