@@ -152,9 +152,9 @@ def test_a_replay_that_differs_is_reported(build_dir, monkeypatch):
 
 
 def test_chip_config_is_checked_and_halves_the_study():
-    assert ChipConfig.for_study(StudyConfig()) == ChipConfig(first=50, batch=50, cap=200)
+    assert ChipConfig.for_study(StudyConfig()) == ChipConfig(first=50, batch=50, cap=100)
     tiny = ChipConfig.for_study(_tiny())
-    assert (tiny.first, tiny.batch, tiny.cap) == (2, 1, 3)
+    assert (tiny.first, tiny.batch, tiny.cap) == (2, 1, 2)
     for kwargs, needle in (({"first": 1}, "chip first=1 must be an integer >= 2"),
                            ({"points": 1}, "chip points=1"), ({"replay": -1}, "chip replay=-1"),
                            ({"batch": 0}, "chip batch=0"), ({"first": 5, "cap": 4}, "cap=4"),

@@ -148,7 +148,10 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
     staging = _make_staging(out_dir, also)
     skipped = "--quick" if quick and not _given(ctx, "mcu") else "--no-mcu"
     mcu_job = McuJob.skipped(f"skipped with {skipped}", fou=config.main_fou, grid=mcu_grid)
+    chip_job = _ChipJob()
     try:
+        # The chip's runs go to another process while the study runs.
+        chip_job = _ChipJob.start(config, chip, quick=quick)
         if mcu:
             # The cross-compilers and simavr run in another process while the study runs.
             mcu_job = McuJob.start(out_dir=staging, fou=config.main_fou, grid=mcu_grid,
@@ -186,8 +189,8 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
                 if quick:  # every verdict a smoke run prints says what it is
                     result = _mark_smoke(result)
                 claims = result.claims
-            with stages.stage("the verdicts on the chip"):
-                chip_outcome = _chip(config, result, chip, quick=quick)
+            with stages.stage("the verdicts on the chip (waiting for them)"):
+                chip_outcome = chip_job.result(result.verdict_rows)
             renderer.submit(result, summary)
             with stages.stage("metrics.csv, summary.csv, verdicts.csv, claims.md"):
                 outputs.write_metrics_csv(staging / "metrics.csv", result.rows,
@@ -247,6 +250,7 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
         _publish(staging, out)
     finally:
         try:
+            chip_job.cancel()
             mcu_job.cancel()
         finally:  # the staging folder goes even if stopping the measurement fails
             _discard_staging(staging)
@@ -268,35 +272,82 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
 QUICK_CHIP = {"first": 3, "batch": 1, "cap": 3, "points": 9, "replay": 1}
 
 
-def _chip(config: Any, result: Any, chip: bool | None, *, quick: bool) -> Any:
-    """The chip experiment's outcome: ``None`` with ``--no-chip`` (nothing is written), the
-    reason it was skipped (``--quick`` without ``--chip``, a missing toolchain, a failure), or
-    its result."""
-    from ..codegen.tools import PIL_TOOLS, BuildError, ToolMissingError, missing_tools
-    from ..experiments.chip import ChipConfig, run_chip
-    from ..report.chip import ChipOutcome
+class _ChipJob:
+    """The chip experiment (:func:`~it2track.experiments.chip.run_chip`) in a spawned process
+    while the study runs (it needs nothing of the study but its config; the comparison with
+    the study's verdicts is made when both are done), or why it does not run."""
 
-    if chip is False:
-        return None
-    if chip is None and quick:
-        return ChipOutcome(None, reason="skipped with --quick (add --chip for a smoke version)")
-    missing = missing_tools(PIL_TOOLS)
-    if missing:
-        why = f"the toolchain is missing: install the Debian package(s) {', '.join(missing)}"
-        click.echo(f"note: the verdicts on the chip were not judged ({why}); the report says "
-                   "so", err=True)
-        return ChipOutcome(None, reason=why)
-    settings = ChipConfig(**QUICK_CHIP) if quick else ChipConfig.for_study(config)
+    def __init__(self, outcome: Any = None, pool: Any = None, pending: Any = None,
+                 quick: bool = False) -> None:
+        self.outcome = outcome
+        self._pool = pool
+        self._pending = pending
+        self._quick = quick
+
+    @classmethod
+    def start(cls, config: Any, chip: bool | None, *, quick: bool) -> _ChipJob:
+        """Start it, or record why not: ``--no-chip`` (nothing is written), ``--quick``
+        without ``--chip``, a missing toolchain."""
+        import multiprocessing
+
+        from ..codegen.tools import PIL_TOOLS, missing_tools
+        from ..experiments.chip import ChipConfig, run_chip
+        from ..report.chip import ChipOutcome
+
+        if chip is False:
+            return cls()
+        if chip is None and quick:
+            return cls(ChipOutcome(None, reason="skipped with --quick (add --chip for a smoke "
+                                                "version)"))
+        missing = missing_tools(PIL_TOOLS)
+        if missing:
+            why = f"the toolchain is missing: install the Debian package(s) {', '.join(missing)}"
+            click.echo(f"note: the verdicts on the chip were not judged ({why}); the report "
+                       "says so", err=True)
+            return cls(ChipOutcome(None, reason=why))
+        settings = ChipConfig(**QUICK_CHIP) if quick else ChipConfig.for_study(config)
+        pool = multiprocessing.get_context("spawn").Pool(1)
+        return cls(pool=pool, pending=pool.apply_async(run_chip, (config, settings)),
+                   quick=quick)
+
+    def result(self, host_rows: Any) -> Any:
+        """The outcome, compared with the study's ``verdicts.csv`` rows (waits for it)."""
+        from dataclasses import replace
+
+        from ..codegen.tools import BuildError, ToolMissingError
+        from ..experiments.chip import with_study
+        from ..report.chip import ChipOutcome
+
+        if self._pending is None:
+            return self.outcome
+        try:
+            got = self._pending.get()
+        except (ToolMissingError, BuildError, OSError, ValueError) as exc:
+            why = f"it failed: {type(exc).__name__}: {exc}"
+            click.echo(f"note: the verdicts on the chip were not judged ({why})", err=True)
+            return ChipOutcome(None, reason=why)
+        finally:
+            self.cancel()
+        if not got.matches:
+            click.echo("warning: the replay on simavr did not match the host C's outputs (see "
+                       "claims.md)", err=True)
+        return ChipOutcome(replace(got, rows=with_study(got.rows, host_rows)), smoke=self._quick)
+
+    def cancel(self) -> None:
+        """Stop the process (idempotent)."""
+        pool, self._pool, self._pending = self._pool, None, None
+        if pool is not None:
+            pool.terminate()
+            pool.join()
+
+
+def _chip(config: Any, result: Any, chip: bool | None, *, quick: bool) -> Any:
+    """The chip experiment's outcome, run to the end here (see :class:`_ChipJob`)."""
+    job = _ChipJob.start(config, chip, quick=quick)
     try:
-        got = run_chip(config, settings, host_rows=result.verdict_rows)
-    except (ToolMissingError, BuildError, OSError, ValueError) as exc:
-        why = f"it failed: {type(exc).__name__}: {exc}"
-        click.echo(f"note: the verdicts on the chip were not judged ({why})", err=True)
-        return ChipOutcome(None, reason=why)
-    if not got.matches:
-        click.echo("warning: the replay on simavr did not match the host C's outputs (see "
-                   "claims.md)", err=True)
-    return ChipOutcome(got, smoke=quick)
+        return job.result(() if result is None else result.verdict_rows)
+    finally:
+        job.cancel()
 
 
 def _chip_provenance(outcome: Any) -> Any:

@@ -42,7 +42,7 @@ from .specs import ControllerKind, ControllerSpec
 from .verdicts import verdict_rows
 
 __all__ = ["CHIP_CLAIMS", "CHIP_COLUMNS", "CHIP_REDUCERS", "ChipConfig", "ChipResult",
-           "chip_specs", "run_chip"]
+           "chip_specs", "run_chip", "survival", "with_study"]
 
 #: The claims judged on the chip.
 CHIP_CLAIMS = ("C1", "C2", "D1")
@@ -78,7 +78,7 @@ class ChipConfig:
 
     first: int = 50
     batch: int = 50
-    cap: int = 200
+    cap: int = 100
     points: int = 65
     replay: int = 1
 
@@ -93,8 +93,9 @@ class ChipConfig:
 
     @classmethod
     def for_study(cls, config: Any, *, points: int = 65, replay: int = 1) -> ChipConfig:
-        """Half the study's realisations (its sequential design's first round, batch and cap
-        halved, at least 2, 1 and the first): 50, 50 and 200 for the default study.
+        """The study's sequential design scaled down: half its first round and batch, a
+        quarter of its cap (at least 2, 1 and the first round): 50, 50 and 100 for the
+        default study.
 
         Parameters
         ----------
@@ -108,7 +109,7 @@ class ChipConfig:
         """
         d = config.verdicts
         first = max(2, d.first // 2)
-        return cls(first=first, batch=max(1, d.batch // 2), cap=max(first, d.cap // 2),
+        return cls(first=first, batch=max(1, d.batch // 2), cap=max(first, d.cap // 4),
                    points=points, replay=replay)
 
     def design(self, base: SequentialDesign) -> SequentialDesign:
@@ -299,7 +300,6 @@ def run_chip(
     claims: dict[str, list[ClaimResult]] = {}
     metrics: dict[str, dict[str, np.ndarray]] = {}
     rows: list[dict[str, Any]] = []
-    host = {(str(r["claim"]), str(r["path"]), float(r["sigma"])): r for r in host_rows}
     run_seconds = 0.0
     for reducer in reducers:
         specs = chip_specs(config, reducer)
@@ -348,15 +348,8 @@ def run_chip(
         run_seconds += time.perf_counter() - t0
         claims[reducer] = settled.claims
         metrics[reducer] = settled.rows
-        for r in verdict_rows(defs, settled.claims):
-            h = host.get((r["claim"], r["path"], float(r["sigma"])))
-            rows.append({
-                "reducer": reducer, **{k: r[k] for k in CHIP_COLUMNS if k in r},
-                "host_status": "" if h is None else h["status"],
-                "host_settled": "" if h is None else h["settled"],
-                "survives": "" if h is None else r["status"] == h["status"],
-            })
-    rows = [{k: r.get(k, "") for k in CHIP_COLUMNS} for r in rows]
+        rows += [{"reducer": reducer, **r} for r in verdict_rows(defs, settled.claims)]
+    rows = with_study(rows, host_rows)
     t0 = time.perf_counter()
     replays = _replay(config, chip, reducers, build, build_dir)
     replay_seconds = time.perf_counter() - t0
@@ -368,6 +361,36 @@ def run_chip(
                                "runs": round(run_seconds - build.table_seconds, 3),
                                "replay": round(replay_seconds, 3),
                                "total": round(time.perf_counter() - started, 3)})
+
+
+def with_study(rows: Sequence[Mapping[str, Any]],
+               host_rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
+    """``rows`` (the chip's level rows, with a ``reducer``) in the columns
+    :data:`CHIP_COLUMNS`, with the study's status of the same level beside each: its status,
+    whether it is settled, and whether the chip's status is the same (``survives``); empty
+    where the study has no such level.
+
+    Parameters
+    ----------
+    rows : sequence of dict
+        The chip's rows (:func:`~.verdicts.verdict_rows` with a ``reducer`` key).
+    host_rows : sequence of dict
+        The study's ``verdicts.csv`` rows.
+
+    Returns
+    -------
+    list of dict
+    """
+    host = {(str(r["claim"]), str(r["path"]), float(r["sigma"])): r for r in host_rows}
+    out = []
+    for r in rows:
+        h = host.get((str(r["claim"]), str(r["path"]), float(r["sigma"])))
+        row = {k: r.get(k, "") for k in CHIP_COLUMNS}
+        row.update(host_status="" if h is None else h["status"],
+                   host_settled="" if h is None else h["settled"],
+                   survives="" if h is None else r["status"] == h["status"])
+        out.append(row)
+    return out
 
 
 def _main_spec(config: Any, reducer: str) -> ControllerSpec:
