@@ -115,3 +115,13 @@ def test_quick_skips_unless_asked():
     assert got.result is None and "skipped with --quick" in got.reason
     assert _chip(_tiny_study(), None, False, quick=True) is None
     assert QUICK_CHIP["cap"] == QUICK_CHIP["first"]  # no extension round in a smoke run
+
+
+def test_the_help_names_every_package_the_chip_needs():
+    from it2track.cli.reproduce import reproduce
+    from it2track.codegen.tools import TOOL_PACKAGES
+
+    (option,) = [p for p in reproduce.params if p.name == "chip"]
+    text = " ".join((option.help or "").split())
+    for tool in PIL_TOOLS:
+        assert TOOL_PACKAGES[tool] in text, tool
