@@ -66,14 +66,15 @@ def test_the_csv_the_claims_and_the_page_carry_the_same_rows(runs):
     for r in rows:
         host = verdicts[(r["claim"], r["path"], r["sigma"])]
         assert r["host_status"] == host["status"]
-        assert r["survives"] == str(r["status"] == host["status"])
+        assert r["survives"] == str(r["status"] == host["status"] and r["settled"] == "True")
     for r in rows:
-        if r["path"] == "all" and r["sigma"] == "0.05":
+        if r["path"] == "all" and r["sigma"] == "0.05" and r["host_settled"] == "True":
             kept = r["survives"] == "True"
+            changed = not kept and r["settled"] == "True"
             line = (f"chip {r['reducer']} {r['claim']}: {int(kept)} of 1 settled study levels "
-                    "keep their status")
-            if r["host_settled"] == "True":
-                assert line in terminal, line
+                    f"keep their status ({int(changed)} changed, "
+                    f"{int(r['settled'] != 'True')} unsettled on the chip)")
+            assert line in terminal, line
     assert "## The verdicts on the chip" in claims and "match: every output equals" in claims
     assert '<h2 id="chip">' in page and "bit for bit" in page
     assert manifest["chip"]["replay_matches"] is True

@@ -84,13 +84,14 @@ def test_rows_have_the_columns_and_compare_with_the_study(result):
     assert {r["claim"] for r in result.rows} == {"C1", "C2", "D1"}
     for r in result.rows:
         if r["claim"] == "C1":
-            assert r["host_status"] == "holds" and r["survives"] is (r["status"] == "holds")
+            assert r["host_status"] == "holds"
+            assert r["survives"] is (r["status"] == "holds" and r["settled"] is True)
         else:
             assert r["host_status"] == r["survives"] == ""
     for s in survival(result.rows):
         judged = s["host_settled"]
         assert judged == (1 if s["claim"] == "C1" else 0)  # the noisy level over all paths
-        assert s["kept"] + len(s["changed"]) == judged
+        assert s["kept"] + len(s["changed"]) + len(s["open"]) == judged
 
 
 def test_type1_runs_are_shared_and_the_it2flcs_follow_their_reducer(result):

@@ -372,7 +372,8 @@ def _chip_lines(outcome: Any) -> list[str]:
     lines = []
     for s in survival(r.rows):
         lines.append(f"chip {s['reducer']} {s['claim']}: {s['kept']} of {s['host_settled']} "
-                     "settled study levels keep their status")
+                     f"settled study levels keep their status ({len(s['changed'])} changed, "
+                     f"{len(s['open'])} unsettled on the chip)")
     n = len(r.replay)
     lines.append(f"chip replay on simavr: {n} runs, "
                  + ("outputs match bit for bit" if r.matches else "outputs DO NOT match"))

@@ -367,8 +367,8 @@ def with_study(rows: Sequence[Mapping[str, Any]],
                host_rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
     """``rows`` (the chip's level rows, with a ``reducer``) in the columns
     :data:`CHIP_COLUMNS`, with the study's status of the same level beside each: its status,
-    whether it is settled, and whether the chip's status is the same (``survives``); empty
-    where the study has no such level.
+    whether it is settled, and ``survives``: the chip settled the level with the same status;
+    all three empty where the study has no such level.
 
     Parameters
     ----------
@@ -388,7 +388,8 @@ def with_study(rows: Sequence[Mapping[str, Any]],
         row = {k: r.get(k, "") for k in CHIP_COLUMNS}
         row.update(host_status="" if h is None else h["status"],
                    host_settled="" if h is None else h["settled"],
-                   survives="" if h is None else r["status"] == h["status"])
+                   survives="" if h is None else bool(r["settled"] is True
+                                                      and r["status"] == h["status"]))
         out.append(row)
     return out
 
@@ -474,19 +475,38 @@ def _costs(config: Any, reducers: Sequence[str], build: _Builder,
 
 
 def survival(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
-    """Per reducer and claim, over all paths together: the noisy levels the study settled and
-    how many keep their status on the chip, and the chip's settled statuses by sigma."""
+    """Per reducer and claim, over all paths together, the noisy levels the study settled:
+    how many keep their status on the chip (settled there with the same status), which change
+    (settled there with another) and which the chip leaves unsettled; and the chip's status of
+    every noisy level.
+
+    Parameters
+    ----------
+    rows : sequence of dict
+        :func:`with_study`'s rows.
+
+    Returns
+    -------
+    list of dict
+        ``reducer, claim, host_settled, kept, changed, open, levels``; ``changed`` and
+        ``open`` list ``(sigma, study status, chip status, chip replication)``, ``levels``
+        ``(sigma, status, settled, replication)``.
+    """
     out = []
     keys = dict.fromkeys((str(r["reducer"]), str(r["claim"])) for r in rows)
     for reducer, claim in keys:
         mine = [r for r in rows if r["reducer"] == reducer and r["claim"] == claim
                 and r["path"] == ALL and float(r["sigma"]) > 0.0]
         judged = [r for r in mine if r["host_settled"] is True]
-        kept = [r for r in judged if r["survives"] is True]
+
+        def level(r: Mapping[str, Any]) -> tuple[float, str, str, Any]:
+            return (float(r["sigma"]), r["host_status"], r["status"], r["replication"])
+
         out.append({"reducer": reducer, "claim": claim, "host_settled": len(judged),
-                    "kept": len(kept),
-                    "changed": [(float(r["sigma"]), r["host_status"], r["status"],
-                                 r["replication"]) for r in judged if r["survives"] is not True],
+                    "kept": sum(r["survives"] is True for r in judged),
+                    "changed": [level(r) for r in judged
+                                if r["settled"] is True and r["survives"] is not True],
+                    "open": [level(r) for r in judged if r["settled"] is not True],
                     "levels": [(float(r["sigma"]), r["status"], r["settled"], r["replication"])
                                for r in mine]})
     return out

@@ -48,6 +48,12 @@ def _pct(x: float) -> str:
     return f"{100 * x:.1f} %"
 
 
+def _levels_text(levels: Sequence[tuple[float, str, str, Any]]) -> str:
+    """``σ 0.02: holds → not shown (0.61)`` per level (the chip's replication probability)."""
+    return ", ".join(f"σ {sig:g}: {a} → {b} ({float(rep):.2f})" if rep != ""
+                     else f"σ {sig:g}: {a} → {b}" for sig, a, b, rep in levels) or "none"
+
+
 def chip_summary(result: ChipResult) -> dict[str, Any]:
     """What the section says, computed from the result: per reducer, the claims' settled
     levels that keep the study's status, the latency's cost and the replay's match."""
@@ -67,9 +73,7 @@ def chip_summary(result: ChipResult) -> dict[str, Any]:
             "reducer": reducer,
             "claims": [{
                 "claim": s["claim"], "kept": s["kept"], "judged": s["host_settled"],
-                "changed": ", ".join(f"σ {sig:g}: {a} → {b} ({float(rep):.2f})"
-                                     if rep != "" else f"σ {sig:g}: {a} → {b}"
-                                     for sig, a, b, rep in s["changed"]) or "none",
+                "changed": _levels_text(s["changed"]), "open": _levels_text(s["open"]),
                 "levels": ", ".join(f"σ {sig:g} {st}{'' if settled else ' (unsettled)'}"
                                     for sig, st, settled, _ in s["levels"]),
             } for s in claims],
@@ -109,12 +113,16 @@ def chip_markdown(outcome: ChipOutcome | None) -> str:
              "(chip_verdicts.csv gives every level with the study's status beside it). The "
              "runs use the host-compiled float C with the cycles simavr measured on a "
              "grid of the inputs (nearest point); a sample is replayed on simavr step for step.",
-             "", "| reducer | claim | settled study levels that keep their status | changed "
-             "| chip statuses (all paths) |", "|---|---|---|---|---|"]
+             "", "A settled study level *keeps its status* when the chip settles it with the same "
+             "status; *changed*: settled on the chip with another; *unsettled on the chip*: "
+             "its replication probability stays below the target at the chip's cap (study "
+             "status → chip status, the chip's replication probability).", "",
+             "| reducer | claim | settled study levels that keep their status | changed "
+             "| unsettled on the chip | chip statuses (all paths) |", "|---|---|---|---|---|---|"]
     for r in s["reducers"]:
         for c in r["claims"]:
             lines.append(f"| {r['reducer']} | {c['claim']} | {c['kept']} of {c['judged']} | "
-                         f"{c['changed']} | {c['levels']} |")
+                         f"{c['changed']} | {c['open']} | {c['levels']} |")
     lines += ["", "What each reducer's latency costs (the main IT2FLC; worst and mean cycles "
               "over the latency table's input grid, and over the replayed runs' steps):", "",
               "| reducer | worst cycles | mean cycles | worst latency | worst / period "
