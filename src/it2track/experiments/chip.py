@@ -37,7 +37,7 @@ import numpy as np
 
 from .claimcells import ClaimDef, claim_definitions
 from .judgement import ALL, ClaimResult
-from .sequential import SeedBatch, SequentialDesign, concat_rows, settle
+from .sequential import SeedBatch, SequentialDesign, settle
 from .specs import ControllerKind, ControllerSpec
 from .verdicts import verdict_rows
 
@@ -510,13 +510,3 @@ def survival(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
                     "levels": [(float(r["sigma"]), r["status"], r["settled"], r["replication"])
                                for r in mine]})
     return out
-
-
-def concat_metrics(result: ChipResult) -> dict[str, np.ndarray]:
-    """Every reducer's rows in one table with a ``reducer`` column (type-1 rows repeated)."""
-    parts = []
-    for reducer, rows in result.metrics.items():
-        part = dict(rows)
-        part["reducer"] = np.full(len(rows["seed"]), reducer, dtype=object)
-        parts.append(part)
-    return concat_rows(parts)
