@@ -49,8 +49,9 @@ def _pct(x: float) -> str:
 
 
 def _levels_text(levels: Sequence[tuple[float, str, str, Any]]) -> str:
-    """``σ 0.02: holds → not shown (0.61)`` per level (the chip's replication probability)."""
-    return ", ".join(f"σ {sig:g}: {a} → {b} ({float(rep):.2f})" if rep != ""
+    """``σ 0.02: holds → not shown (0.612)`` per level (the chip's replication probability,
+    3 decimals: 0.949 must not read as the target 0.95)."""
+    return ", ".join(f"σ {sig:g}: {a} → {b} ({float(rep):.3f})" if rep != ""
                      else f"σ {sig:g}: {a} → {b}" for sig, a, b, rep in levels) or "none"
 
 
