@@ -45,8 +45,10 @@ def _tiny_study() -> StudyConfig:
 
 
 def _run(out: Path, *args: str) -> tuple[Path, dict, str]:
-    result = CliRunner().invoke(main, ["reproduce", "--no-progress", *args, "--out", str(out)],
-                                prog_name="it2track")
+    # --no-chip: the verdicts on the chip need part of the same toolchain (tests/cli/
+    # test_reproduce_chip.py); here only the cost measurement varies between the runs.
+    result = CliRunner().invoke(main, ["reproduce", "--no-progress", "--no-chip", *args,
+                                       "--out", str(out)], prog_name="it2track")
     assert result.exit_code == 0, result.output
     manifest = json.loads((out / "manifest.json").read_text())
     page = (out / "report.html").read_text()
@@ -124,7 +126,7 @@ def test_report_carries_the_cycles_of_a_direct_measurement(runs, tmp_path):
     assert "avr-gcc" in section and "simavr" in section
     assert {"mcu_costs.csv", "mcu_costs.png", "mcu_costs.svg"} <= set(manifest["files"])
     assert manifest["mcu"]["status"] == "measured" and manifest["mcu"]["grid"] == GRID
-    assert manifest["command"].endswith(f"--mcu-grid {GRID} --no-progress")
+    assert manifest["command"].endswith(f"--mcu-grid {GRID} --no-chip --no-progress")
     assert "microcontroller costs" in manifest["stage_s"]
 
 
@@ -201,7 +203,7 @@ def test_no_mcu_skips_and_is_recorded(runs):
     assert "Not measured (skipped with --no-mcu)" in section
     assert manifest["mcu"] == {"status": "skipped", "fou": 0.2, "grid": 21,
                                "reason": "skipped with --no-mcu"}
-    assert manifest["command"].endswith("--no-mcu --no-progress")
+    assert manifest["command"].endswith("--no-mcu --no-chip --no-progress")
     assert not any(p.name.startswith("mcu_costs") for p in out.iterdir())
 
 

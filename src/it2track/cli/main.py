@@ -15,6 +15,7 @@ import click
 from .. import __version__
 from .options import DURATION_TYPE, FINITE, POSITIVE
 from .outdir import check_output_file, write_output_file
+from .target import apply_target_options
 
 __all__ = ["main"]
 
@@ -80,20 +81,24 @@ def _fail(message: str) -> NoReturn:
               help="Save the time series to this CSV file (and its SHA-256 to FILE.sha256).")
 @click.option("--force", is_flag=True,
               help="Replace an existing --trace file that it2track cannot prove it wrote.")
+@apply_target_options
 def simulate(**opts: Any) -> None:
     """Simulate one scenario and print its metrics.
 
     The robot follows --trajectory; a single-input --plant (a motor, a tank...) follows a --step
     reference instead, its measured output noisy by --noise-std.
     """
+    from ..codegen.tools import BuildError
     from ..experiments.specs import ControllerKind, ControllerSpec
     from ..plant import HeadingNoise
     from ..tracking import LoopConfig, RunTable, StepReference, check_task, get_trajectory
     from ..tracking import simulate as run
     from ..tracking.metrics import METRIC_UNITS
     from .kernels import kernel_stage
+    from .target import check_target_options, on_target, target_summary
 
     _reject_inapplicable(click.get_current_context(), opts)
+    check_target_options(opts)
     # Everything that can fail is checked before the simulation starts, each error naming
     # the option(s) it comes from.
     if opts["trace"] is not None:
@@ -135,6 +140,7 @@ def simulate(**opts: Any) -> None:
             value = opts[field[1]]  # the option the message is about, first
             source = f"--{field[1]} {value:g} ({source})"
         _fail(f"{source}: {exc}")
+    controller = on_target(controller, opts)
     plant = _plant_option(opts["plant"], opts["friction"])
     target: Any
     if opts["step"] is not None:
@@ -170,7 +176,10 @@ def simulate(**opts: Any) -> None:
             trace = run([controller], [target], runs, config)
     except ValueError as exc:
         _fail(f"the simulation stopped: {exc}")
+    except BuildError as exc:
+        _fail(f"--target {opts['target_mcu']}: {exc}")
     metrics = {k: float(v[0]) for k, v in trace.metrics.items()}
+    metrics.update(target_summary(trace, opts))
     if opts["trace"]:
         import csv
         import io
@@ -188,13 +197,16 @@ def simulate(**opts: Any) -> None:
         click.echo(json.dumps(metrics))
         return
     unit = "rad" if plant is None else "(output units)"
-    click.echo(f"{spec.label} on {target.name}, sigma = {sigma:g} {unit}, seed {opts['seed']}, "
+    label = controller.name if opts["target_mcu"] != "host" else spec.label
+    click.echo(f"{label} on {target.name}, sigma = {sigma:g} {unit}, seed {opts['seed']}, "
                f"{opts['duration']:g} s" + ("" if plant is None else f", plant {opts['plant']}"))
+    units = {**METRIC_UNITS, "mcu_cycles_mean": "cycles", "mcu_cycles_max": "cycles",
+             "mcu_latency_max_ms": "ms"}  # (target_summary's, on the simulated MCU)
     width = max(len(k) for k in metrics)
     values = {k: f"{v:.6g}" for k, v in metrics.items()}
     vwidth = max(len(v) for v in values.values())
     for key, value in values.items():
-        click.echo(f"  {key:<{width}}  {value:>{vwidth}}  {METRIC_UNITS[key]}")
+        click.echo(f"  {key:<{width}}  {value:>{vwidth}}  {units[key]}")
 
 
 def _plant_option(value: str, friction: str | None = None) -> Any:

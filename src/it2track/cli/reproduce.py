@@ -76,6 +76,12 @@ def _quick(config: Any) -> Any:
               "it2track[mujoco]). Much slower than the kinematic study (manifest.json's "
               "stage_s has its time); an interrupted check resumes from OUT/.physics-cache "
               "when rerun with the same --out.")
+@click.option("--chip/--no-chip", default=None,
+              help="Judge C1, C2 and D1 again with the controllers as the simulated ATmega328P "
+              "runs them (float32, measured latency), per reducer, into chip_verdicts.csv, "
+              "claims.md and the report (default: yes, except with --quick, where --chip runs "
+              "a tiny smoke version; needs the Debian packages gcc, gcc-avr, binutils-avr, "
+              "avr-libc, libsimavr-dev, else the report names what to install).")
 @click.option("--no-progress", is_flag=True, help="No progress bar or stage messages.")
 @click.option("--force", is_flag=True,
               help="Replace files in OUT of the names this run writes that it2track cannot "
@@ -83,16 +89,17 @@ def _quick(config: Any) -> Any:
 def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
               sweep_seeds: int | None, quick: bool, workers: int, scheduler: str | None,
               svg: bool | None, mcu: bool | None, mcu_grid: int, physics: bool | None,
-              no_progress: bool, force: bool, **dask: Any) -> None:
+              chip: bool | None, no_progress: bool, force: bool, **dask: Any) -> None:
     """Regenerate every result of the paper, with statistics and verdicts on its claims.
 
     Writes figures (PNG, and SVG unless --quick or --no-svg), metrics.csv, summary.csv,
-    verdicts.csv, robustness.csv, sensitivity.csv, claims.md, mcu_costs.csv, report.html and
-    manifest.json into OUT, and with the physics check physics_verdicts.csv,
-    physics_metrics.csv and physics_tracking.gif. Files appear only when complete. --quick
-    is a smoke run: every verdict it prints is marked "smoke run — not evidence". A file of
-    those names already in OUT is replaced only if OUT's manifest.json (sealed by the run that
-    wrote it) lists it with its SHA-256, or with --force; otherwise nothing runs.
+    verdicts.csv, robustness.csv, sensitivity.csv, claims.md, mcu_costs.csv,
+    chip_verdicts.csv, report.html and manifest.json into OUT, and with the physics check
+    physics_verdicts.csv, physics_metrics.csv and physics_tracking.gif. Files appear only when
+    complete. --quick is a smoke run: every verdict it prints is marked "smoke run — not
+    evidence". A file of those names already in OUT is replaced only if OUT's manifest.json
+    (sealed by the run that wrote it) lists it with its SHA-256, or with --force; otherwise
+    nothing runs.
     Figures are drawn by worker processes while the study runs; the microcontroller costs are
     measured by another process meanwhile.
     """
@@ -110,6 +117,7 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
         study_run_count,
     )
     from ..report import outputs
+    from ..report.chip import CHIP_CSV, chip_markdown, write_chip_csv
     from ..report.html import write_html
     from ..report.mcu_job import TABLE_NAME, McuJob, McuStatus, write_cost_csv
     from ..report.physics import physics_markdown
@@ -161,10 +169,16 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
         from ..report.physics import GIF_NAME, METRICS_NAME, VERDICTS_NAME
 
         also += [VERDICTS_NAME, METRICS_NAME, GIF_NAME]
+    chip_on = (not quick) if chip is None else chip
+    if chip_on:
+        also.append("chip_verdicts.csv")
     staging = _make_staging(out_dir, also, force=force)
     skipped = "--quick" if quick and not _given(ctx, "mcu") else "--no-mcu"
     mcu_job = McuJob.skipped(f"skipped with {skipped}", fou=config.main_fou, grid=mcu_grid)
+    chip_job = _ChipJob()
     try:
+        # The chip's runs go to another process while the study runs.
+        chip_job = _ChipJob.start(config, chip, quick=quick)
         if mcu:
             # The cross-compilers and simavr run in another process while the study runs.
             mcu_job = McuJob.start(out_dir=staging, fou=config.main_fou, grid=mcu_grid,
@@ -205,6 +219,8 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
                 if quick:  # every verdict a smoke run prints says what it is
                     result = _mark_smoke(result)
                 claims = result.claims
+            with stages.stage("the verdicts on the chip (waiting for them)"):
+                chip_outcome = chip_job.result(result.verdict_rows)
             renderer.submit(result, summary)
             if check is not None:
                 physics_outcome = _run_physics(config, check, result, staging, out,
@@ -225,7 +241,11 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
                                                      smoke=quick),
                     levels=outputs.levels_markdown(claims, result.verdict_rows),
                     sections=outputs.study_sections(result, claims)
-                    + "\n" + physics_markdown(physics_outcome), smoke=quick)
+                    + "\n" + physics_markdown(physics_outcome)
+                    + ("\n" + chip_markdown(chip_outcome) if chip_outcome else ""),
+                    smoke=quick)
+                if chip_outcome is not None and chip_outcome.result is not None:
+                    write_chip_csv(staging / CHIP_CSV, chip_outcome.result)
             with stages.stage("figures"), stages.figure_bar(renderer):
                 try:
                     figures = renderer.results(result)
@@ -251,13 +271,14 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
             extra={"rows": len(result.rows["seed"]), "simulations": total + result.extra_runs,
                    "mcu": mcu_costs.provenance(),
                    "physics": physics_outcome.provenance(),
+                   "chip": _chip_provenance(chip_outcome),
                    "files": sorted(p.name for p in staging.iterdir())},
         )
         with stages.stage("report.html"):
             write_html(staging / "report.html", result=result, summary=summary,
                        claims=claims, manifest=manifest, figures=figures,
                        elapsed_s=time.perf_counter() - started, mcu=mcu_costs, smoke=quick,
-                       physics=physics_outcome)
+                       physics=physics_outcome, chip=chip_outcome)
         manifest["elapsed_s"] = round(time.perf_counter() - started, 3)
         manifest["stage_s"] = stages.record()
         manifest["files"] = sorted([*(p.name for p in staging.iterdir()), "manifest.json"])
@@ -267,6 +288,7 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
             _drop_cache(out)
     finally:
         try:
+            chip_job.cancel()
             mcu_job.cancel()
         finally:  # the staging folder goes even if stopping the measurement fails
             _discard_staging(staging)
@@ -281,6 +303,121 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
         click.echo(f"  {_SMOKE_NOTE}")
     for c in claims:
         click.echo(f"  {c.id}: {c.verdict}")
+    for line in _chip_lines(chip_outcome):
+        click.echo(f"  {line}")
+
+
+#: The chip experiment of ``--quick --chip``: a smoke version (3 realisations, no extension
+#: round, a 9-point latency grid, one replay per reducer).
+QUICK_CHIP = {"first": 3, "batch": 1, "cap": 3, "points": 9, "replay": 1}
+
+
+class _ChipJob:
+    """The chip experiment (:func:`~it2track.experiments.chip.run_chip`) in a spawned process
+    while the study runs (it needs nothing of the study but its config; the comparison with
+    the study's verdicts is made when both are done), or why it does not run."""
+
+    def __init__(self, outcome: Any = None, pool: Any = None, pending: Any = None,
+                 quick: bool = False) -> None:
+        self.outcome = outcome
+        self._pool = pool
+        self._pending = pending
+        self._quick = quick
+
+    @classmethod
+    def start(cls, config: Any, chip: bool | None, *, quick: bool) -> _ChipJob:
+        """Start it, or record why not: ``--no-chip`` (nothing is written), ``--quick``
+        without ``--chip``, a missing toolchain."""
+        import multiprocessing
+
+        from ..codegen.tools import PIL_TOOLS, missing_tools
+        from ..experiments.chip import ChipConfig, run_chip
+        from ..report.chip import ChipOutcome
+
+        if chip is False:
+            return cls()
+        if chip is None and quick:
+            return cls(ChipOutcome(None, reason="skipped with --quick (add --chip for a smoke "
+                                                "version)"))
+        missing = missing_tools(PIL_TOOLS)
+        if missing:
+            why = f"the toolchain is missing: install the Debian package(s) {', '.join(missing)}"
+            click.echo(f"note: the verdicts on the chip were not judged ({why}); the report "
+                       "says so", err=True)
+            return cls(ChipOutcome(None, reason=why))
+        settings = ChipConfig(**QUICK_CHIP) if quick else ChipConfig.for_study(config)
+        pool = multiprocessing.get_context("spawn").Pool(1)
+        return cls(pool=pool, pending=pool.apply_async(run_chip, (config, settings)),
+                   quick=quick)
+
+    def result(self, host_rows: Any) -> Any:
+        """The outcome, compared with the study's ``verdicts.csv`` rows (waits for it)."""
+        from dataclasses import replace
+
+        from ..codegen.tools import BuildError, ToolMissingError
+        from ..experiments.chip import with_study
+        from ..report.chip import ChipOutcome
+
+        if self._pending is None:
+            return self.outcome
+        try:
+            got = self._pending.get()
+        except (ToolMissingError, BuildError, OSError, ValueError) as exc:
+            why = f"it failed: {type(exc).__name__}: {exc}"
+            click.echo(f"note: the verdicts on the chip were not judged ({why})", err=True)
+            return ChipOutcome(None, reason=why)
+        finally:
+            self.cancel()
+        if not got.matches:
+            click.echo("warning: the replay on simavr did not match the host C's outputs (see "
+                       "claims.md)", err=True)
+        return ChipOutcome(replace(got, rows=with_study(got.rows, host_rows)), smoke=self._quick)
+
+    def cancel(self) -> None:
+        """Stop the process (idempotent)."""
+        pool, self._pool, self._pending = self._pool, None, None
+        if pool is not None:
+            pool.terminate()
+            pool.join()
+
+
+def _chip(config: Any, result: Any, chip: bool | None, *, quick: bool) -> Any:
+    """The chip experiment's outcome, run to the end here (see :class:`_ChipJob`)."""
+    job = _ChipJob.start(config, chip, quick=quick)
+    try:
+        return job.result(() if result is None else result.verdict_rows)
+    finally:
+        job.cancel()
+
+
+def _chip_provenance(outcome: Any) -> Any:
+    if outcome is None:
+        return None
+    if outcome.result is None:
+        return {"skipped": outcome.reason}
+    r = outcome.result
+    return {"config": r.config.to_dict(), "design": r.design.to_dict(), "seconds": r.seconds,
+            "replay_matches": r.matches, "replays": len(r.replay)}
+
+
+def _chip_lines(outcome: Any) -> list[str]:
+    """The terminal's lines on the chip's verdicts."""
+    from ..experiments.chip import survival
+
+    if outcome is None:
+        return []
+    if outcome.result is None:
+        return [f"chip: not judged ({outcome.reason})"]
+    r = outcome.result
+    lines = []
+    for s in survival(r.rows):
+        lines.append(f"chip {s['reducer']} {s['claim']}: {s['kept']} of {s['host_settled']} "
+                     f"settled study levels keep their status ({len(s['changed'])} changed, "
+                     f"{len(s['open'])} unsettled on the chip)")
+    n = len(r.replay)
+    lines.append(f"chip replay on simavr: {n} runs, "
+                 + ("outputs match bit for bit" if r.matches else "outputs DO NOT match"))
+    return lines
 
 
 #: Where an unfinished physics check keeps its finished rounds (inside --out).

@@ -31,7 +31,7 @@ from ..tracking import HeadingController
 from .generate import CCode, RealType, generate_c
 from .host import HostLibrary, build_host_library
 
-__all__ = ["CHeadingController", "default_build_dir"]
+__all__ = ["CHeadingController", "default_build_dir", "raise_for_status"]
 
 FloatArray = NDArray[np.float64]
 
@@ -127,15 +127,39 @@ class CHeadingController(HeadingController):
         np.multiply(e, self.ke, out=x[:, 0]) if self.ke != 1.0 else np.copyto(x[:, 0], e)
         np.multiply(de, self.kde, out=x[:, 1]) if self.kde != 1.0 else np.copyto(x[:, 1], de)
         u, _, _, status = self.library().evaluate(x)
-        if status.any():
-            j = int(np.flatnonzero(status)[0])
-            point = f"(e={x[j, 0]:.6g}, de={x[j, 1]:.6g})"
-            code = int(status[j])
-            if code == 1:
-                raise ValueError(f"{self.name}: input {point} is NaN or inf")
-            if code == 3:
-                raise ConvergenceError(f"{self.name}: the type reducer did not converge at "
-                                       f"{point}")
-            raise ZeroFiringError(f"{self.name}: no output at {point} (status {code}: "
-                                  f"{'no rule fires' if code == 2 else 'zero lower firing'})")
+        raise_for_status(self.name, x, status)
         return u.astype(np.float64)
+
+
+def raise_for_status(name: str, x: NDArray[Any], status: NDArray[Any]) -> None:
+    """Raise what the Python system would for the first error status of a batch of calls.
+
+    Parameters
+    ----------
+    name : str
+        The controller's name, for the message.
+    x : ndarray, shape (N, 2)
+        The inputs ``(e, de)`` of the calls.
+    status : ndarray of int, shape (N,)
+        The statuses the C returned (0 = OK).
+
+    Raises
+    ------
+    ValueError
+        Status 1 (a NaN or inf input).
+    ConvergenceError
+        Status 3 (the iterative type reducer did not converge).
+    ZeroFiringError
+        Status 2 or 4 (no rule fires; zero lower firing).
+    """
+    if not status.any():
+        return
+    j = int(np.flatnonzero(status)[0])
+    point = f"(e={x[j, 0]:.6g}, de={x[j, 1]:.6g})"
+    code = int(status[j])
+    if code == 1:
+        raise ValueError(f"{name}: input {point} is NaN or inf")
+    if code == 3:
+        raise ConvergenceError(f"{name}: the type reducer did not converge at {point}")
+    raise ZeroFiringError(f"{name}: no output at {point} (status {code}: "
+                          f"{'no rule fires' if code == 2 else 'zero lower firing'})")

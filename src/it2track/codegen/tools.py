@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+import ctypes.util
 import shutil
 import subprocess
 from collections.abc import Sequence
 from pathlib import Path
 
-__all__ = ["ARM_TOOLS", "AVR_TOOLS", "MCU_PACKAGES", "MCU_TOOLS", "TOOL_PACKAGES", "BuildError",
-           "ToolMissingError", "missing_tools", "require", "run_tool"]
+__all__ = ["ARM_TOOLS", "AVR_TOOLS", "MCU_PACKAGES", "MCU_TOOLS", "PIL_TOOLS", "TOOL_PACKAGES",
+           "BuildError", "ToolMissingError", "missing_tools", "require", "run_tool"]
 
 #: Tool -> the Debian package that installs it.
 TOOL_PACKAGES: dict[str, str] = {
@@ -16,8 +17,10 @@ TOOL_PACKAGES: dict[str, str] = {
     "avr-gcc": "gcc-avr",
     "avr-g++": "gcc-avr",
     "avr-size": "binutils-avr",
+    "avr-nm": "binutils-avr",
     "avr-libc": "avr-libc",
     "simavr": "simavr",
+    "libsimavr": "libsimavr-dev",
     "arm-none-eabi-gcc": "gcc-arm-none-eabi",
     "arm-none-eabi-size": "binutils-arm-none-eabi",
     "newlib": "libnewlib-arm-none-eabi",
@@ -27,6 +30,10 @@ TOOL_PACKAGES: dict[str, str] = {
 AVR_TOOLS = ("avr-gcc", "avr-size", "avr-libc", "simavr")
 ARM_TOOLS = ("arm-none-eabi-gcc", "arm-none-eabi-size", "newlib")
 MCU_TOOLS = (*AVR_TOOLS, *ARM_TOOLS)
+#: What processor-in-the-loop (:mod:`it2track.codegen.pil`) needs: the AVR build, ``avr-nm``
+#: for the firmware's symbols, and the simulator as a library with the host compiler for the
+#: shim that drives it.
+PIL_TOOLS = ("avr-gcc", "avr-nm", "avr-libc", "gcc", "libsimavr")
 #: The Debian packages of :data:`MCU_TOOLS`, in order: the one list the CLI help, the report,
 #: the README and the docs name (``.ci/run`` installs the same).
 MCU_PACKAGES: tuple[str, ...] = tuple(dict.fromkeys(TOOL_PACKAGES[t] for t in MCU_TOOLS))
@@ -50,6 +57,12 @@ def _newlib_present() -> bool:
                                           "/usr/lib/arm-none-eabi/include/stdlib.h"))
 
 
+def _libsimavr_present() -> bool:
+    header = Path("/usr/include/simavr/sim_avr.h").exists() or Path(
+        "/usr/local/include/simavr/sim_avr.h").exists()
+    return header and ctypes.util.find_library("simavr") is not None
+
+
 def missing_tools(tools: Sequence[str]) -> list[str]:
     """Debian packages to install for ``tools`` (empty if all are present), deduplicated."""
     missing: list[str] = []
@@ -58,6 +71,8 @@ def missing_tools(tools: Sequence[str]) -> list[str]:
             ok = _avr_libc_present()
         elif tool == "newlib":
             ok = _newlib_present()
+        elif tool == "libsimavr":
+            ok = _libsimavr_present()
         else:
             ok = shutil.which(tool) is not None
         if not ok and TOOL_PACKAGES[tool] not in missing:

@@ -33,6 +33,12 @@ knows nothing else about it::
     the state only (the output at ``t_k`` is read before the input of period ``k`` is chosen:
     a plant with direct feedthrough reports the output just before the new input is applied).
     The caller may read it until the next ``step`` and must not modify it.
+``step_switched(state, u_before, u_after, switch, t)`` (optional)
+    Like ``step``, but run ``b``'s inputs are ``u_before[:, b]`` over ``[t, t + switch[b])``
+    and ``u_after[:, b]`` over the rest of the period (``switch`` shape ``(B,)``, in
+    ``[0, ts]``). The loop uses it only for controllers that apply their outputs late
+    (processor in the loop with a latency, :mod:`it2track.tracking.pil`); a switch at 0 must
+    equal ``step`` with ``u_after`` bit for bit. The kinematic robot implements it exactly.
 
 **Rules every plant follows.**
 

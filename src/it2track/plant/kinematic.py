@@ -14,6 +14,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from .base import ROBOT_INPUTS, ROBOT_OUTPUTS
 from .drive import MAX_QUADRATURE_NODES, DifferentialDrive, RobotParams
+from .switched import SwitchedDrive
 
 __all__ = ["KinematicPlant"]
 
@@ -71,6 +72,7 @@ class KinematicPlant:
     input_limits: tuple[tuple[float, float], ...]
     _half_r: float
     _w_scale: float
+    _switched: SwitchedDrive
 
     def __init__(self, robot: RobotParams, ts: float, *, quadrature_nodes: int = 4) -> None:
         if (isinstance(quadrature_nodes, bool) or not isinstance(quadrature_nodes, Integral)
@@ -159,6 +161,34 @@ class KinematicPlant:
         """
         pose, wheels = state
         return self.drive.step(pose, wheels, u)
+
+    def step_switched(self, state: KinematicState, u_before: FloatArray, u_after: FloatArray,
+                      switch: FloatArray, t: float) -> KinematicState:
+        """One period whose voltages switch once per run: ``u_before`` over ``[t, t + switch)``,
+        ``u_after`` over the rest, both parts exact (:class:`~.switched.SwitchedDrive`).
+
+        Parameters
+        ----------
+        state : tuple of ndarray
+            ``(pose, wheels)``.
+        u_before, u_after : ndarray, shape (2, B)
+            ``V_R``, ``V_L`` in V before and after the switch (used as given).
+        switch : ndarray, shape (B,)
+            Each run's switching instant after ``t``, s, in ``[0, ts]``; at 0 this is
+            :meth:`step` with ``u_after``, at ``ts`` with ``u_before``, bit for bit.
+        t : float
+            Start of the period, s.
+
+        Returns
+        -------
+        tuple of ndarray
+            The new ``(pose, wheels)``.
+        """
+        switched = self.__dict__.get("_switched")
+        if switched is None:
+            switched = self._switched = SwitchedDrive(self.drive)
+        pose, wheels = state
+        return switched.step(pose, wheels, u_before, u_after, switch)
 
     def outputs(self, state: KinematicState) -> FloatArray:
         """:data:`~it2track.plant.base.ROBOT_OUTPUTS` of the runs, shape ``(7, B)``.

@@ -34,9 +34,26 @@ FloatArray = NDArray[np.float64]
 
 
 class HeadingController:
-    """Interface of a batch heading controller (see the module docstring)."""
+    """Interface of a batch heading controller (see the module docstring).
+
+    Two optional capabilities, off by default, serve controllers that run somewhere real (the
+    processor-in-the-loop controller, :mod:`it2track.tracking.pil`):
+
+    - ``delays_output = True``: the output computed at ``t_k`` reaches the motors
+      :meth:`output_delay` seconds later (in ``[0, ts]``); until then they keep the previous
+      period's voltages (0 V before the first output). The loop advances the robot exactly
+      over the two parts of the period
+      (:class:`~it2track.plant.switched.SwitchedDrive`).
+    - ``trace_series``: names of per-step values the controller reports
+      (:meth:`step_series`), which :func:`~it2track.tracking.simulate` records beside its own
+      series (NaN for runs of other controllers).
+    """
 
     name: str
+    #: Whether :meth:`output_delay` gives the instant each output reaches the motors.
+    delays_output: bool = False
+    #: Names of the extra per-step series :meth:`step_series` reports.
+    trace_series: tuple[str, ...] = ()
 
     def initial_state(self, n: int, ts: float) -> FloatArray:
         """Per-run state at ``t = 0`` for ``n`` runs, period ``ts``: ``(n_state, n)``."""
@@ -45,6 +62,16 @@ class HeadingController:
     def output(self, e: FloatArray, de: FloatArray, state: FloatArray) -> FloatArray:
         """Control voltage ``u`` (shape ``(n,)``) for errors ``e`` and changes ``de``."""
         raise NotImplementedError
+
+    def output_delay(self, state: FloatArray) -> FloatArray:
+        """Seconds after ``t_k`` at which the output just computed reaches the motors, per
+        run (shape ``(n,)``, in ``[0, ts]``); called after :meth:`output` when
+        ``delays_output``."""
+        raise NotImplementedError
+
+    def step_series(self, state: FloatArray) -> dict[str, FloatArray]:
+        """The :attr:`trace_series` values of the step just computed, each of shape ``(n,)``."""
+        return {}
 
 
 #: Largest magnitude of a gain: beyond it a controller is pure bang-bang anyway (inputs are

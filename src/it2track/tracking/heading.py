@@ -22,6 +22,7 @@ from ..plant import DifferentialDrive, RobotParams, held_sample_index
 from ..plant.base import RobotPlant, check_robot_plant
 from ..plant.kinematic import KinematicPlant
 from ..plant.noise import NoiseRows
+from .actuation import Actuation
 from .config import ON_PATH, LoopConfig, PoseTiming
 from .controllers import HeadingController
 from .libm import atan2
@@ -139,6 +140,7 @@ class _Engine:
         groups, states = controller_groups(controllers, ctrl, cfg.ts)
 
         plant = self.plant
+        actuation = Actuation(groups, plant, 2, n_steps, record=record)
         plant_state = plant.initial_state(
             n, pose=np.ascontiguousarray(self.start[tidx].T) if n else np.empty((3, 0)))
         out = plant.outputs(plant_state)  # ROBOT_OUTPUTS rows: x, y, theta, omega_R/L, v, omega
@@ -184,6 +186,7 @@ class _Engine:
                 _wrap_inplace(np.subtract(e_meas, e_prev, out=de))
             for (c, sl), state in zip(groups, states, strict=True):
                 u[sl] = c.output(e_meas[sl], de[sl], state)
+                actuation.after_output(k, c, sl, state)
             np.add(v0, u, out=vr_req)
             np.subtract(v0, u, out=vl_req)
             np.clip(vr_req, -self.v_lim, self.v_lim, out=volts[0])
@@ -209,7 +212,7 @@ class _Engine:
             if k < n_steps:
                 if previous:
                     prev_xy[:] = pose[:2]
-                plant_state = plant.step(plant_state, volts, k * cfg.ts)
+                plant_state = actuation.step(plant_state, volts, k * cfg.ts)
                 out = plant.outputs(plant_state)
                 pose = out[:3]
             e_prev, e_meas = e_meas, e_prev
@@ -219,5 +222,6 @@ class _Engine:
         metrics = {name: value[inv] for name, value in acc.result().items()}
         series = None
         if rec is not None:
+            rec.update(actuation.recorded())
             series = {name: np.ascontiguousarray(value.T[inv]) for name, value in rec.items()}
         return metrics, series

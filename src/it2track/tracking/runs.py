@@ -202,7 +202,9 @@ class Trace:
     series : dict of str -> ndarray, shape (B, N+1)
         One array per name in :data:`TRACE_FIELDS` (axis 0: run, axis 1: time); for runs
         following reference signals, :data:`~it2track.tracking.siso.REFERENCE_FIELDS` and
-        ``"y.<name>"`` per plant output.
+        ``"y.<name>"`` per plant output. Then one per name the controllers report (their
+        ``trace_series``, e.g. the processor-in-the-loop controller's ``cycles``; NaN for runs
+        of the other controllers).
     metrics : dict of str -> ndarray, shape (B,)
         The metrics of :mod:`it2track.tracking.metrics`.
     """

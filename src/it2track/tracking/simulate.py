@@ -206,11 +206,12 @@ def _run(
         out[name][slow] = m_slow[name]
     if series is None or s_slow is None:
         return out, None
-    rec = {name: np.empty((n, config_steps + 1)) for name, config_steps in
-           ((k, engine.config.n_steps) for k in series)}  # fmt: skip
+    rec = {name: np.full((n, engine.config.n_steps + 1), np.nan) for name in
+           (*series, *(k for k in s_slow if k not in series))}  # fmt: skip
     for name, value in series.items():
         rec[name][idx] = value
-        rec[name][slow] = s_slow[name]
+    for name, value in s_slow.items():  # with the series only slow-engine controllers report
+        rec[name][slow] = value
     return out, rec
 
 

@@ -28,6 +28,7 @@ from numpy.typing import NDArray
 from ..plant import held_sample_index
 from ..plant.base import Plant, check_plant
 from ..plant.noise import NoiseRows
+from .actuation import Actuation
 from .config import LoopConfig
 from .controllers import HeadingController
 from .loopdefs import controller_groups, held_noise
@@ -148,6 +149,7 @@ class ReferenceEngine:
         groups, states = controller_groups(controllers, ctrl, cfg.ts)
 
         plant = self.plant
+        actuation = Actuation(groups, plant, 1, n_steps, record=record)
         pstate = plant.initial_state(n)
         y_all = plant.outputs(pstate)
         low, high = self.limits
@@ -169,6 +171,7 @@ class ReferenceEngine:
                 np.subtract(e_meas, e_prev, out=de)
             for (c, sl), state in zip(groups, states, strict=True):
                 u[sl] = c.output(e_meas[sl], de[sl], state)
+                actuation.after_output(k, c, sl, state)
             np.clip(u, low, high, out=u_in[0])
             np.abs(e_true, out=dist)
             acc.update(k, e_true=e_true, e_meas=e_meas, distance=dist, u=u, v_requested=(u,))
@@ -180,7 +183,7 @@ class ReferenceEngine:
                 for i, name in enumerate(plant.output_names):
                     rec[f"y.{name}"][k] = y_all[i]
             if k < n_steps:
-                pstate = plant.step(pstate, u_in, k * cfg.ts)
+                pstate = actuation.step(pstate, u_in, k * cfg.ts)
                 y_all = plant.outputs(pstate)
             e_prev, e_meas = e_meas, e_prev
 
@@ -189,5 +192,6 @@ class ReferenceEngine:
         metrics = {name: value[inv] for name, value in acc.result().items()}
         series = None
         if rec is not None:
+            rec.update(actuation.recorded())
             series = {name: np.ascontiguousarray(value.T[inv]) for name, value in rec.items()}
         return metrics, series

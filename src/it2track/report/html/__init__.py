@@ -17,12 +17,14 @@ from typing import Any
 
 from ...atomicfile import atomic_write_text
 from ...experiments.study import StudyResult
+from ..chip import ChipOutcome
 from ..counts import count_text
 from ..mcu_job import McuCosts
 from ..physics import PhysicsOutcome
 from .assumptions import assumptions_section
 from .baselines import baselines_section
 from .captions import figure_captions
+from .chip import chip_section
 from .claims import claims_section, glance
 from .env import render
 from .mcu import mcu_section
@@ -40,7 +42,8 @@ SECTIONS = (("setup", "Setup"), ("assumptions", "Assumptions"), ("results", "Res
             ("claims", "Claims"), ("baselines", "Fair baselines"),
             ("robustness", "Robustness to the open modelling choices"),
             ("physics", "Physics check (MuJoCo)"),
-            ("mcu", "Microcontroller cost"), ("summary", "Summary table"),
+            ("mcu", "Microcontroller cost"), ("chip", "The verdicts on the chip"),
+            ("summary", "Summary table"),
             ("rerun", "How to rerun"))
 
 
@@ -55,6 +58,7 @@ def render_html(
     mcu: McuCosts | None = None,
     smoke: bool = False,
     physics: PhysicsOutcome | None = None,
+    chip: ChipOutcome | None = None,
 ) -> str:
     """The report as one HTML string (see :func:`write_html`)."""
     cfg = result.config
@@ -75,11 +79,13 @@ def render_html(
         robustness_section(result, refs),
         *([] if physics is None else [physics_section(physics)]),
         *([] if mcu is None else [mcu_section(mcu, refs.get("mcu_costs"))]),
+        *([] if chip is None else [chip_section(chip)]),
         summary_section(result, summary),
         rerun_section(result, manifest, elapsed_s),
     ]
     nav = [s for s in SECTIONS if (mcu is not None or s[0] != "mcu")
-           and (physics is not None or s[0] != "physics")]
+           and (physics is not None or s[0] != "physics")
+           and (chip is not None or s[0] != "chip")]
     return str(render("page.html.j2", subtitle=sub, glance=glance(claims, smoke=smoke),
                       nav=nav, sections=sections, smoke=smoke))
 
@@ -96,6 +102,7 @@ def write_html(
     mcu: McuCosts | None = None,
     smoke: bool = False,
     physics: PhysicsOutcome | None = None,
+    chip: ChipOutcome | None = None,
 ) -> Path:
     """Write the study's self-contained HTML report.
 
@@ -124,6 +131,9 @@ def write_html(
     physics : PhysicsOutcome, optional
         The physics check (:mod:`it2track.report.physics`), run or skipped with its reason.
         Without it the page has no physics section.
+    chip : ChipOutcome, optional
+        The verdicts on the chip (:mod:`it2track.experiments.chip`) or why they were not
+        judged; without it the page has no such section.
 
     Returns
     -------
@@ -132,7 +142,7 @@ def write_html(
     """
     text = render_html(result=result, summary=summary, claims=claims, manifest=manifest,
                        figures=figures, elapsed_s=elapsed_s, mcu=mcu, smoke=smoke,
-                       physics=physics)
+                       physics=physics, chip=chip)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     atomic_write_text(path, text)
