@@ -299,3 +299,16 @@ def test_layer_messages_name_the_offending_import() -> None:
     ]
     # a layer's name is a package, not a prefix: p.lower (which imports p.high) is not in p.low
     assert layer_violations(imports, {"p.low": ("p.high",)}, ("p",)) == []
+
+
+#: A module a contributor can hold in their head: above this many lines, split it by concept
+#: (issue 18). The largest today is fuzzy/reducers.py.
+MAX_MODULE_LINES = 610
+
+
+def test_no_module_is_too_long_to_hold_in_ones_head() -> None:
+    lengths = {p.relative_to(SRC).as_posix(): len(p.read_text(encoding="utf-8").splitlines())
+               for p in (SRC / PACKAGE).rglob("*.py")}
+    assert len(lengths) > 150  # the walk sees the package (not an empty folder)
+    too_long = {name: n for name, n in lengths.items() if n > MAX_MODULE_LINES}
+    assert not too_long, f"split these by concept (> {MAX_MODULE_LINES} lines): {too_long}"

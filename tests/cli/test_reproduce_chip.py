@@ -94,7 +94,7 @@ def test_no_chip_leaves_no_output(runs):
 
 
 def test_a_missing_toolchain_is_named(monkeypatch, capsys):
-    from it2track.cli.reproduce import _chip, _chip_lines, _chip_provenance
+    from it2track.cli.reproduce_chip import _chip, _chip_lines, _chip_provenance
     from it2track.codegen import tools
     from it2track.report.chip import chip_markdown
     from it2track.report.html.chip import chip_section
@@ -110,7 +110,7 @@ def test_a_missing_toolchain_is_named(monkeypatch, capsys):
 
 
 def test_quick_skips_unless_asked():
-    from it2track.cli.reproduce import QUICK_CHIP, _chip
+    from it2track.cli.reproduce_chip import QUICK_CHIP, _chip
 
     got = _chip(_tiny_study(), None, None, quick=True)
     assert got.result is None and "skipped with --quick" in got.reason

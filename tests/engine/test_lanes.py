@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from numba import njit
 
-from it2track.plant.drive import _sincos, _sincos_small
+from it2track.plant._sincos import _sincos, _sincos_small
 from it2track.tracking import _jit
 from it2track.tracking.libm import atan2
 from it2track.tracking.simulate import _wrap_inplace

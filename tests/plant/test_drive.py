@@ -22,7 +22,7 @@ from it2track.plant import (
     body_velocity,
     continuous_rhs,
 )
-from it2track.plant.drive import _sincos
+from it2track.plant._sincos import _sincos
 
 TS = 0.01
 

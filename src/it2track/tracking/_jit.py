@@ -45,7 +45,7 @@ import math
 import numpy as np
 
 from ..fuzzy._jit import N_ROWS, N_RULES, OK, WORK_ROWS, _compiled, eval_block, fmax, fmin
-from ..plant.drive import (
+from ..plant._sincos import (
     _COS_KERNEL,
     _KERNEL_LIMIT,
     _PIO2_HI,
@@ -80,7 +80,7 @@ def _wrap(a):
 
 @_compiled(inline=True)
 def _kernels(r):
-    """drive._sincos_kernels for one value: (sin r, cos r), |r| <= pi/4."""
+    """plant._sincos._sincos_kernels for one value: (sin r, cos r), |r| <= pi/4."""
     z = r * r
     s = z * _S6
     s = (s + _S5) * z
@@ -104,7 +104,7 @@ def _kernels(r):
 
 @_compiled(inline=True)
 def _sincos(x):
-    """drive._sincos for one value."""
+    """plant._sincos._sincos for one value."""
     if abs(x) > _SINCOS_LIMIT:
         return math.sin(x), math.cos(x)
     k = np.rint(x * _TWO_OVER_PI)
@@ -206,7 +206,7 @@ def _wrap_lanes(W, row, L):
 
 @_compiled(inline=True)
 def _sincos_lanes(W, rx, rs, rc, L, small):
-    """W[rs], W[rc] = sin, cos of W[rx]: drive._sincos (``small``: drive._sincos_small) for
+    """W[rs], W[rc] = sin, cos of W[rx]: plant._sincos._sincos (``small``: _sincos_small) for
     the lanes, branch-free where it vectorises, then the rare lanes through the scalar path."""
     for j in range(L):
         x = W[rx, j]
