@@ -30,7 +30,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..fuzzy import EXHAUSTIVE, Aggregation, Implication, IT2Mamdani
-from .errorbound import EPS32, _gamma, _weighted_bound, _wu_mendel_side, firing_and_errors
+from ._errorcore import EPS32, _gamma, _weighted_bound, _wu_mendel_side, firing_and_errors
 
 __all__ = ["mamdani_float_error_bound"]
 
