@@ -67,3 +67,5 @@ def _no_physics_check_by_default(monkeypatch):
     import it2track.cli.reproduce as cli
 
     monkeypatch.setattr(cli, "_default_physics_check", lambda: None)
+    # likewise the chip experiment (tests/cli/test_reproduce_chip.py asks for it with --chip)
+    monkeypatch.setattr(cli, "_default_chip", lambda: False)

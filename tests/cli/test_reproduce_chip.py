@@ -46,7 +46,7 @@ def runs(tmp_path_factory):
         mp.setattr(cli, "_default_study_config", _tiny_study)
         mp.setenv("IT2TRACK_BUILD_DIR", str(root / "builds"))
         if not missing_tools(PIL_TOOLS):
-            out["chip"] = (root / "chip", *_run(root / "chip"))
+            out["chip"] = (root / "chip", *_run(root / "chip", "--chip"))
         out["off"] = (root / "off", *_run(root / "off", "--no-chip"))
     return out
 
