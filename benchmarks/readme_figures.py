@@ -107,7 +107,10 @@ def measure_simulate(repeats: int, out: dict[str, object]) -> None:
         out["simulate, first / warm"] = f"{wall / statistics.median(r[0] for r in runs):.2f}"
 
 
-def measure_reproduce(repeats: int, out: dict[str, object], *, cold: bool) -> None:
+def measure_reproduce(repeats: int, out: dict[str, object], *, cold: bool,
+                      extra: list[str] | None = None) -> None:
+    extra = list(extra or [])
+    label = "reproduce (default" + (f", {' '.join(extra)})" if extra else ")")
     with tempfile.TemporaryDirectory() as tmp:
         tmp_path = Path(tmp)
         first = None
@@ -115,8 +118,9 @@ def measure_reproduce(repeats: int, out: dict[str, object], *, cold: bool) -> No
             cache = tmp_path / "numba"
             cache.mkdir()
             env = {"NUMBA_CACHE_DIR": str(cache)}
-            first, a, b, _ = _timed(["reproduce", "--out", str(tmp_path / "cold")], env=env)
-            out["reproduce (default), first run (empty kernel cache)"] = (
+            first, a, b, _ = _timed(["reproduce", *extra, "--out", str(tmp_path / "cold")],
+                                    env=env)
+            out[f"{label}, first run (empty kernel cache)"] = (
                 f"{first:.1f} s (load {a:.1f}→{b:.1f})")
             status = _wait_for_compile(env)
             if status:
@@ -125,12 +129,12 @@ def measure_reproduce(repeats: int, out: dict[str, object], *, cold: bool) -> No
                     f"{status.get('cpu_seconds', float('nan')):.1f} s CPU")
         runs = []
         for k in range(repeats):
-            runs.append(_timed(["reproduce", "--out", str(tmp_path / f"warm{k}")]))
+            runs.append(_timed(["reproduce", *extra, "--out", str(tmp_path / f"warm{k}")]))
         warm = statistics.median(r[0] for r in runs)
-        out["reproduce (default), warm"] = (_median([r[0] for r in runs])
-                                            + f" (load {_loads([(r[1], r[2]) for r in runs])})")
+        out[f"{label}, warm"] = (_median([r[0] for r in runs])
+                                 + f" (load {_loads([(r[1], r[2]) for r in runs])})")
         if first is not None:
-            out["reproduce (default), first / warm"] = f"{first / warm:.2f}"
+            out[f"{label}, first / warm"] = f"{first / warm:.2f}"
         quick = [_timed(["reproduce", "--quick", "--out", str(tmp_path / f"quick{k}")])
                  for k in range(max(repeats, 3))]
         out["reproduce --quick, warm"] = (_median([r[0] for r in quick])
@@ -188,6 +192,9 @@ def main() -> None:
     parser.add_argument("--suite", action="store_true", help="also run the whole test suite")
     parser.add_argument("--skip-cold", action="store_true",
                         help="no first-run (empty cache) measurements")
+    parser.add_argument("--reproduce-args", default="",
+                        help="options added to the default reproduce, e.g. '--no-physics "
+                        "--no-chip' (what a machine without MuJoCo and the AVR toolchain runs)")
     args = parser.parse_args()
     if shutil.which("git"):
         rev = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT,
@@ -203,7 +210,8 @@ def main() -> None:
     else:
         runs = [_timed(["simulate"]) for _ in range(args.repeats)]
         out["simulate, warm"] = _median([r[0] for r in runs])
-    measure_reproduce(args.repeats, out, cold=not args.skip_cold)
+    measure_reproduce(args.repeats, out, cold=not args.skip_cold,
+                      extra=args.reproduce_args.split())
     if args.suite:
         run_suite(out)
     print()
