@@ -59,13 +59,18 @@ def pytest_collection_finish(session):
         reporter.write(" " + line + "\n", flush=True)
 
 
-@pytest.fixture(autouse=True)
-def _no_physics_check_by_default(monkeypatch):
+@pytest.fixture(autouse=True, scope="session")
+def _no_physics_check_by_default():
     """``it2track reproduce`` runs the MuJoCo physics check by default when MuJoCo is
-    installed (minutes of simulation); tests that do not ask for it run without it
-    (``tests/cli/test_reproduce_physics.py`` sets its own small check)."""
+    installed, and the verdicts on the chip when the AVR toolchain is (minutes each); tests
+    that do not ask for them run without them (``tests/cli/test_reproduce_physics.py`` sets
+    its own small check, ``tests/cli/test_reproduce_chip.py`` passes ``--chip``). Session
+    scope: module-scoped fixtures that run ``reproduce`` are set up before any
+    function-scoped one."""
     import it2track.cli.reproduce as cli
 
-    monkeypatch.setattr(cli, "_default_physics_check", lambda: None)
-    # likewise the chip experiment (tests/cli/test_reproduce_chip.py asks for it with --chip)
-    monkeypatch.setattr(cli, "_default_chip", lambda: False)
+    patch = pytest.MonkeyPatch()
+    patch.setattr(cli, "_default_physics_check", lambda: None)
+    patch.setattr(cli, "_default_chip", lambda: False)
+    yield
+    patch.undo()

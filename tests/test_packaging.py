@@ -45,7 +45,7 @@ def test_every_data_file_of_the_package_ships():
 
 def test_the_packaged_configs_are_what_the_patterns_ship():
     shipped = sorted(p.name for p in (PACKAGE / "configs").glob("*.toml"))
-    assert shipped == ["optimize.toml", "paper.toml", "sweep.toml"]
+    assert shipped == ["optimize.toml", "paper.toml", "sweep.toml", "sweep_dc_motor.toml"]
     assert not (ROOT / "configs").exists(), "the configs live in src/it2track/configs only"
 
 

@@ -69,12 +69,11 @@ def test_simulate_prints_the_plant(motor: Path) -> None:
 @pytest.mark.parametrize(
     ("args", "message"),
     [
-        (("--step", "1"), "--plant kinematic with --step: tracking a reference signal needs a "
+        (("--step", "1"), "--plant kinematic with --step 1: tracking a reference signal needs a "
                           "single-input plant"),
         (("--plant", "{motor}"), "tracking a trajectory needs a robot plant"),
         (("--plant", "{motor}", "--step", "1", "--trajectory", "curved"),
          "give either --trajectory"),
-        (("--plant", "{motor}", "--step", "nan"), "--step nan: StepReference: amplitude=nan"),
         (("--plant", "nowhere.toml", "--step", "1"), "--plant nowhere.toml: cannot read"),
         (("--plant", "motor", "--step", "1"), "give kinematic, mujoco or a .toml plant file"),
         (("--plant", "{bad}", "--step", "1"), r"unknown key(s) ['gain']"),
@@ -88,3 +87,9 @@ def test_bad_plant_options_exit_1_naming_the_option(motor: Path, args, message) 
     assert result.exit_code == 1, result.output
     assert message in result.output
     assert "Traceback" not in result.output
+
+
+def test_a_non_finite_step_is_refused_when_parsed(motor: Path) -> None:
+    result = invoke("--plant", str(motor), "--step", "nan", "--duration", "0.2")
+    assert result.exit_code == 2, result.output
+    assert "Invalid value for '--step': 'nan' must be a finite number" in result.output

@@ -55,8 +55,8 @@ def test_cycles_equal_measure_costs(build_dir):
     """The cost table's worst and mean cycles per reducer and arithmetic, over its grid."""
     skip_without(*PIL_TOOLS, "simavr", "avr-size")
     reducers = [Reducer.EXHAUSTIVE, Reducer.KM]
-    table = measure_costs(reducers=reducers, grid=4, include_type1=True, arm=False,
-                          build_dir=build_dir)
+    table = measure_costs(reducers=reducers, grid=4, include_type1=True, variants=False,
+                          arm=False, build_dir=build_dir)
     x = cost_grid(4).astype(np.float64)
     systems = {"type-1 FLC (FoU 0)": it2track.heading_fls(0.0)}
     for red in reducers:

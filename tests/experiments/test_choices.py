@@ -246,7 +246,7 @@ def test_the_baseline_is_the_studys_own_setting_and_unit_untuned_gains():
             "simulation.start_pose": (0.0, 0.0, 0.0), "simulation.desired_heading_pose":
             "current", "simulation.metric_start": 0.0, "noise.sigma": "sweep",
             "metrics.heading": "true", "controllers.ke": 1.0, "controllers.kde": 1.0,
-            "controllers.tuned": False}
+            "controllers.output_gain": 1.0, "controllers.tuned": False}
     assert {p: baseline_value(p, loop) for p in PATHS} == want
     for c in DEFAULT_CHOICES:  # every default choice starts from the study's own setting
         assert c.settings(c.default) == {p: want[p] for p in c.sets}

@@ -142,7 +142,7 @@ def _cases() -> list[Case]:
         ValueError, "inertia=1e-12")
     add("drive-resistance-1e300",
         lambda p: DifferentialDrive(RobotParams(motor=MotorParams(resistance=1e300)), 0.01),
-        ValueError, "resistance=1e+300")
+        ValueError, "resistance must be at most 1e+12 (SI units), got 1e+300")
     add("drive-zero-ts", lambda p: DifferentialDrive(RobotParams(), 0.0), ValueError,
         "ts", "0.0")
     add("drive-million-nodes",

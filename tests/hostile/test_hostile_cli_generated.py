@@ -71,6 +71,7 @@ BASE: dict[str, list[str]] = {
     "fis eval": ["fis", "eval", "{file}", "{values}", "0"],
     "surface": ["surface", "{file}", "--points", "5", "--out", "s.png"],
     "export c": ["export", "c", "--paper", "0.2", "--out", "C"],
+    "config show": ["config", "show", "paper"],
 }
 ARGUMENTS = {"file": "good.toml", "source": "good.toml", "target": "new.fis", "values": "0"}
 #: Output files a command writes into its folder: planted as the user's for "foreign".

@@ -200,7 +200,8 @@ def _load(path: str, block: str | None = None) -> AnySystem:
     try:
         return load(path, block=block)
     except (ValueError, OSError) as exc:
-        raise click.ClickException(str(exc)) from None
+        where = f"--block {block}: " if block is not None and "block" in str(exc) else ""
+        raise click.ClickException(f"{where}{exc}") from None
 
 
 _FILE = click.Path(exists=True, dir_okay=False, path_type=str)

@@ -162,7 +162,8 @@ def simulate(**opts: Any) -> None:
     try:
         check_task([target], config)
     except ValueError as exc:
-        given = "--step" if opts["step"] is not None else "--trajectory"
+        given = (f"--step {opts['step']:g}" if opts["step"] is not None
+                 else f"--trajectory {opts['trajectory']}")
         hint = ("; a single-input plant follows --step" if opts["step"] is None
                 else "; the robot follows --trajectory")
         _fail(f"--plant {opts['plant']} with {given}: {exc}{hint}")
@@ -215,7 +216,7 @@ def _plant_option(value: str, friction: str | None = None) -> Any:
     from ..plant.specs import load_plant, plant_from_dict
 
     if friction is not None and value != "mujoco":
-        _fail(f"--friction applies to --plant mujoco only, not --plant {value} (the kinematic "
+        _fail(f"--friction applies only with --plant mujoco, not --plant {value} (the kinematic "
               "robot never slips; a plant file gives its own surface)")
     try:
         if value == "mujoco" and friction is not None:

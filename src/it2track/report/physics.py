@@ -153,7 +153,7 @@ def physics_markdown(outcome: PhysicsOutcome, check: PhysicsCheck | None = None)
         f"{d.first} per controller, path and σ first, up to {d.batch} more per round while "
         f"a level is unsettled, at most {d.cap} (this run: {min(noisy)}–{max(noisy)}); "
         f"replication target {d.target:g}, {d.resamples} bootstrap resamples. "
-        f"{r.runs} simulations in {outcome.seconds:.0f} s{_resumed(outcome)}. Every level: "
+        f"{r.runs} simulations{_resumed(outcome)} (their time: `manifest.json`). Every level: "
         f"`physics_verdicts.csv`; every run: `physics_metrics.csv`.",
         "",
         "All paths together, noisy levels: the kinematic robot's status beside each "
