@@ -71,9 +71,10 @@ BASE: dict[str, list[str]] = {
     "fis eval": ["fis", "eval", "{file}", "{values}", "0"],
     "surface": ["surface", "{file}", "--points", "5", "--out", "s.png"],
     "export c": ["export", "c", "--paper", "0.2", "--out", "C"],
-    "config show": ["config", "show", "paper"],
+    "config show": ["config", "show", "{name}"],
 }
-ARGUMENTS = {"file": "good.toml", "source": "good.toml", "target": "new.fis", "values": "0"}
+ARGUMENTS = {"file": "good.toml", "source": "good.toml", "target": "new.fis", "values": "0",
+             "name": "paper"}
 #: Output files a command writes into its folder: planted as the user's for "foreign".
 FOREIGN = {"reproduce": "claims.md", "sweep": "results.csv", "optimize": "optimize.md",
            "export c": "it2.c"}
