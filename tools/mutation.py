@@ -77,7 +77,7 @@ DEFAULT_TESTS: dict[str, list[str]] = {
         "tests/experiments/test_choices.py",
         "tests/experiments/test_robustness.py::test_variants_one_at_a_time_then_factorial",
         "tests/experiments/test_robustness.py::test_a_choice_value_is_validated_against_the_loop"],
-    "it2track.io.fcl": ["tests/io/test_io_fcl.py", "tests/io/test_io_fcl_edges.py"],
+    "it2track.io.fcl": ["tests/io/test_io_fcl.py", "tests/io/test_io_fcl_dialects.py"],
     "it2track.fuzzy.mamdani": ["tests/fuzzy/test_mamdani.py", "tests/fuzzy/test_mamdani_edges.py"],
     "it2track.codegen.errorbound": [
         "tests/codegen/test_errorbound.py",
