@@ -27,6 +27,8 @@ average printed beside them, and re-measure on a quiet machine before a release.
 from __future__ import annotations
 
 import argparse
+import contextlib
+import io
 import json
 import os
 import re
@@ -159,9 +161,10 @@ def count_tests(out: dict[str, object]) -> _Counter:
     counter = _Counter()
     cwd, env = os.getcwd(), dict(os.environ)
     os.chdir(ROOT)
-    try:
-        code = pytest.main(["--collect-only", "-qq", "-p", "no:cacheprovider"],
-                           plugins=[counter])
+    try:  # pytest's per-file counts are not README's figures: only the totals are printed
+        with contextlib.redirect_stdout(io.StringIO()):
+            code = pytest.main(["--collect-only", "-qq", "-p", "no:cacheprovider"],
+                               plugins=[counter])
     finally:  # the tests' conftest sets variables the measured commands must not inherit
         os.chdir(cwd)
         os.environ.clear()

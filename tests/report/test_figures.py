@@ -325,3 +325,31 @@ def test_draft_figures_are_smaller_and_the_same_drawing(study, written, tmp_path
             assert draft.size == (round(width * DRAFT_DPI), round(height * DRAFT_DPI)), key
             assert final.size == (round(width * FIGURE_DPI), round(height * FIGURE_DPI)), key
     assert sorted(p.suffix for p in tmp_path.iterdir()) == [".png"] * len(figures)
+
+
+def test_a_draft_has_the_fixed_spacing_and_no_constrained_layout(tmp_path):
+    """A draft skips the constrained layout (it measures every label twice: a fifth of a
+    smoke run's figure CPU) and spaces its grid by _DRAFT_SPACING instead; a published figure
+    keeps its constrained layout."""
+    from matplotlib.figure import Figure
+    from matplotlib.layout_engine import ConstrainedLayoutEngine
+
+    from it2track.report.figures.style import _DRAFT_SPACING, _save
+
+    assert _DRAFT_SPACING == {"left": 0.08, "right": 0.96, "bottom": 0.12, "top": 0.88,
+                              "wspace": 0.4, "hspace": 0.6}
+    figs = {}
+    for draft in (True, False):
+        fig = Figure(figsize=(4.0, 3.0), layout="constrained")
+        grid = fig.add_gridspec(2, 2)
+        axes = [fig.add_subplot(grid[i, j]) for i in range(2) for j in range(2)]
+        inner = grid[1, 1].subgridspec(1, 2)  # a nested grid: its outer grid is spaced
+        _save(fig, tmp_path, f"draft_{draft}", svg=False, draft=draft)
+        figs[draft] = (fig, grid, axes, inner)
+    fig, grid, _, _ = figs[True]
+    assert not isinstance(fig.get_layout_engine(), ConstrainedLayoutEngine)
+    params = grid.get_subplot_params(fig)
+    assert {k: getattr(params, k) for k in _DRAFT_SPACING} == _DRAFT_SPACING
+    fig, grid, _, _ = figs[False]
+    assert isinstance(fig.get_layout_engine(), ConstrainedLayoutEngine)
+    assert grid.hspace is None and grid.wspace is None  # untouched: the layout places them

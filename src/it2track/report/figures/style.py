@@ -51,6 +51,10 @@ _RC: dict[str, Any] = {
 
 #: What a draft changes in :data:`_RC`: FreeType hinting costs more than drawing the glyphs.
 _DRAFT_RC: dict[str, Any] = {"text.hinting": "no_hinting"}
+#: A draft's subplot spacing (fractions of the figure, and of an axes for the gaps), in place
+#: of the constrained layout of the full figures.
+_DRAFT_SPACING: dict[str, float] = {"left": 0.08, "right": 0.96, "bottom": 0.12, "top": 0.88,
+                                    "wspace": 0.4, "hspace": 0.6}
 
 _FLC_COLOR = "#d62728"
 _PD_COLOR = "#7f7f7f"
@@ -123,6 +127,12 @@ def _save(fig: Figure, out_dir: Path, stem: str, *, svg: bool = True,
     png = out_dir / f"{stem}.png"
     buf = io.BytesIO()
     if draft:  # straight from matplotlib, fast zlib, no quantisation
+        # and no constrained layout, which measures every label twice (a third of a figure's
+        # CPU): the grid's fixed spacing, widened so that titles clear the row above.
+        fig.set_layout_engine("none")
+        for grid in {ax.get_subplotspec().get_topmost_subplotspec().get_gridspec()
+                     for ax in fig.axes if ax.get_subplotspec() is not None}:
+            grid.update(**_DRAFT_SPACING)
         fig.savefig(buf, format="png", dpi=DRAFT_DPI, pil_kwargs={"compress_level": 1})
         data = buf.getvalue()
     else:
