@@ -366,3 +366,23 @@ def test_every_public_parameter_is_documented():
                 if param in ("self", "cls"):
                     continue
                 assert re.search(rf"\b{param}\b.*:", doc), f"{name}: {param} undocumented"
+
+
+def test_product_weights_are_computed_once_and_equal_a_fresh_computation():
+    """The quadrature moments are cached per (generator, period, nodes): a robot built again
+    reuses them, read-only, bit for bit what a fresh computation gives; another period or
+    another node set is computed anew."""
+    from it2track.plant import drive
+
+    gen = drive._augmented_motor_matrix(RobotParams().motor)[[0, 1, 4]][:, [0, 1, 4]]
+    nodes = np.array([0.2, 0.5, 0.9])
+    first = drive._product_weights(gen, 0.01, nodes)
+    assert first is drive._product_weights(gen.copy(), 0.01, nodes.copy())
+    assert not first.flags.writeable
+    np.testing.assert_array_equal(first, drive._product_weights_of(gen, 0.01, nodes))
+    other = drive._product_weights(gen, 0.02, nodes)
+    np.testing.assert_array_equal(other, drive._product_weights_of(gen, 0.02, nodes))
+    assert not np.array_equal(other, first)
+    fewer = drive._product_weights(gen, 0.01, nodes[:2])
+    assert fewer.shape == (2, 3, 3)
+    np.testing.assert_array_equal(fewer, drive._product_weights_of(gen, 0.01, nodes[:2]))

@@ -104,6 +104,10 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
     Figures are drawn by worker processes while the study runs; the microcontroller costs are
     measured by another process meanwhile.
     """
+    from ..report.render import default_figure_workers, start_figure_server
+
+    if default_figure_workers():  # the figure workers boot while this process goes on
+        start_figure_server()
     from dataclasses import replace
 
     from tqdm import tqdm
@@ -123,7 +127,7 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
     from ..report.mcu_job import TABLE_NAME, McuJob, McuStatus, write_cost_csv
     from ..report.physics import physics_markdown
     from ..report.plan import possible_figure_keys
-    from ..report.render import FigureError, FigureRenderer, default_figure_workers
+    from ..report.render import FigureError, FigureRenderer
     from ..tracking import METRIC_NAMES
 
     started = time.perf_counter()

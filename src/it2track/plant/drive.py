@@ -22,6 +22,7 @@ voltages held (zero-order hold):
 
 from __future__ import annotations
 
+import functools
 import math
 import threading
 from dataclasses import dataclass, field
@@ -230,6 +231,27 @@ def check_stiffness(params: RobotParams, ts: float) -> None:
 
 
 def _product_weights(
+    generator: NDArray[np.float64], ts: float, nodes: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """:func:`_product_weights_of`, computed once per process for each generator, period and
+    set of nodes (a robot built again -- every controller and variant of a study builds one --
+    costs about 0.15 s of quadrature otherwise). The same numbers as computing them afresh,
+    read-only."""
+    g = np.ascontiguousarray(generator, dtype=np.float64)
+    x = np.ascontiguousarray(nodes, dtype=np.float64)
+    return _product_weights_cached(g.tobytes(), g.shape, float(ts), x.tobytes())
+
+
+@functools.lru_cache(maxsize=64)
+def _product_weights_cached(generator: bytes, shape: tuple[int, ...], ts: float,
+                            nodes: bytes) -> NDArray[np.float64]:
+    out = _product_weights_of(np.frombuffer(generator).reshape(shape), ts,
+                              np.frombuffer(nodes))
+    out.flags.writeable = False
+    return out
+
+
+def _product_weights_of(
     generator: NDArray[np.float64], ts: float, nodes: NDArray[np.float64]
 ) -> NDArray[np.float64]:
     """Moments ``int_0^ts l_j(s) expm(generator s) ds`` for the Lagrange basis ``l_j``.
