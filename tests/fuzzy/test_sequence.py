@@ -16,6 +16,7 @@ from it2track.fuzzy import (
     Input,
     IT2Set,
     IT2Sugeno,
+    Linear,
     Output,
     Rule,
     T1Mamdani,
@@ -188,3 +189,18 @@ def test_bad_sequences_and_states_are_refused() -> None:
             fls.evaluate_sequence(good, previous)
     y, state = fls.evaluate_sequence(np.empty((0, 2)), [1.0, np.nan])
     assert y.shape == (0, 2) and state[0] == 1.0 and np.isnan(state[1])
+
+
+def test_a_value_undefined_where_rules_fire_is_filled_as_fuzzylite_fills_nan() -> None:
+    # at x = 10 both 'w' rules fire fully, their consequents +-1e309 overflow: inf - inf, NaN
+    w = Input("x", (0, 10), [("a", Triangle(0, 1, 2)), ("w", Triangle(4, 10, 16))])
+    fls = T1Sugeno(inputs=[w], rules=[Rule(["a"], 1.0), Rule(["w"], Linear([1e308], 0.0)),
+                                      Rule(["w"], Linear([-1e308], 0.0))], lock_previous=True)
+    with np.errstate(over="ignore"):
+        y, state = fls.evaluate_sequence(_col([1.0, 10.0, 3.0]))
+        assert y.tolist() == [1.0, 1.0, 1.0] and state.tolist() == [1.0]
+        with pytest.raises(ZeroFiringError, match=r"has no output 'output1' at row 0 \(x=10\), "
+                           "where its rules fire"):
+            fls.evaluate_sequence(_col([10.0, 1.0]))
+        default = dataclasses.replace(fls, on_zero_firing=-3.0)
+        assert default.evaluate_sequence(_col([10.0, 1.0, 10.0]))[0].tolist() == [-3.0, 1.0, 1.0]

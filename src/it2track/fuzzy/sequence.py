@@ -1,5 +1,5 @@
 """Evaluating a sequence of inputs in order, with fuzzylite's ``lock-previous``: an output
-keeps its previous value where none of its rules fires.
+keeps its previous value where it has none of its own (no rule of it fires).
 
 A system's ``__call__`` is a pure function of its inputs: where no rule of an output fires it
 gives ``on_zero_firing`` or raises :class:`~.reducers.ZeroFiringError`, whatever came before.
@@ -9,14 +9,20 @@ on the order of evaluation. :func:`evaluate_sequence` is that order made explici
 ``x`` are successive evaluations, and the state (the last output row) is passed in and handed
 back, so a long sequence can be evaluated in chunks with the same bits.
 
-Semantics (pyfuzzylite 8's ``OutputVariable.defuzzify``): for an output with
-``lock_previous``, at a row where none of its rules fires, the value is the output's value at
-the row before (the previous chunk's last row, ``previous``, for the first); where there is
-none (``previous`` not given or NaN for it, and no earlier row) it is what ``__call__`` gives
-there: ``on_zero_firing``, or ``ZeroFiringError``. Everywhere else the value is
-``__call__``'s, bit for bit. fuzzylite's ``lock-range`` (clipping the output to its range) does
-not interact: the readers accept it only where it changes nothing, so a previous value is
-already inside the range.
+Semantics (pyfuzzylite 8's ``OutputVariable.defuzzify``, which fills every NaN with the
+previous value before applying ``default``): for an output with ``lock_previous``, at a row
+where it has no value of its own -- none of its rules fires, or its value is undefined there
+(a Sugeno formula's 0/0) -- the value is the output's value at the row before (the previous
+chunk's last row, ``previous``, for the first); where there is none (``previous`` not given or
+NaN for it, and no earlier row) it is what ``__call__`` gives there: ``on_zero_firing``, or
+``ZeroFiringError``. Everywhere else the value is ``__call__``'s, bit for bit. fuzzylite's
+``lock-range`` (clipping the output to its range) does not interact: the readers accept it only
+where it changes nothing, so a previous value is already inside the range. (A Mamdani output
+whose rules fire but whose set is empty on the grid raises, as ``__call__`` does.)
+
+Cost: where an output keeps its previous value the system is evaluated twice, with two
+placeholder ``on_zero_firing`` values, so that the rows where it has no value of its own are
+exactly those where the two differ.
 """
 
 from __future__ import annotations
@@ -70,16 +76,15 @@ def _rows(system: Any, x: FloatArray) -> FloatArray:
     return arr
 
 
-def _twin(system: Any) -> Any:
-    """``system`` with a placeholder ``on_zero_firing`` (cached), so that evaluating it never
-    raises where no rule fires: those values are replaced or refused here."""
-    if system.on_zero_firing is not None:
-        return system
-    twin = system.__dict__.get("_sequence_twin")
-    if twin is None:
-        twin = replace(system, on_zero_firing=0.0)
-        object.__setattr__(system, "_sequence_twin", twin)  # immutable system: a derived cache
-    return twin
+def _twins(system: Any) -> tuple[Any, Any]:
+    """``system`` with two placeholder ``on_zero_firing`` values (cached): evaluated with each,
+    the outputs agree wherever ``__call__`` has an output and differ exactly where it has none
+    (and would raise): those are filled or refused here, never passed on."""
+    twins = system.__dict__.get("_sequence_twins")
+    if twins is None:
+        twins = (replace(system, on_zero_firing=0.0), replace(system, on_zero_firing=1.0))
+        object.__setattr__(system, "_sequence_twins", twins)  # immutable system: derived cache
+    return twins
 
 
 def evaluate_sequence(system: Any, x: FloatArray, previous: ArrayLike | None = None
@@ -113,31 +118,39 @@ def evaluate_sequence(system: Any, x: FloatArray, previous: ArrayLike | None = N
     if not any(locks):
         y = np.asarray(system.evaluate(arr), dtype=np.float64).reshape(n, m)
         return (y[:, 0] if m == 1 else y), y[-1].copy()
-    _, upper = system.firing(*arr.T)
-    y = np.asarray(_twin(system).evaluate(arr), dtype=np.float64).reshape(n, m).copy()
+    a, b = (np.asarray(t.evaluate(arr), dtype=np.float64).reshape(n, m) for t in _twins(system))
+    y, undefined = a.copy(), a != b  # undefined: where __call__ has no output of the system's
     index = np.arange(n)
     for k in range(m):
-        rules = [r for r, rule in enumerate(system.rules) if rule.consequents[k] is not None]
-        fires = upper[:, rules].sum(axis=1) > 0
-        if fires.all():
+        none = undefined[:, k]
+        if not none.any():
             continue
-        # the output's own value (__call__'s): where a rule fires, or before any previous
-        first = int(np.argmax(fires)) if fires.any() else n
-        own = fires.copy()
+        # the output's own value (__call__'s): where it has one, and before any previous
+        own = ~none
         if not locks[k] or np.isnan(state[k]):
-            own[:first if locks[k] else n] = True
-        idle = own & ~fires
-        if idle.any() and system.zero_firing_value(k) is None:
-            i = int(np.argmax(idle))
-            point = ", ".join(f"{inp.name}={arr[i, j]:.6g}"
-                              for j, inp in enumerate(system.inputs))
-            raise ZeroFiringError(
-                f"no rule of {type(system).__name__} {system.name!r} for output "
-                f"{system.output_names[k]!r} fires at row {i} ({point}) and there is no "
-                "previous output; pass previous=, or on_zero_firing=<value> to define it there")
+            own[:int(np.argmax(own)) if locks[k] and own.any() else n] = True
+        bad = own & none
+        if bad.any():
+            zero = system.zero_firing_value(k)
+            if zero is None:
+                _raise(system, arr, k, int(np.argmax(bad)))
+            y[bad, k] = zero
         if own.all():
             continue
         last = np.maximum.accumulate(np.where(own, index, -1))
-        filled = np.where(last >= 0, y[np.maximum(last, 0), k], state[k])
-        y[:, k] = filled
+        y[:, k] = np.where(last >= 0, y[np.maximum(last, 0), k], state[k])
     return (y[:, 0] if m == 1 else y), y[-1].copy()
+
+
+def _raise(system: Any, arr: FloatArray, k: int, i: int) -> None:
+    """The ZeroFiringError of output ``k`` at row ``i`` (as ``__call__`` raises there)."""
+    _, upper = system.firing(*arr[i:i + 1].T)
+    rules = [r for r, rule in enumerate(system.rules) if rule.consequents[k] is not None]
+    point = ", ".join(f"{inp.name}={arr[i, j]:.6g}" for j, inp in enumerate(system.inputs))
+    what, out = f"{type(system).__name__} {system.name!r}", system.output_names[k]
+    if upper[0, rules].sum() > 0:
+        raise ZeroFiringError(f"{what} has no output {out!r} at row {i} ({point}), where its "
+                              "rules fire, and there is no previous output")
+    raise ZeroFiringError(
+        f"no rule of {what} for output {out!r} fires at row {i} ({point}) and there is no "
+        "previous output; pass previous=, or on_zero_firing=<value> to define it there")

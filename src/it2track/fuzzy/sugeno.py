@@ -60,9 +60,9 @@ class IT2Sugeno(_SystemBase):
         but their total lower firing is zero always raises ``ZeroFiringError``.)
     lock_previous : bool or tuple of bool
         fuzzylite's ``lock-previous`` (one per output, or one for all; default ``False``): in
-        :meth:`evaluate_sequence` the output keeps its previous value where none of its rules
-        fires. ``__call__`` stays a function of its inputs: there it gives ``on_zero_firing``
-        (or raises), as fuzzylite's first evaluation after a restart does.
+        :meth:`evaluate_sequence` the output keeps its previous value where it has none of its
+        own (no rule of it fires). ``__call__`` stays a function of its inputs: there it gives
+        ``on_zero_firing`` (or raises), as fuzzylite's first evaluation after a restart does.
     name : str
     snorm : SNorm
         S-norm of OR rules: ``SNorm.MAXIMUM`` (default) or ``SNorm.PROBOR``.
@@ -180,9 +180,9 @@ class T1Sugeno(_SystemBase):
         :class:`~it2track.fuzzy.reducers.ZeroFiringError` instead (also for ``wtsum``).
     lock_previous : bool or tuple of bool
         fuzzylite's ``lock-previous`` (one per output, or one for all; default ``False``): in
-        :meth:`evaluate_sequence` the output keeps its previous value where none of its rules
-        fires. ``__call__`` stays a function of its inputs: there it gives ``on_zero_firing``
-        (or raises), as fuzzylite's first evaluation after a restart does.
+        :meth:`evaluate_sequence` the output keeps its previous value where it has none of its
+        own (no rule of it fires). ``__call__`` stays a function of its inputs: there it gives
+        ``on_zero_firing`` (or raises), as fuzzylite's first evaluation after a restart does.
     name : str
     snorm : SNorm
         S-norm of OR rules: ``SNorm.MAXIMUM`` (default) or any other s-norm.

@@ -191,7 +191,8 @@ class _SystemBase:
     def evaluate_sequence(self, x: ArrayLike, previous: ArrayLike | None = None
                           ) -> tuple[FloatArray, FloatArray]:
         """Outputs of the rows of ``x`` (shape ``(N, n_inputs)``) evaluated in order, an output
-        with ``lock_previous`` keeping its previous value where none of its rules fires; returns
+        with ``lock_previous`` keeping its previous value where it has none of its own (no rule
+        of it fires, or its value is undefined: fuzzylite fills every NaN); returns
         ``(y, state)``, ``state`` the last output row to pass on as ``previous`` (see
         :mod:`it2track.fuzzy.sequence`). Chunks evaluated with the state passed on give the
         same bits as the whole sequence."""
