@@ -40,6 +40,23 @@ OUTPUT_NAMES: dict[str, dict[str, str]] = {
         {"A": "Ramps", "B": "Sigmoids", "C": "ZSShapes"},
 }
 
+#: files compared with a *corrected* reference: their twin evaluated by pyfuzzylite with a
+#: documented defect of the twin corrected (``make_references.py`` applies the correction,
+#: the table's header says what it changed, ``notes.CORRECTIONS`` why); the original
+#: reference stays reported beside it
+CORRECTED: dict[str, str] = {
+    # fuzzylite's .fll names the nine output terms alike; the .fis's rules index them
+    "fuzzylite/examples/original/takagi-sugeno/matlab/juggler.fis": "terms-apart",
+    "fuzzylite/examples/takagi-sugeno/matlab/juggler.fis": "terms-apart",
+    # fuzzylite's importer read MATLAB's AggMethod='sum' as probabilistic OR
+    "fuzzylite/examples/original/mamdani/octave/mamdani_tip_calculator.fis": "unbounded-sum",
+    # fuzzylite read Octave's hedge fractions as its own hedges, not Octave's powers
+    "fuzzylite/examples/original/mamdani/octave/investment_portfolio.fis": "octave-powers",
+    "fuzzylite/examples/original/takagi-sugeno/octave/sugeno_tip_calculator.fis":
+        "octave-powers",
+    "octave/inst/sugeno_tip_calculator.fis": "octave-powers",
+}
+
 
 @dataclass(frozen=True)
 class Example:
@@ -74,6 +91,21 @@ class Example:
         names = [f"{stem}.csv"] if points is None else [f"{stem}@{points}.csv", f"{stem}.csv"]
         return next((REFERENCES / n for n in names if (REFERENCES / n).exists()), None)
 
+    def variant(self, tag: str) -> Path | None:
+        """The reference table ``tag`` of :attr:`reference` (``@tag`` before ``.csv``), or
+        None: ``sequence`` (the twin evaluated in order with its ``lock-previous``) or a
+        correction of :data:`CORRECTED`."""
+        base = self.reference
+        if base is None:
+            return None
+        table = base.with_name(base.name.removesuffix(".csv") + f"@{tag}.csv")
+        return table if table.exists() else None
+
+    @property
+    def correction(self) -> str | None:
+        """The correction of this file's reference (:data:`CORRECTED`), or None."""
+        return CORRECTED.get(self.path)
+
 
 def twin_of(path: str) -> str | None:
     """The ``.fll`` whose pyfuzzylite evaluation is ``path``'s reference."""
@@ -98,6 +130,16 @@ def examples() -> list[Example]:
     found = sorted(p.relative_to(FILES).as_posix() for p in FILES.rglob("*")
                    if p.suffix in SUFFIXES)
     return [Example(path, twin_of(path)) for path in found]
+
+
+def corrections() -> dict[tuple[str, int | None], set[tuple[str, str]]]:
+    """``(twin, resolution)`` -> the ``(correction, example path)`` pairs it is needed for."""
+    needed: dict[tuple[str, int | None], set[tuple[str, str]]] = {}
+    for example in examples():
+        if example.correction is not None and example.twin is not None:
+            key = (example.twin, POINTS[example.suffix])
+            needed.setdefault(key, set()).add((example.correction, example.path))
+    return needed
 
 
 def twins() -> dict[str, set[int | None]]:

@@ -10,6 +10,12 @@ where a Tsukamoto set is read beyond its range) it2track must have none either -
 :class:`~it2track.fuzzy.ZeroFiringError` or the ``ValueError`` of a set without an inverse --
 or, for a MATLAB ``.fis``, MATLAB's documented fallback (the middle of the output range) at a
 point where none of its rules fires.
+
+A file that keeps an output's previous value where no rule fires (fuzzylite's
+``lock-previous``, FCL's ``NC``) is evaluated as a sequence, the reference table's rows in
+order from a fresh start (``evaluate_sequence``), against the twin evaluated so
+(``...@sequence.csv``). A file of ``catalog.CORRECTED`` is compared with its corrected
+reference; its difference from the original reference is kept for the docs.
 """
 
 from __future__ import annotations
@@ -45,6 +51,8 @@ class Result:
     points: int = 0
     fallback: int = 0  # points where neither engine has a rule firing
     warnings: tuple[str, ...] = field(default=())
+    table: str = ""  # "sequence", a correction of catalog.CORRECTED, or "" (the twin as is)
+    original: str = ""  # with a correction: the comparison with the uncorrected reference
 
 
 def _reference(path: Path) -> tuple[list[str], list[tuple[float, float]], np.ndarray]:
@@ -73,7 +81,34 @@ def _single(system, k: int):
     if outputs:
         outputs = (outputs[k],)
     return dataclasses.replace(system, rules=tuple(rules), outputs=outputs,
-                               on_zero_firing=system.zero_firing_value(k))
+                               on_zero_firing=system.zero_firing_value(k),
+                               lock_previous=system.keeps_previous(k))
+
+
+def _locks(system) -> bool:
+    return any(system.keeps_previous(k) for k in range(system.n_outputs))
+
+
+def _ours_in_order(system, x: np.ndarray) -> np.ndarray:
+    """Outputs ``(N, m)`` of the rows evaluated in order from a fresh start, each output
+    keeping its previous value where it has one; NaN where it2track has none (no rule fires,
+    and no previous output and no default), the state then unchanged, as fuzzylite's."""
+    m = system.n_outputs
+    try:
+        y, _ = system.evaluate_sequence(x)
+        return np.asarray(y, dtype=float).reshape(len(x), m)
+    except ValueError:
+        out = np.empty((len(x), m))
+        parts = [_single(system, k) for k in range(m)]
+        state = [None] * m
+        for i in range(len(x)):
+            for k, part in enumerate(parts):
+                try:
+                    y, state[k] = part.evaluate_sequence(x[i:i + 1], state[k])
+                    out[i, k] = float(y[0])
+                except ValueError:
+                    out[i, k] = np.nan
+        return out
 
 
 def _ours(system, x: np.ndarray) -> np.ndarray:
@@ -114,7 +149,21 @@ def check(example: Example) -> Result:
     if example.reference is None:
         why = "no twin .fll" if example.twin is None else "pyfuzzylite cannot evaluate its twin"
         return Result(example, "loads", why, warnings=noted)
-    names, spans, rows = _reference(example.reference)
+    tag = "sequence" if _locks(system) else example.correction or ""
+    table = example.variant(tag) if tag else example.reference
+    if table is None:
+        return Result(example, "loads", f"no {tag} reference table", warnings=noted, table=tag)
+    result = _compare(example, system, table, noted, in_order=tag == "sequence")
+    if example.correction is None or tag == "sequence":
+        return result
+    original = _compare(example, system, example.reference, noted, in_order=False)
+    return dataclasses.replace(result, table=tag, original=original.detail or "agrees")
+
+
+def _compare(example: Example, system, table: Path, noted: tuple[str, ...], *, in_order: bool
+             ) -> Result:
+    """``system`` against the reference ``table`` (its rows in order with ``in_order``)."""
+    names, spans, rows = _reference(table)
     n_in = len(names) - len(spans)
     x, ref = rows[:, :n_in], rows[:, n_in:]
     # jFuzzyLogic sorts its variables by name: put them in it2track's order
@@ -133,7 +182,7 @@ def check(example: Example) -> Result:
     if system.n_inputs != n_in or system.n_outputs != ref.shape[1]:
         return Result(example, "differs", f"{system.n_inputs} inputs and {system.n_outputs} "
                       f"outputs; the reference has {n_in} and {ref.shape[1]}", warnings=noted)
-    ours = _ours(system, x)
+    ours = _ours_in_order(system, x) if in_order else _ours(system, x)
     worst, fallback, problems = 0.0, 0, []
     idle = None
     for k in range(ref.shape[1]):
@@ -157,13 +206,13 @@ def check(example: Example) -> Result:
                                 f"fires), reference {r!r}")
             else:
                 worst = max(worst, abs(o - r) / scale)
-    fallback //= 1
+    tag = "sequence" if in_order else ""
     if problems:
         return Result(example, "differs", f"{len(problems)} points: {problems[0]}", worst,
-                      len(x), fallback, noted)
+                      len(x), fallback, noted, tag)
     status = "agrees" if worst <= TOLERANCE else "differs"
     detail = "" if status == "agrees" else f"largest difference {worst:.3g} of the range"
-    return Result(example, status, detail, worst, len(x), fallback, noted)
+    return Result(example, status, detail, worst, len(x), fallback, noted, tag)
 
 
 def results() -> list[Result]:

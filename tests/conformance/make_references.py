@@ -22,7 +22,15 @@ sampling).
 
 Statelessness. ``lock-previous`` is turned off (the reference is the engine's first evaluation
 after a restart); everything else is as the file says, including fuzzylite's ``default: nan``
-where no rule fires (written ``nan``).
+where no rule fires (written ``nan``). A twin with a ``lock-previous: true`` output has a second
+table, ``...@sequence.csv``: the engine restarted once, then the grid's rows processed in order
+with ``lock-previous`` as the file says (pyfuzzylite fills a batch's rows in order, the same as
+processing them one at a time); it is the reference of the files that keep it (it2track's
+``evaluate_sequence``).
+
+Corrections. The files of ``catalog.CORRECTED`` are compared with their twin corrected where
+the twin has a documented defect (``notes.CORRECTIONS`` says which and why):
+``...@<correction>.csv``, its header naming the change; the uncorrected table stays.
 """
 
 from __future__ import annotations
@@ -34,7 +42,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).parent))
-from catalog import FILES, REFERENCES, twins
+from catalog import FILES, REFERENCES, corrections, twins
 from grids import grid
 
 _MIDPOINTS = []  # fuzzylite's own Op.midpoints, kept at the first evaluation
@@ -45,10 +53,75 @@ def _matlab_points(start: float, end: float, resolution: int) -> np.ndarray:
     return np.linspace(start, end, resolution)
 
 
-def evaluate(path: Path, resolution: int | None
-             ) -> tuple[list[str], list[tuple[float, float]], np.ndarray]:
-    """``(column names, output ranges, rows)``: inputs then outputs of ``path`` evaluated by
-    pyfuzzylite."""
+def _fis_rule_outputs(path: Path) -> list[int]:
+    """The first output index of each rule of a ``.fis`` (``a1 ... an, c1 ... (w) : k``)."""
+    text = path.read_text()
+    rows = text[text.index("[Rules]") + len("[Rules]"):].splitlines()
+    return [int(float(row.split(",")[1].split()[0])) for row in rows if "," in row]
+
+
+def _terms_apart(engine, fl, example: Path) -> str:
+    """fuzzylite's .fll of MATLAB's juggler.fis names its nine output terms alike; rename them
+    apart and let each rule name the term its ``.fis`` rule indexes."""
+    (output,) = engine.output_variables
+    name = output.terms[0].name
+    for k, term in enumerate(output.terms):
+        term.name = f"{name}{k + 1}"
+    block = engine.rule_blocks[0]
+    texts = [r.text for r in block.rules]
+    index = _fis_rule_outputs(example)
+    assert len(index) == len(texts) and all(t.endswith(f" is {name}") for t in texts)
+    block.rules = [fl.Rule.create(f"{t}{k}", engine) for t, k in zip(texts, index, strict=True)]
+    return (f"output terms renamed {name}1..{name}{len(output.terms)}, each rule naming the "
+            f"one its .fis rule indexes ({example.name}: {' '.join(map(str, index))})")
+
+
+def _unbounded_sum(engine, fl, example: Path) -> str:
+    """MATLAB's and Octave's ``AggMethod='sum'``, which fuzzylite's importer read as
+    ``AlgebraicSum``."""
+    for ov in engine.output_variables:
+        assert type(ov.aggregation).__name__ == "AlgebraicSum"
+        ov.aggregation = fl.UnboundedSum()
+    return "aggregation: AlgebraicSum replaced by UnboundedSum (MATLAB's and Octave's 'sum')"
+
+
+def _octave_powers(engine, fl, example: Path) -> str:
+    """Octave's hedges (a rule index's fraction): an antecedent's membership to the power p,
+    a conclusion's firing to the power 1/p, one rule per conclusion."""
+    import re
+
+    factory = fl.settings.factory_manager.hedge
+    for word, p in {"somewhat": 0.5, "very": 2.0, "extremely": 3.0}.items():
+        factory.constructors[f"p{word}"] = lambda p=p, w=word: fl.HedgeLambda(
+            f"p{w}", lambda x: np.asarray(x) ** p)
+        factory.constructors[f"r{word}"] = lambda p=p, w=word: fl.HedgeLambda(
+            f"r{w}", lambda x: np.asarray(x) ** (1.0 / p))
+    hedge = re.compile(r"\b(somewhat|very|extremely)\b")
+    block = engine.rule_blocks[0]
+    rules = []
+    for text in [r.text for r in block.rules]:
+        cond, then = text.split(" then ")
+        then, _, weight = then.partition(" with ")
+        cond = hedge.sub(r"p\1", cond)
+        for part in then.split(" and "):
+            part = hedge.sub(r"r\1", part)
+            rules.append(fl.Rule.create(
+                f"{cond} then {part}" + (f" with {weight}" if weight else ""), engine))
+    block.rules = rules
+    return ("hedges somewhat/very/extremely read as Octave's powers 0.5/2/3 of an antecedent's "
+            "membership and 1/p of a conclusion's firing, one rule per conclusion")
+
+
+CORRECT = {"terms-apart": _terms_apart, "unbounded-sum": _unbounded_sum,
+           "octave-powers": _octave_powers}
+
+
+def evaluate(path: Path, resolution: int | None, *, sequence: bool = False,
+             correction: tuple[str, Path] | None = None
+             ) -> tuple[list[str], list[tuple[float, float]], np.ndarray, str]:
+    """``(column names, output ranges, rows, correction made)``: inputs then outputs of
+    ``path`` evaluated by pyfuzzylite (in order with its lock-previous, with ``sequence``; with
+    ``correction`` = (name, example file) corrected as :data:`CORRECT` says)."""
     import fuzzylite as fl
 
     # where the defuzzifiers sample: MATLAB's points, or fuzzylite's own midpoints for a .fll
@@ -56,11 +129,13 @@ def evaluate(path: Path, resolution: int | None
         _MIDPOINTS.append(fl.Op.midpoints)
     fl.Op.midpoints = staticmethod(_matlab_points if resolution is not None else _MIDPOINTS[0])
     engine = fl.FllImporter().from_file(path)
+    changed = "" if correction is None else CORRECT[correction[0]](engine, fl, correction[1])
     ranges = [(iv.minimum, iv.maximum) for iv in engine.input_variables]
     x = grid(ranges)
     spans = [(ov.minimum, ov.maximum) for ov in engine.output_variables]
     for ov in engine.output_variables:
-        ov.lock_previous = False
+        if not sequence:
+            ov.lock_previous = False
         d = ov.defuzzifier
         if isinstance(d, fl.IntegralDefuzzifier) and resolution is not None:
             d.resolution = resolution
@@ -69,7 +144,14 @@ def evaluate(path: Path, resolution: int | None
     engine.process()
     y = np.atleast_2d(engine.output_values).reshape(len(x), -1)
     names = [v.name for v in engine.input_variables] + [v.name for v in engine.output_variables]
-    return names, spans, np.hstack([x, y])
+    return names, spans, np.hstack([x, y]), changed
+
+
+def locks(path: Path) -> bool:
+    """Whether any output of ``path`` has ``lock-previous: true``."""
+    import fuzzylite as fl
+
+    return any(ov.lock_previous for ov in fl.FllImporter().from_file(path).output_variables)
 
 
 def mamdani(path: Path) -> bool:
@@ -81,15 +163,22 @@ def mamdani(path: Path) -> bool:
                for ov in engine.output_variables)
 
 
-def table(twin: str, resolution: int | None) -> str:
-    names, spans, rows = evaluate(FILES / twin, resolution)
+def table(twin: str, resolution: int | None, *, sequence: bool = False,
+          correction: tuple[str, str] | None = None) -> str:
+    fixed = None if correction is None else (correction[0], FILES / correction[1])
+    names, spans, rows, changed = evaluate(FILES / twin, resolution, sequence=sequence,
+                                           correction=fixed)
     import fuzzylite as fl
 
     lines = [f"# pyfuzzylite {fl.__version__} (numpy {np.__version__}) evaluating {twin}",
              "# at " + ("its own resolution N, at fuzzylite's midpoints" if resolution is None
-                        else f"{resolution} points, both ends included"),
-             "# output ranges: " + "; ".join(f"{lo!r} {hi!r}" for lo, hi in spans),
-             ",".join(names)]
+                        else f"{resolution} points, both ends included")]
+    if sequence:
+        lines.append("# in order from a restart, lock-previous as the file says")
+    if correction is not None:
+        lines.append(f"# corrected ({correction[0]}, for {correction[1]}): {changed}")
+    lines += ["# output ranges: " + "; ".join(f"{lo!r} {hi!r}" for lo, hi in spans),
+              ",".join(names)]
     lines += [",".join(repr(float(v)) for v in row) for row in rows]
     return "\n".join(lines) + "\n"
 
@@ -108,8 +197,23 @@ def main(argv: list[str]) -> int:
             name = f"{stem}.csv" if resolution is None else f"{stem}@{resolution}.csv"
             try:
                 wanted[name] = table(twin, resolution)
+                if locks(FILES / twin):
+                    wanted[name.replace(".csv", "@sequence.csv")] = table(
+                        twin, resolution, sequence=True)
             except Exception as exc:
                 print(f"{twin}: pyfuzzylite fails: {type(exc).__name__}: {exc}")
+    for (twin, resolution), needs in sorted(corrections().items(), key=str):
+        stem = twin.replace("/", "__")
+        if not mamdani(FILES / twin):
+            resolution = None
+        base = f"{stem}.csv" if resolution is None else f"{stem}@{resolution}.csv"
+        for correction in sorted({c for c, _ in needs}):
+            examples = sorted(p for c, p in needs if c == correction)
+            texts = {table(twin, resolution, correction=(correction, p)).split("\n", 3)[3]
+                     for p in examples}  # after the header: the same for every file
+            assert len(texts) == 1, f"{twin} {correction}: the files need different tables"
+            wanted[base.replace(".csv", f"@{correction}.csv")] = table(
+                twin, resolution, correction=(correction, examples[0]))
     stale = sorted(p.name for p in REFERENCES.glob("*.csv")
                    if p.name not in wanted and not p.name.endswith("@jfl.csv"))
     changed = [n for n, text in wanted.items()

@@ -20,7 +20,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).parent))
 from catalog import FILES
 from harness import TOLERANCE, Result, results
-from notes import NOTES, refusal_cause
+from notes import CORRECTIONS, NOTES, refusal_cause
 
 from it2track.io import load
 
@@ -72,10 +72,25 @@ def publisher_values() -> list[str]:
     return lines
 
 
+#: refusal causes (notes.REFUSALS) of files that are not fuzzy systems
+NOT_A_SYSTEM = "not a fuzzy system"
+
+
+def not_a_system(r: Result) -> bool:
+    """Whether ``r`` is a file refused because it is no fuzzy system (no output, an output
+    without terms, no rules)."""
+    cause = refusal_cause(r.detail) if r.status == "refused" else None
+    return cause is not None and cause[0].startswith(NOT_A_SYSTEM)
+
+
 def render(found: list[Result]) -> str:
     """The page's text."""
     total = len(found)
     agree = sum(r.status == "agrees" for r in found)
+    systems = [r for r in found if not not_a_system(r)]
+    agree_systems = sum(r.status == "agrees" for r in systems)
+    in_order = [r for r in found if r.table == "sequence"]
+    corrected = [r for r in found if r.example.correction is not None]
     lines = [
         "# Conformance: the files users already have",
         "",
@@ -83,9 +98,12 @@ def render(found: list[Result]) -> str:
         "",
         f"it2track loads the public example files of MATLAB, Octave, fuzzylite and "
         f"jFuzzyLogic unmodified and compares each with a reference: **{agree} of {total} "
-        f"files ({100 * agree / total:.1f} %) load and agree**. The files, their licences and "
-        "where each came from are in `tests/conformance/files/` (`SOURCES.md`); the test "
-        "`tests/conformance/test_conformance.py` runs them all.",
+        f"files ({100 * agree / total:.1f} %) load and agree**. Of the {len(systems)} files "
+        f"that are fuzzy systems (the other {total - len(systems)} declare no output, an "
+        f"output without terms, or no rules: see the refusals below), **{agree_systems} "
+        f"({100 * agree_systems / len(systems):.1f} %) load and agree**. The files, their "
+        "licences and where each came from are in `tests/conformance/files/` (`SOURCES.md`); "
+        "the test `tests/conformance/test_conformance.py` runs them all.",
         "",
         "A file *agrees* when at every point of its reference table each output is within "
         f"{TOLERANCE:g} of the output's range of the reference, and where the reference has no "
@@ -98,6 +116,16 @@ def render(found: list[Result]) -> str:
         "points for `.fis`, jFuzzyLogic's 1000 intervals for `.fcl`, fuzzylite's own midpoints "
         "for `.fll` (`tests/conformance/make_references.py` and `make_jfl_references.py` "
         "regenerate the tables and explain how).",
+        "",
+        "A file that keeps an output's previous value where no rule fires (fuzzylite's "
+        "`lock-previous: true`, `LockPrevious=1`, FCL's `DEFAULT := ... NC`) is evaluated as "
+        "a sequence, its reference table's rows in order from a fresh start "
+        "(`system.evaluate_sequence`), against its twin evaluated by pyfuzzylite in the same "
+        f"order with the same setting (`...@sequence.csv`); {len(in_order)} files are "
+        "evaluated so. "
+        f"{len(corrected)} files are compared with a corrected reference, where the twin has a "
+        "documented defect (listed below with the correction and the original reference's "
+        "difference).",
         "",
         "## Summary",
         "",
@@ -119,6 +147,18 @@ def render(found: list[Result]) -> str:
         c = Counter(r.status for r in mine)
         lines.append(f"| `{suffix}` | {len(mine)} | {c['agrees']} | {c['refused']} |")
     lines += ["", "## The publishers' own values", "", *publisher_values()]
+    lines += ["", "## Compared with a corrected reference", "",
+              "The twin of each of these files has a defect, corrected in the reference it is "
+              "compared with (`tests/conformance/make_references.py` applies the correction; "
+              "the table's header names it). The original reference and its difference stay "
+              "reported:", ""]
+    for r in corrected:
+        table = r.example.variant(r.example.correction or "")
+        name = table.name if table is not None else "(missing)"
+        result = "agrees" if r.status == "agrees" else r.detail
+        lines += [f"- `{r.example.path}`: {result} with the corrected reference "
+                  f"`{name}` ({_magnitude(r.error)}); against the original reference: "
+                  f"{r.original or r.status}. {CORRECTIONS.get(r.example.path, '')}"]
     lines += ["", "## Where it2track differs from the reference", ""]
     for r in found:
         if r.status == "differs":
@@ -141,7 +181,9 @@ def render(found: list[Result]) -> str:
     lines += ["", "## Every file", "", "| file | result | largest difference (of the range) |",
               "|---|---|---|"]
     for r in found:
-        lines.append(f"| `{r.example.path}` | {STATUS[r.status]} | {_magnitude(r.error)} |")
+        how = {"": "", "sequence": " (in order)"}.get(r.table, " (corrected reference)")
+        lines.append(f"| `{r.example.path}` | {STATUS[r.status]}{how} | "
+                     f"{_magnitude(r.error)} |")
     return "\n".join(lines) + "\n"
 
 

@@ -1,7 +1,9 @@
 """Where it2track's output differs from a file's reference, which is right and why.
 
 Every file the harness finds differing must have a note here, and every note must belong to a
-file that differs (the conformance test checks both). Every refused file's reason matches one
+file that differs (the conformance test checks both). A file compared with a corrected
+reference has its note in :data:`CORRECTIONS` instead: the original reference's defect and
+the correction. Every refused file's reason matches one
 of :data:`REFUSALS`, which says why it stays refused. Each note names the evidence; the
 claims about pyfuzzylite are re-checked by ``test_conformance.py`` where pyfuzzylite is
 installed.
@@ -11,26 +13,27 @@ from __future__ import annotations
 
 _SUM = (
     "The file's AggMethod='sum' is MATLAB's and Octave's sum of the implied output sets; "
-    "fuzzylite's .fll of it says `aggregation: AlgebraicSum` (probabilistic OR), how "
-    "fuzzylite's importer read 'sum' when it wrote the file. it2track follows MATLAB and "
-    "Octave; with UnboundedSum instead, pyfuzzylite agrees with it2track to 1e-15. "
-    "The reference is wrong."
+    "fuzzylite's .fll of it, the original reference, says `aggregation: AlgebraicSum` "
+    "(probabilistic OR), how fuzzylite's importer read 'sum' when it wrote the file. The "
+    "corrected reference is pyfuzzylite with UnboundedSum (the sum) in its place."
 )
 _JUGGLER = (
-    "fuzzylite's .fll of MATLAB's juggler.fis names all nine output terms out1mf, so every "
-    "rule names one term (pyfuzzylite 8 binds the last, as it2track reads the .fll, with a "
-    "warning; fuzzylite 6 bound the first). MATLAB's rules index the nine planes; it2track "
-    "reads the .fis so, and with the terms renamed apart pyfuzzylite agrees with it to 1e-16. "
-    "The reference is wrong."
+    "fuzzylite's .fll of MATLAB's juggler.fis, the original reference, names all nine output "
+    "terms out1mf, so every rule names one term (pyfuzzylite 8 binds the last, as it2track "
+    "reads the .fll, with a warning; fuzzylite 6 bound the first). The .fis's rules index "
+    "the terms: the corrected reference is pyfuzzylite with the terms renamed apart "
+    "(out1mf1..out1mf9) and each rule naming the term its .fis rule indexes (MATLAB's "
+    "original: rule k the k-th plane; fuzzylite 6's export of it: the first for every rule, "
+    "as fuzzylite 6 bound them)."
 )
 _OCTAVE_HEDGES = (
     "Octave writes a hedge as a rule index's fraction and means a power (fuzzy-logic-toolkit's "
     "get_mf_index_and_hedge, evalmf, eval_rules_sugeno): 2.3 is set 2 to the power 3 on an "
     "antecedent and the rule's firing to the power 1/3 on a Sugeno conclusion, each "
     "conclusion on its own. fuzzylite read .3 as its own 'extremely' (2 mu^2 below 1/2) when "
-    "it wrote the .fll reference, and hands a hedged conclusion's degree on to the next. "
-    "it2track reads the Octave file as Octave evaluates it; pyfuzzylite given Octave's powers "
-    "(and one rule per conclusion) agrees with it to 4e-16. The reference is wrong."
+    "it wrote the .fll, the original reference, and hands a hedged conclusion's degree on to "
+    "the next. The corrected reference is pyfuzzylite given Octave's powers (and one rule per "
+    "conclusion)."
 )
 _ROBOT = (
     "jFuzzyLogic steps along the output range by repeated addition, so its last grid point "
@@ -40,7 +43,9 @@ _ROBOT = (
     "range end itself, as the term and the range say."
 )
 
-NOTES: dict[str, str] = {
+#: the files compared with a corrected reference (``catalog.CORRECTED``): the original
+#: reference's defect and what the correction changes (the table's header says it too)
+CORRECTIONS: dict[str, str] = {
     "fuzzylite/examples/original/mamdani/octave/mamdani_tip_calculator.fis": _SUM,
     "fuzzylite/examples/original/takagi-sugeno/matlab/juggler.fis": _JUGGLER,
     "fuzzylite/examples/original/mamdani/octave/investment_portfolio.fis": _OCTAVE_HEDGES,
@@ -48,6 +53,9 @@ NOTES: dict[str, str] = {
         _OCTAVE_HEDGES,
     "octave/inst/sugeno_tip_calculator.fis": _OCTAVE_HEDGES,
     "fuzzylite/examples/takagi-sugeno/matlab/juggler.fis": _JUGGLER,
+}
+
+NOTES: dict[str, str] = {
     "fuzzylite/examples/original/takagi-sugeno/matlab/sltbu.fis": (
         "MATLAB's file gives its ranges as [-pi/4 pi/4]; fuzzylite's copy of it (sltbu_fl, "
         "the reference) rounds them to +-0.7853982, 3.7e-8 beyond pi/4. The reference grid's "
@@ -87,15 +95,10 @@ REFUSALS: list[tuple[str, str, str]] = [
     ("no rule has a consequent for output", "an output no rule concludes",
      "arm.fcl declares an output (torque2) that no rule concludes. it2track's systems need a "
      "rule per output; reading the file without it would change the file."),
-    ("needs state", "state: keep the previous output",
-     "DEFAULT := NC / lock-previous keep the last output where no rule fires: the output "
-     "depends on the previous call. it2track's systems are functions of their inputs "
-     "(bit-for-bit reproducible whatever the batch); state belongs to the caller's loop."),
-    ("which needs state", "state: keep the previous output", ""),
-    ("(state)", "state: keep the previous output", ""),
     ("never evaluates text", "a formula in text (fuzzylite's Function)",
      "Evaluating a formula from a file means running text as code; it2track never does "
      "(hostile input is normal input)."),
+    ("reads functions linear in the inputs", "a formula in text (fuzzylite's Function)", ""),
     ("rule mentions no input", "a chained rule lost in a .fis export",
      "fuzzylite wrote the chained rules of Laundry/SimpleDimmerChained/SimpleDimmerInverse "
      "to .fis with antecedent index 0 (a .fis cannot name an output in a condition): the "

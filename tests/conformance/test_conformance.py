@@ -14,10 +14,10 @@ import numpy as np
 import pytest
 
 sys.path.insert(0, str(Path(__file__).parent))
-from catalog import FILES, REFERENCES, examples, twins
+from catalog import CORRECTED, FILES, REFERENCES, examples, twins
 from harness import check, results
 from make_table import PAGE, render
-from notes import NOTES, refusal_cause
+from notes import CORRECTIONS, NOTES, refusal_cause
 
 from it2track.fuzzy import Aggregation
 from it2track.io import FisFormatWarning, load
@@ -33,6 +33,9 @@ def test_example_agrees_differs_as_noted_or_is_refused_with_its_line(example) ->
         assert result.detail, "a refusal says why"
         assert refusal_cause(result.detail), f"notes.REFUSALS has no cause for {result.detail}"
         return
+    if example.path in CORRECTED:  # compared with the corrected twin, the original kept
+        assert result.table == CORRECTED[example.path] and result.original, example.path
+        assert result.original != "agrees", f"{example.path}: the correction changes nothing"
     if example.path in NOTES:
         assert result.status == "differs", f"the note on {example.path} is stale: it agrees"
         return
@@ -51,6 +54,31 @@ def test_every_twin_has_its_reference_table_and_no_table_is_stale() -> None:
                    for r in resolutions)
     names.update(p.name for p in REFERENCES.glob("*@jfl.csv"))
     assert names == {p.name for p in REFERENCES.glob("*.csv")}
+
+
+def test_every_correction_has_its_note_and_its_table_says_what_it_changed() -> None:
+    assert set(CORRECTIONS) == set(CORRECTED)
+    for example in (e for e in EXAMPLES if e.correction is not None):
+        table = example.variant(example.correction)
+        assert table is not None, f"no corrected reference for {example.path}"
+        header = [line for line in table.read_text().splitlines() if line.startswith("#")]
+        assert any(line.startswith(f"# corrected ({example.correction}, ") for line in header)
+
+
+def test_sequence_tables_differ_only_where_the_stateless_one_has_no_output() -> None:
+    # lock-previous keeps a previous output where none is: every other value is the same
+    tables = sorted(REFERENCES.glob("*@sequence.csv"))
+    assert tables, "no twin with lock-previous"
+    for table in tables:
+        plain = REFERENCES / table.name.replace("@sequence", "")
+        body = [[line for line in t.read_text().splitlines() if not line.startswith("#")]
+                for t in (table, plain)]
+        assert body[0][0] == body[1][0], table.name  # the same columns
+        rows = [np.array([[float(v) for v in line.split(",")] for line in b[1:]]) for b in body]
+        seq, base = rows
+        same = ~np.isnan(base)
+        np.testing.assert_array_equal(seq[same], base[same], err_msg=table.name)
+        assert (np.isnan(base) & ~np.isnan(seq)).any(), f"{table.name} fills nothing"
 
 
 def test_the_docs_page_is_current() -> None:

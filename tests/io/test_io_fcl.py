@@ -76,7 +76,7 @@ MALFORMED = [
     ("TERM lo := (0, 1) (1, 0);", "TERM lo := BLOB 1 2;", "TERM lo", "unknown shape 'BLOB'"),
     ("TERM lo := (0, 1) (1, 0);", "TERM lo := 3;", "TERM lo", "not a membership function"),
     ("METHOD : COG;", "METHOD : MEAN;", "METHOD", "METHOD MEAN is not supported"),
-    ("METHOD : COG;", "METHOD : COG;\n    DEFAULT := NC;", "DEFAULT", "needs state"),
+    ("METHOD : COG;", "METHOD : COG;\n    DEFAULT := NC 1;", "DEFAULT", "expected ';'"),
     ("AND : MIN;", "AND : LUKA;", "AND :", "AND : LUKA is not supported"),
     ("AND : MIN;", "AND : MIN;\n    ACCU : FOO;", "ACCU", "ACCU : FOO is not supported"),
     ("RULE 1 : IF x IS lo THEN y IS a;", "RULE 1 : IF x IS mid THEN y IS a;", "RULE 1",

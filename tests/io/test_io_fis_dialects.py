@@ -5,6 +5,7 @@ refused naming the line, or read with a :class:`FisFormatWarning` naming the lin
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from pathlib import Path
 
@@ -226,8 +227,11 @@ def test_fuzzylite_keys_at_harmless_values_are_read_others_refused() -> None:
     assert fls.on_zero_firing is None  # fuzzylite's nan: no value where nothing fires
     assert same_outputs(fls, BASE)
     assert load(edit(text, "Default=nan", "Default=2.5")).on_zero_firing == 2.5
+    locked = load(edit(text, "LockPrevious=0", "LockPrevious=1"))
+    assert fls.lock_previous is False and locked.lock_previous is True
+    assert locked == dataclasses.replace(fls, lock_previous=True)
     for key, value, meaning in [("Enabled", "0", "a disabled variable"),
-                                ("LockPrevious", "1", "previous output"),
+                                ("LockPrevious", "2", "must be 0 or 1"),
                                 ("LockRange", "1", "clipping")]:
         bad = edit(text, f"{key}={'1' if key == 'Enabled' else '0'}", f"{key}={value}")
         err = error_of(bad)

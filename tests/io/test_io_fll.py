@@ -160,7 +160,7 @@ MALFORMED = [
     ("term: dark Triangle 0.0 0.0 0.6", "term: dark Triangle 0.0 0.0 x", "term: dark",
      "bad number 'x'"),
     ("activation: General", "activation: Highest 2", "activation:", "Highest 2 is not supported"),
-    ("lock-previous: false", "lock-previous: true", "lock-previous", "needs state"),
+    ("lock-previous: false", "lock-previous: yes", "lock-previous", "expected true or false"),
     ("  enabled: true\n  range: 0.0 1.0", "  enabled: false\n  range: 0.0 1.0", "enabled: false",
      "a disabled variable"),
     ("range: 0.0 1.0", "range: 1.0 0.0", "range: 1.0 0.0", "lo < hi"),

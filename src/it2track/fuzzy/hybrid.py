@@ -14,6 +14,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .sequence import previous_state
+
 __all__ = ["HybridSystem"]
 
 FloatArray = NDArray[np.float64]
@@ -77,6 +79,30 @@ class HybridSystem:
     def output_names(self) -> tuple[str, ...]:
         """The parts' output names, in order."""
         return tuple(n for s in self.systems for n in s.output_names)
+
+    @property
+    def lock_previous(self) -> tuple[bool, ...]:
+        """Each output's ``lock_previous`` (its part's), in order."""
+        return tuple(s.keeps_previous(k) for s in self.systems for k in range(s.n_outputs))
+
+    def keeps_previous(self, k: int = 0) -> bool:
+        """Whether output ``k`` keeps its previous value where no rule fires, in
+        :meth:`evaluate_sequence`."""
+        return self.lock_previous[k]
+
+    def evaluate_sequence(self, x: ArrayLike, previous: ArrayLike | None = None
+                          ) -> tuple[FloatArray, FloatArray]:
+        """Each part's :meth:`evaluate_sequence`, outputs side by side: ``(y, state)``,
+        ``y`` of shape ``(N,)`` or ``(N, m)``, ``state`` the last row ``(m,)``."""
+        state = previous_state(previous, self.n_outputs)
+        ys, states, start = [], [], 0
+        for s in self.systems:
+            y, last = s.evaluate_sequence(x, state[start:start + s.n_outputs])
+            ys.append(np.asarray(y).reshape(len(y), -1))
+            states.append(last)
+            start += s.n_outputs
+        out = np.concatenate(ys, axis=-1)
+        return (out[:, 0] if out.shape[-1] == 1 else out), np.concatenate(states)
 
     def __call__(self, *xs: ArrayLike) -> FloatArray:
         """Crisp outputs: the broadcast input shape ``S``, ``S + (m,)`` for ``m > 1``

@@ -326,7 +326,8 @@ class _MamdaniBase(_SystemBase):
             for r in self.rules if r.consequents[k] is not None
         )
         return replace(self, rules=rules, outputs=(self.outputs[k],),
-                       on_zero_firing=self.zero_firing_value(k))
+                       on_zero_firing=self.zero_firing_value(k),
+                       lock_previous=self.keeps_previous(k))
 
     def _scalar_output(self, x: list[float]) -> float | None:
         return None
@@ -382,6 +383,11 @@ class IT2Mamdani(_MamdaniBase):
         midpoint rule); see :func:`~it2track.fuzzy.defuzz.output_grid`.
     on_zero_firing : float, tuple of float or None
         Output where no rule fires; ``None`` (default) raises ``ZeroFiringError``.
+    lock_previous : bool or tuple of bool
+        fuzzylite's ``lock-previous`` (one per output, or one for all; default ``False``): in
+        :meth:`evaluate_sequence` the output keeps its previous value where it has none of its
+        own (no rule of it fires). ``__call__`` stays a function of its inputs: there it gives
+        ``on_zero_firing`` (or raises), as fuzzylite's first evaluation after a restart does.
     name : str
 
     Examples
@@ -481,6 +487,11 @@ class T1Mamdani(_MamdaniBase):
         midpoint rule); see :func:`~it2track.fuzzy.defuzz.output_grid`.
     on_zero_firing : float, tuple of float or None
         Output where no rule fires; ``None`` (default) raises ``ZeroFiringError``.
+    lock_previous : bool or tuple of bool
+        fuzzylite's ``lock-previous`` (one per output, or one for all; default ``False``): in
+        :meth:`evaluate_sequence` the output keeps its previous value where it has none of its
+        own (no rule of it fires). ``__call__`` stays a function of its inputs: there it gives
+        ``on_zero_firing`` (or raises), as fuzzylite's first evaluation after a restart does.
     name : str
 
     Examples

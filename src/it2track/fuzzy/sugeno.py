@@ -58,6 +58,11 @@ class IT2Sugeno(_SystemBase):
         Output where no rule fires (one per output, or one for all). ``None`` (default) raises
         :class:`~it2track.fuzzy.reducers.ZeroFiringError` instead. (Wu-Mendel where rules fire
         but their total lower firing is zero always raises ``ZeroFiringError``.)
+    lock_previous : bool or tuple of bool
+        fuzzylite's ``lock-previous`` (one per output, or one for all; default ``False``): in
+        :meth:`evaluate_sequence` the output keeps its previous value where it has none of its
+        own (no rule of it fires). ``__call__`` stays a function of its inputs: there it gives
+        ``on_zero_firing`` (or raises), as fuzzylite's first evaluation after a restart does.
     name : str
     snorm : SNorm
         S-norm of OR rules: ``SNorm.MAXIMUM`` (default) or ``SNorm.PROBOR``.
@@ -173,6 +178,11 @@ class T1Sugeno(_SystemBase):
     on_zero_firing : float, tuple of float or None
         Output where no rule fires (one per output, or one for all); ``None`` (default) raises
         :class:`~it2track.fuzzy.reducers.ZeroFiringError` instead (also for ``wtsum``).
+    lock_previous : bool or tuple of bool
+        fuzzylite's ``lock-previous`` (one per output, or one for all; default ``False``): in
+        :meth:`evaluate_sequence` the output keeps its previous value where it has none of its
+        own (no rule of it fires). ``__call__`` stays a function of its inputs: there it gives
+        ``on_zero_firing`` (or raises), as fuzzylite's first evaluation after a restart does.
     name : str
     snorm : SNorm
         S-norm of OR rules: ``SNorm.MAXIMUM`` (default) or any other s-norm.

@@ -27,6 +27,7 @@ from . import kernels as _kernels
 from .norms import SNorm, TNorm
 from .reducers import ZeroFiringError
 from .rules import Input, Rule
+from .sequence import evaluate_sequence, lock_flags
 from .tables import SystemTables
 
 __all__ = ["BLOCK", "real_input"]
@@ -78,6 +79,7 @@ class _SystemBase:
     name: str = ""
     snorm: SNorm = SNorm.MAXIMUM
     outputs: tuple[Any, ...] = ()
+    lock_previous: bool | tuple[bool, ...] = False
     _c: SystemTables = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -134,6 +136,7 @@ class _SystemBase:
                 object.__setattr__(self, "on_zero_firing", float(values[0]))
             elif not scalar:
                 object.__setattr__(self, "on_zero_firing", tuple(float(v) for v in values))
+        object.__setattr__(self, "lock_previous", lock_flags(self.lock_previous, n_out))
         object.__setattr__(self, "_c", self._lower())
 
     def _check_outputs(self) -> None:
@@ -179,6 +182,22 @@ class _SystemBase:
             return zero
         return float(zero[k])
 
+    def keeps_previous(self, k: int = 0) -> bool:
+        """Whether output ``k`` keeps its previous value where no rule fires, in
+        :meth:`evaluate_sequence` (``lock_previous``; ``__call__`` is stateless)."""
+        flags = self.lock_previous
+        return flags if isinstance(flags, bool) else flags[k]
+
+    def evaluate_sequence(self, x: ArrayLike, previous: ArrayLike | None = None
+                          ) -> tuple[FloatArray, FloatArray]:
+        """Outputs of the rows of ``x`` (shape ``(N, n_inputs)``) evaluated in order, an output
+        with ``lock_previous`` keeping its previous value where it has none of its own (no rule
+        of it fires, or its value is undefined: fuzzylite fills every NaN); returns
+        ``(y, state)``, ``state`` the last output row to pass on as ``previous`` (see
+        :mod:`it2track.fuzzy.sequence`). Chunks evaluated with the state passed on give the
+        same bits as the whole sequence."""
+        return evaluate_sequence(self, real_input(x, "sequence inputs"), previous)
+
     def select_output(self, output: int | str) -> Any:
         """The same system with one output: ``output`` is its index or name.
 
@@ -202,7 +221,8 @@ class _SystemBase:
             for r in self.rules if r.consequents[k] is not None
         )
         return replace(self, rules=rules, outputs=(names[k],) if self.outputs else (),
-                       on_zero_firing=self.zero_firing_value(k))
+                       on_zero_firing=self.zero_firing_value(k),
+                       lock_previous=self.keeps_previous(k))
 
     def _prepare(self, xs: tuple[ArrayLike, ...]) -> tuple[FloatArray, tuple[int, ...]]:
         if len(xs) != self.n_inputs:

@@ -56,6 +56,11 @@ class T1Tsukamoto(_SystemBase):
         ``AVERAGE`` (default) or ``SUM``.
     on_zero_firing : float, tuple of float or None
         Output where no rule fires; ``None`` (default) raises ``ZeroFiringError``.
+    lock_previous : bool or tuple of bool
+        fuzzylite's ``lock-previous`` (one per output, or one for all; default ``False``): in
+        :meth:`evaluate_sequence` the output keeps its previous value where it has none of its
+        own (no rule of it fires). ``__call__`` stays a function of its inputs: there it gives
+        ``on_zero_firing`` (or raises), as fuzzylite's first evaluation after a restart does.
     name : str
 
     Examples

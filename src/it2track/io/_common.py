@@ -339,6 +339,8 @@ def _index(doc: Document, line: int, code: float, hedges: str | None
     hedge = _HEDGES.get(hundredths)
     if hedges == "fuzzylite" and hedge is not None and whole != 0:
         return int(whole), tuple(Hedge(w) for w in hedge.split())
+    if hedges == "fuzzylite" and hedge == "any" and whole == 0 and code > 0:
+        return 1, (Hedge("any"),)  # fuzzylite's 'x is any' (no term): any term's hedge is 1
     if hedges == "octave" and whole != 0 and hundredths > 0:
         return int(whole), (Hedge.power(hundredths / 10),)
     meaning = f" (the hedge {hedge!r} of Octave and fuzzylite)" if hedge else ""

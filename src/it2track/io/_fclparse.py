@@ -31,6 +31,7 @@ _TOKEN = re.compile(
 )
 _MAX_NUMBER_CHARS = 80
 _HEDGES = ("VERY", "SOMEWHAT", "EXTREMELY", "SELDOM", "ANY")
+_AFTER_PROPOSITION = ("THEN", "AND", "OR", "WITH")
 _BLOCK_WORDS = ("VAR_INPUT", "VAR_OUTPUT", "FUZZIFY", "DEFUZZIFY", "RULEBLOCK",
                 "END_FUNCTION_BLOCK")
 
@@ -73,6 +74,7 @@ class FclVar:
     range_line: int | None = None
     method: Tok | None = None
     default: tuple[float, int] | None = None
+    nc: bool = False  # DEFAULT ... NC: keep the last output where no rule fires
     accu: Tok | None = None
     block_line: int | None = None
 
@@ -288,16 +290,16 @@ class Parser:
                 self.expect(";")
             elif key.upper == "DEFAULT" and word == "DEFUZZIFY":
                 self.expect(":=")
+                # NC ("no change", IEC 61131-7): the last output where no rule fires, the
+                # system's lock_previous (evaluate_sequence); fuzzylite: DEFAULT := nan | NC
                 if self.at("NC"):
-                    raise self.error(self.next("NC").line, "DEFAULT := NC (keep the last output) "
-                                     "needs state, which it2track systems do not have; give a "
-                                     "value")
-                value = self.number("a default value")
-                if self.skip("|"):  # fuzzylite: DEFAULT := nan | NC
-                    nc = self.expect("NC")
-                    raise self.error(nc.line, "DEFAULT := ... | NC (keep the last output) needs "
-                                     "state, which it2track systems do not have")
-                var.default = (value, key.line)
+                    self.next("NC")
+                    var.nc = True
+                else:
+                    var.default = (self.number("a default value"), key.line)
+                    if self.skip("|"):
+                        self.expect("NC")
+                        var.nc = True
                 self.expect(";")
             else:
                 raise self.error(key.line, f"unexpected {key.text!r} in {word} {var.name}")
@@ -424,7 +426,11 @@ class Parser:
         self.expect("IS")
         negated = self.skip("NOT")
         hedges = []
-        while self.at(*_HEDGES) and (nxt := self.peek(1)) is not None and nxt.kind == "ident":
+        while self.at(*_HEDGES) and (nxt := self.peek(1)) is not None and nxt.kind == "ident" and (
+                nxt.upper not in _AFTER_PROPOSITION):
             hedges.append(self.next("a hedge").text.lower())
+        if self.at("ANY"):  # fuzzylite's 'x is any' names no term: the builder takes the first
+            self.next("ANY")
+            return Proposition(var.text, "", negated, (*hedges, "any"))
         term = self.ident("a term")
         return Proposition(var.text, term.text, negated, tuple(hedges))

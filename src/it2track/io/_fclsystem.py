@@ -229,10 +229,12 @@ def _assemble(b: Builder, fb: FunctionBlock, outputs: dict[str, FclVar], inputs:
         negated = [False] * len(in_names)
         hedges: list[tuple[Hedge, ...]] = [()] * len(in_names)
         for prop in props:
-            if prop.term not in fb.inputs[prop.variable].terms:
+            terms = fb.inputs[prop.variable].terms
+            term = prop.term or next(iter(terms), "")  # 'x is any': any term's hedge is 1
+            if term not in terms:
                 raise b.error(rule.line, f"input {prop.variable!r} has no term {prop.term!r}")
             k = in_names.index(prop.variable)
-            antecedent[k], negated[k] = prop.term, prop.negated
+            antecedent[k], negated[k] = term, prop.negated
             hedges[k] = tuple(Hedge(h) for h in prop.hedges)
         cons: list[Consequent] = [None] * len(out_names)
         cons_hedges: list[tuple[Hedge, ...]] = [()] * len(out_names)
@@ -266,6 +268,7 @@ def _assemble(b: Builder, fb: FunctionBlock, outputs: dict[str, FclVar], inputs:
         "snorm": snorm, "defuzzifier": defuzzifier,
         "on_zero_firing": None if numbers[0] is None else (
             numbers[0] if len(numbers) == 1 else tuple(numbers)),
+        "lock_previous": tuple(var.nc for var in outputs.values()),
     }
     if sugeno:
         if len(out_names) > 1 or out_names != ["output1"]:

@@ -11,6 +11,7 @@ exactly (``repr``) and lay out the sections both formats write alike.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Sequence
 from typing import Any, ClassVar, TypeVar
 
@@ -50,6 +51,8 @@ __all__ = [
 ]
 
 _MF_PATTERN = r"MF[1-9]\d{0,8}"
+#: keys only fuzzylite writes (its 5.x exports have no header comment)
+_FUZZYLITE_KEYS = re.compile(r"^\s*(LockPrevious|LockRange)\s*=", re.MULTILINE)
 _E = TypeVar("_E", TNorm, SNorm, Implication, Aggregation)
 
 
@@ -94,10 +97,11 @@ class FisReader:
     def __init__(self, text: str, path: str) -> None:
         self.doc = Document(text, path, lenient=self.lenient)
         #: whose hedges a fractional rule index means (.fis only: fuzzylite's exports say so
-        #: on line 1, else Octave's); the IT2FLS toolbox's .t2fis has none
+        #: on line 1, or carry its LockPrevious/LockRange keys (fuzzylite 5), else Octave's);
+        #: the IT2FLS toolbox's .t2fis has none
         self.hedges: str | None = None if not self.lenient else "fuzzylite" if (
-            text.lstrip().startswith("#Code automatically generated with fuzzylite")) else (
-            "octave")
+            text.lstrip().startswith("#Code automatically generated with fuzzylite")
+            or _FUZZYLITE_KEYS.search(text)) else "octave"
         self.type = "sugeno"
 
     @property

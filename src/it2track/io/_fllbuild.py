@@ -156,8 +156,7 @@ class _Builder:
 
     def output(self, section: Section, n_inputs: int) -> _Output:
         self.flag(section, "enabled", True, "a disabled variable")
-        self.flag(section, "lock-previous", False,
-                  "the previous output where no rule fires, which needs state")
+        self.flag(section, "lock-previous", False, "")  # a boolean; read in _output_options
         self.name(section)
         item = section.items.get("defuzzifier")
         if item is None or not item.value or item.value.split()[0] == "none":
@@ -401,9 +400,11 @@ def _rule(b: _Builder, inputs: list[Input], outputs: list[_Output], item: Item, 
         if prop.variable not in names:
             raise b.error(item.line, f"the rule names {prop.variable!r}, which is not an input")
         k = names.index(prop.variable)
-        if prop.term not in {s.name for s in inputs[k].sets}:
+        # 'x is any' names no term: the hedge 'any' makes any term's membership 1
+        term = prop.term or (inputs[k].sets[0].name if inputs[k].sets else "")
+        if term not in {s.name for s in inputs[k].sets}:
             raise b.error(item.line, f"input {prop.variable!r} has no term {prop.term!r}")
-        antecedent[k], negated[k] = prop.term, prop.negated
+        antecedent[k], negated[k] = term, prop.negated
         hedges[k] = tuple(Hedge(h) for h in prop.hedges)
     out_names = [o.section.name for o in outputs]
     consequents: list[Consequent] = [None] * len(outputs)
@@ -480,4 +481,7 @@ def _output_options(b: _Builder, outputs: list[_Output], implications: dict[Any,
         raise b.error(line, "default: nan for some outputs and not others")
     if values[0] is not None:
         options["on_zero_firing"] = values[0] if len(values) == 1 else tuple(values)
+    # fuzzylite's previous output where no rule fires: the system's evaluate_sequence
+    options["lock_previous"] = tuple(b.flag(o.section, "lock-previous", False, "")
+                                     for o in outputs)
     return options

@@ -131,7 +131,11 @@ class Document:
             hedges = []
             while peek() in _HEDGES:
                 hedges.append(take("a hedge"))
-            term = take("a term")
+            if hedges and hedges[-1] == "any" and peek() in (None, "and", "or", "then", "with",
+                                                             ")"):
+                term = ""  # fuzzylite's 'x is any' names no term: the builder takes the first
+            else:
+                term = take("a term")
             if term in _HEDGES or term in ("and", "or", "then", "with", "(", ")"):
                 raise self.error(item.line, f"expected a term after {variable!r} is, got "
                                  f"{term!r}")

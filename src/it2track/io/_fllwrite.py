@@ -113,6 +113,10 @@ def _default(system: Any, k: int) -> str:
     return "  default: nan" if zero is None else f"  default: {_number(zero)}"
 
 
+def _lock(system: Any, k: int) -> str:
+    return f"  lock-previous: {'true' if system.keeps_previous(k) else 'false'}"
+
+
 def _part(system: Any) -> tuple[list[str], list[list[str]], list[list[int]], str]:
     """One part's output sections, each output's term names, each rule's term indices and the
     implication (``none`` unless Mamdani)."""
@@ -131,7 +135,7 @@ def _part(system: Any) -> tuple[list[str], list[list[str]], list[list[int]], str
         for k, out in enumerate(system.outputs):
             extra = ["  lock-range: false",
                      f"  aggregation: {fuzzylite_name(system.aggregation)}",
-                     f"  defuzzifier: {defuzz}", _default(system, k), "  lock-previous: false"]
+                     f"  defuzzifier: {defuzz}", _default(system, k), _lock(system, k)]
             lines += _variable("OutputVariable", out, extra, _mf_terms(out, "output"))
         implication = (fuzzylite_name(system.implication) if isinstance(system, T1Mamdani)
                        else "none")
@@ -149,7 +153,7 @@ def _part(system: Any) -> tuple[list[str], list[list[str]], list[list[int]], str
         lines += [f"OutputVariable: {_name(name, 'output')}", "  enabled: true",
                   f"  range: {_number(lo)} {_number(hi)}", "  lock-range: false",
                   "  aggregation: none", f"  defuzzifier: {defuzz}", _default(system, k),
-                  "  lock-previous: false"]
+                  _lock(system, k)]
         lines += [_consequent_term(j, c) for j, c in enumerate(table, start=1)]
     return lines, [[f"c{j}" for j in range(1, len(t) + 1)] for t in tables], which, "none"
 
@@ -211,7 +215,7 @@ def dumps(system: AnySystem) -> str:
         outputs sampled at MATLAB's points, names that are not fuzzylite identifiers, Octave's
         power hedges, and a T1Sugeno aggregation (fuzzylite groups terms by name, not value).
     """
-    refuse_hedges(system, ".fll", hedges=False)
+    refuse_hedges(system, ".fll", hedges=False, lock_previous=False)
     parts = system.systems if isinstance(system, HybridSystem) else (system,)
     for part in parts:
         if isinstance(part, IT2Sugeno | IT2Mamdani):

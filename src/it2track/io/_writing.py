@@ -122,10 +122,17 @@ def fmt_rule(system: AnySystem, rule: Rule, out_indices: Sequence[int]) -> str:
     return f"{' '.join(str(i) for i in indices)}, {outs} ({fmt_number(rule.weight)}) : {conn}"
 
 
-def refuse_hedges(system: object, fmt: str, *, hedges: bool = True) -> None:
-    """Refuse a system whose rules have hedges (with ``hedges``) or a general condition, or
-    a T1Sugeno that groups its rules by value (``aggregation``): ``fmt`` cannot carry them."""
+def refuse_hedges(system: object, fmt: str, *, hedges: bool = True,
+                  lock_previous: bool = True) -> None:
+    """Refuse a system whose rules have hedges (with ``hedges``) or a general condition, a
+    T1Sugeno that groups its rules by value (``aggregation``), or an output with
+    ``lock_previous`` (with ``lock_previous``): ``fmt`` cannot carry them."""
     for part in getattr(system, "systems", (system,)):
+        flags = getattr(part, "lock_previous", False) if lock_previous else False
+        if flags is True or (isinstance(flags, tuple) and any(flags)):
+            raise UnsupportedFeatureError(
+                f"lock_previous (fuzzylite's lock-previous: keep the previous output where no "
+                f"rule fires) cannot be written to {fmt}; save as .fll")
         if isinstance(part, T1Sugeno) and part.aggregation is not None:
             raise UnsupportedFeatureError(
                 f"the T1Sugeno aggregation {part.aggregation.value!r} (rules grouped by "

@@ -52,8 +52,9 @@ What is read
   rightmost / mean of maxima) give a :class:`~it2track.fuzzy.T1Mamdani` (101 points);
   ``COGS`` (singletons, fuzzylite's constant and linear terms), ``COGF`` (jFuzzyLogic's
   functions) and fuzzylite's ``COGSS`` (weighted sum) a :class:`~it2track.fuzzy.T1Sugeno`.
-  ``DEFAULT := v`` is ``on_zero_firing`` (``nan``: none); ``NC`` ("keep the last output")
-  needs state and is refused.
+  ``DEFAULT := v`` is ``on_zero_firing`` (``nan``: none); ``NC`` ("no change": keep the last
+  output), alone or as fuzzylite writes it (``DEFAULT := nan | NC``), is the system's
+  ``lock_previous``, which ``evaluate_sequence`` follows (``__call__`` is stateless).
 - Operators by the standard's, jFuzzyLogic's and fuzzylite's names: ``AND`` ``MIN``,
   ``PROD``, ``BDIF``, ``DPROD``, ``EPROD``/``EINSTEIN``, ``HPROD``/``HAMACHER``,
   ``NMIN``/``NIPMIN``; ``OR`` ``MAX``, ``ASUM``, ``BSUM``, ``DSUM``, ``ESUM``, ``HSUM``,

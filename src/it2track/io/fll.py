@@ -49,17 +49,20 @@ What is read
   Several rule blocks are merged when their operators agree.
 - fuzzylite clips nothing unless ``lock-range: true``; it2track always clips inputs to their
   range (MATLAB's rule), so the two differ only outside it. ``lock-range: true`` on an output
-  is read where it changes nothing (a Mamdani output, constant consequents inside the range);
-  ``lock-previous: true`` (the previous output where no rule fires) needs state and is refused,
-  as are disabled variables and a Takagi-Sugeno output whose ``aggregation`` (fuzzylite 8
-  aggregates the activations of one term with it) is not a sum while rules share a term.
+  is read where it changes nothing (a Mamdani output, constant consequents inside the range).
+  ``lock-previous: true`` (the previous output where no rule fires) is the system's
+  ``lock_previous``, which ``evaluate_sequence`` follows (``__call__`` is stateless: it gives
+  what fuzzylite's first evaluation after a restart gives). Disabled variables are refused,
+  and so is a Takagi-Sugeno output whose ``aggregation`` (fuzzylite 8 aggregates the
+  activations of one term with it) is not a sum while rules share a term.
 
 What is written
 ---------------
 Type-1 systems (fuzzylite has no type-2), every float with ``repr`` precision so that a file
 read back evaluates bit for bit like the system written; Sugeno consequents become named
 ``Constant``/``Linear`` terms (``c1``, ``c2``, ...) in order of first use. Names must be single
-words (fuzzylite's identifiers); a system's ``on_zero_firing`` is each output's ``default``.
+words (fuzzylite's identifiers); a system's ``on_zero_firing`` is each output's ``default``,
+its ``lock_previous`` each output's ``lock-previous``.
 """
 
 from __future__ import annotations

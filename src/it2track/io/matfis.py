@@ -39,7 +39,8 @@ by MATLAB's, Octave's or fuzzylite's norm names (``''``: none, refused where a r
 one); several outputs; rules ``a1 ... an, c1 ... cm (w) : k`` with NOT (``-j``), weights in
 ``[0, 1]``, AND (``k = 1``) and OR (``k = 2``), index 0 for a variable a rule leaves out,
 indices written ``1.000``. ``%``/``#`` comment lines, ``pi`` expressions, fuzzylite's
-``Enabled``/``LockRange``/``LockPrevious``/``Default`` at harmless values; an unknown key, extra
+``Enabled``/``LockRange``/``Default`` at harmless values and its ``LockPrevious`` of an output
+(the system's ``lock_previous``: see ``evaluate_sequence``); an unknown key, extra
 MF parameters, a repeated ``MF`` key and undercounted ``NumMFs``/``NumRules`` are read as
 MATLAB or fuzzylite reads them, with a :class:`~it2track.io.FisFormatWarning`.
 
@@ -156,7 +157,7 @@ _SYSTEM_KEYS = frozenset({
 _FUZZYLITE_FLAGS = {"Enabled": 1.0, "LockPrevious": 0.0, "LockRange": 0.0}
 _FLAG_MEANING = {
     "Enabled": "a disabled variable",
-    "LockPrevious": "keeping the previous output where no rule fires (state)",
+    "LockPrevious": "keeping the previous output where no rule fires, on an input",
     "LockRange": "clipping the output to its Range",
 }
 _N = TypeVar("_N", TNorm, SNorm)
@@ -173,6 +174,7 @@ class _Reader(FisReader):
         super().__init__(text, path)
         self.type2 = False
         self.defaults: list[float | None] = []
+        self.locks: list[bool] = []
         self.missing: dict[str, int] = {}
 
     def system_type(self, system: Section) -> str:
@@ -251,7 +253,7 @@ class _Reader(FisReader):
         self._flags(section)
 
     def output_extras(self, section: Section) -> None:
-        self._flags(section)
+        self._flags(section, output=True)
         default = section.entries.get("Default")
         value: float | None = None
         if default is None:
@@ -263,9 +265,17 @@ class _Reader(FisReader):
             value = self.doc.number(default)
         self.defaults.append(value)
 
-    def _flags(self, section: Section) -> None:
+    def _flags(self, section: Section, *, output: bool = False) -> None:
         for key, harmless in _FUZZYLITE_FLAGS.items():
             entry = section.entries.get(key)
+            if output and key == "LockPrevious":  # fuzzylite's: the system's evaluate_sequence
+                value = 0.0 if entry is None else self.doc.number(entry)
+                if value not in (0.0, 1.0):
+                    raise self.doc.error(entry.line if entry else section.line,
+                                         f"LockPrevious={entry.value if entry else ''} must be "
+                                         "0 or 1")
+                self.locks.append(value == 1.0)
+                continue
             if entry is not None and self.doc.number(entry) != harmless:
                 raise self.doc.error(
                     entry.line, f"{key}={entry.value} ({_FLAG_MEANING[key]}) is not supported"
@@ -323,6 +333,7 @@ class _Reader(FisReader):
             zero = [defaults[k] for k in cut]
             if zero[0] is not None:
                 part["on_zero_firing"] = zero[0] if n == 1 else tuple(zero)
+            part["lock_previous"] = tuple(self.locks[k] for k in cut)
             names = [outputs[k] for k in cut]
             if kind == "sugeno":
                 cls: type = IT2Sugeno if self.type2 else T1Sugeno
