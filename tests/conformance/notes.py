@@ -93,9 +93,13 @@ REFUSALS: list[tuple[str, str, str]] = [
      "(bit-for-bit reproducible whatever the batch); state belongs to the caller's loop."),
     ("which needs state", "state: keep the previous output", ""),
     ("(state)", "state: keep the previous output", ""),
-    ("never evaluates text", "a formula in text (fuzzylite's Function)",
-     "Evaluating a formula from a file means running text as code; it2track never does "
-     "(hostile input is normal input)."),
+    ("reads the output", "a formula reading another output (fuzzylite's chained Function)",
+     "approximation's diffFx is Function fabs(outputFx-trueFx): fuzzylite evaluates it with "
+     "the values of the outputs it defuzzified before (an order-dependent chain of outputs). "
+     "it2track reads formulas (it2track.fuzzy.formula: parsed, never run as code) of the "
+     "inputs only."),
+    ("not from a .fis", "a formula reading another output (fuzzylite's chained Function)",
+     ""),
     ("rule mentions no input", "a chained rule lost in a .fis export",
      "fuzzylite wrote the chained rules of Laundry/SimpleDimmerChained/SimpleDimmerInverse "
      "to .fis with antecedent index 0 (a .fis cannot name an output in a condition): the "
@@ -112,10 +116,6 @@ REFUSALS: list[tuple[str, str, str]] = [
     ("centroid_integral", "Octave's centroid_integral defuzzifier",
      "Octave's own integral of the aggregated set; it2track's centroids are on the output "
      "grid (MATLAB's 101 points), so this would be a different number."),
-    ("unexpected character", "syntax jFuzzyLogic alone accepts",
-     "junit_functions.fcl writes DEFAULT = 0 (the standard's is :=) in an output whose terms "
-     "are non-linear formulas (FUNCTION ... SIN(inVar)), which it2track would refuse next as "
-     "formulas in text."),
     ("feet and peak must satisfy", "a zero-width triangle",
      "TRIAN 0 0 0 is a point with no area (see the singleton case)."),
 ]

@@ -283,7 +283,7 @@ def test_fuzzylite_term_names_in_fis() -> None:
     fls = load(text)
     assert fls.inputs[1].sets[0].upper == Ramp(3.0, 0.0)
     err = error_of(edit(TIPPER, "'trapmf',[0 0 1 3]", "'function',[x*2]"))
-    assert "never evaluates text" in err.message
+    assert "read from fuzzylite's .fll and .fcl (Function), not from a .fis" in err.message
 
 
 def test_an_input_without_mfs_feeds_linear_consequents_as_in_matlabs_slcp1() -> None:

@@ -153,8 +153,10 @@ def test_the_writer_refuses_what_fll_cannot_carry() -> None:
 
 
 MALFORMED = [
-    ("term: dark Triangle 0.0 0.0 0.6", "term: dark Function 1 + x", "term: dark",
-     "never evaluates text"),
+    ("term: dark Triangle 0.0 0.0 0.6", "term: dark Function 1 + x *", "term: dark",
+     "Function '1 + x *': ends where a number, name or '(' should follow (at the end)"),
+    ("term: dark Triangle 0.0 0.0 0.6", "term: dark Function lt(x, y)", "term: dark",
+     "Function 'lt(x, y)': unknown name 'y' (the formula may read: x;"),
     ("term: dark Triangle 0.0 0.0 0.6", "term: dark Triangle 0.0 0.0", "term: dark",
      "Triangle needs 3 parameters"),
     ("term: dark Triangle 0.0 0.0 0.6", "term: dark Triangle 0.0 0.0 x", "term: dark",

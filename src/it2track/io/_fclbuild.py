@@ -30,6 +30,7 @@ from ..fuzzy import (
     Triangle,
     WeightedDefuzzifier,
 )
+from ..fuzzy.formula import Formula, FormulaError
 from ..fuzzy.terms import FUZZYLITE_TERMS, from_fuzzylite, fuzzylite_consequent
 from ._common import footed
 from ._fclparse import FclTerm, FclVar, FunctionBlock, Parser
@@ -194,9 +195,31 @@ class Builder:
                                  f"term {term.name!r}")
             return (value, value) if isinstance(value, float) else value
         if term.kind == "function":
-            return self.linear(term, inputs)
+            formula = self.formula(term, inputs)
+            try:  # linear in the inputs: a Linear (compiled, written)
+                return self.linear(term, inputs)
+            except FisFormatError:
+                return formula
+        if term.kind == "shape" and term.shape == "Function":  # fuzzylite's FCL export
+            return self.formula(term, inputs, "fuzzylite")
         raise self.error(term.line, f"term {term.name!r}: a COGS/COGF output term is a value, "
                          "fuzzylite's Constant/Linear or a FUNCTION")
+
+    def formula(self, term: FclTerm, inputs: list[str], dialect: str = "jfuzzylogic"
+                ) -> Formula:
+        """A FUNCTION's formula of the inputs (its tokens, rejoined)."""
+        text, starts = "", []
+        for tok in term.params:
+            starts.append(len(text))
+            text += tok.text + " "
+        text = text.rstrip()
+        try:
+            return Formula(text, dialect, inputs)
+        except FormulaError as exc:
+            k = max([0, *(k for k, start in enumerate(starts) if start <= exc.position)])
+            line = term.params[k].line if term.params else term.line
+            where = f"FUNCTION {text!r}" if dialect == "jfuzzylogic" else f"Function {text!r}"
+            raise self.error(line, f"term {term.name!r}: {where}: {exc}") from None
 
     def linear(self, term: FclTerm, inputs: list[str]) -> Linear:
         """A jFuzzyLogic FUNCTION that is linear in the inputs."""

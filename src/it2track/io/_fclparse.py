@@ -24,7 +24,7 @@ _TOKEN = re.compile(
       | (?P<num>(?:\d+(?:\.(?!\.)\d*)?|\.\d+)(?:[eE][+-]?\d{1,3})?(?!\d)(?!\.\d))
       | (?P<range>\.\.)
       | (?P<assign>:=)
-      | (?P<punct>[:;(),|*/+-])
+      | (?P<punct>[:;(),|*/+^%=-])
       | (?P<ident>[A-Za-z_][A-Za-z0-9_.]*)
     """,
     re.VERBOSE | re.DOTALL,
@@ -287,7 +287,11 @@ class Parser:
                 var.accu = self.ident("an accumulation method")
                 self.expect(";")
             elif key.upper == "DEFAULT" and word == "DEFUZZIFY":
-                self.expect(":=")
+                # jFuzzyLogic also reads 'DEFAULT = 0' without ';' (its lexer drops the '=',
+                # its parser puts in the missing ':=' and ';'; junit_functions.fcl)
+                lenient = self.skip("=")
+                if not lenient:
+                    self.expect(":=")
                 if self.at("NC"):
                     raise self.error(self.next("NC").line, "DEFAULT := NC (keep the last output) "
                                      "needs state, which it2track systems do not have; give a "
@@ -298,7 +302,13 @@ class Parser:
                     raise self.error(nc.line, "DEFAULT := ... | NC (keep the last output) needs "
                                      "state, which it2track systems do not have")
                 var.default = (value, key.line)
-                self.expect(";")
+                if lenient:
+                    warnings.warn(FisFormatWarning(
+                        self.path, key.line, f"DEFAULT = {value:g}: read as jFuzzyLogic reads it, "
+                        f"DEFAULT := {value:g}; (the standard's form)"), stacklevel=2)
+                    self.skip(";")
+                else:
+                    self.expect(";")
             else:
                 raise self.error(key.line, f"unexpected {key.text!r} in {word} {var.name}")
         self.expect(end)

@@ -212,8 +212,8 @@ class ValueParser:
         name = self._unquote(tokens[0][1])
         kind = self._unquote(tokens[2][1])
         if kind == "function":
-            raise self.error(entry.line, "fuzzylite's 'function' MF (a formula) is not "
-                             "supported: it2track never evaluates text from a file")
+            raise self.error(entry.line, "fuzzylite's 'function' MF (a formula) is read from "
+                             "fuzzylite's .fll and .fcl (Function), not from a .fis")
         params = self._vector(tokens[4][1], entry)
         found: dict[str, tuple[str, ...]] = {}
         rest = tokens[5:]
