@@ -84,9 +84,10 @@ REFUSALS: list[tuple[str, str, str]] = [
      ""),
     ("no TERM", "not a fuzzy system: no rules, no terms",
      "noRules.fcl has an output with no term and no rule, a parser test of jFuzzyLogic."),
-    ("no rule has a consequent for output", "an output no rule concludes",
-     "arm.fcl declares an output (torque2) that no rule concludes. it2track's systems need a "
-     "rule per output; reading the file without it would change the file."),
+    ("no rule has a consequent for output 1", "a first output no rule concludes",
+     "An output no rule concludes is its default (jFuzzyLogic's DEFAULT, as arm.fcl's "
+     "torque2 reads); it2track's system tables are built from the first output's rules, so "
+     "a first output without rules is refused."),
     ("needs state", "state: keep the previous output",
      "DEFAULT := NC / lock-previous keep the last output where no rule fires: the output "
      "depends on the previous call. it2track's systems are functions of their inputs "

@@ -15,7 +15,6 @@ import pytest
 from click.testing import CliRunner
 
 from it2track.cli.fis import fis
-from it2track.fuzzy.formula import Formula
 from it2track.fuzzy import (
     HybridSystem,
     Linear,
@@ -23,7 +22,9 @@ from it2track.fuzzy import (
     T1Sugeno,
     T1Tsukamoto,
     WeightedDefuzzifier,
+    ZeroFiringError,
 )
+from it2track.fuzzy.formula import Formula
 from it2track.io import FisFormatError, FisFormatWarning, load, loads
 
 DATA = Path(__file__).parent / "data"
@@ -298,6 +299,22 @@ def test_jfuzzylogics_lenient_default_without_assign_or_semicolon() -> None:
         loads(text.replace("DEFAULT = 5", "DEFAULT == 5"), "fcl")
     with pytest.raises(FisFormatError, match="expected ':=', got '5'"):
         loads(text.replace("DEFAULT = 5", "DEFAULT 5"), "fcl")
+
+
+def test_an_output_no_rule_concludes_is_its_default_as_jfuzzylogic() -> None:
+    # arm.fcl: torque2 has terms and DEFAULT := 0 but its rules are commented out;
+    # jFuzzyLogic's defuzzifier gives NaN there and the variable keeps its DEFAULT
+    idle = SINGLETONS.replace("DEFUZZIFY y", "DEFUZZIFY z").replace("COGS;", "COGS;\n"
+                                                                      "    DEFAULT := 4;")
+    first = SINGLETONS.replace("COGS;", "COGS;\n    DEFAULT := 0;")
+    text = fcl(ONE_IN, first + "\n" + idle, TWO_RULES, outputs="y : REAL; z : REAL;")
+    fls = loads(text, "fcl")
+    np.testing.assert_allclose(fls(np.array([0.0, 5.0])), [[2.0, 4.0], [5.0, 4.0]],
+                               rtol=0, atol=1e-12)
+    with pytest.raises(ZeroFiringError, match="concludes output 2, and it has no "
+                       "on_zero_firing value"):
+        loads(text.replace("    DEFAULT := 4;\n", "").replace("    DEFAULT := 0;\n", ""),
+              "fcl")(1.0)
 
 
 def test_tsukamoto_and_hybrid_engines() -> None:

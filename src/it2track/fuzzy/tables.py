@@ -45,7 +45,7 @@ __all__ = ["FEATURES", "MFKind", "SystemTables"]
 
 #: Every name :attr:`SystemTables.features` can hold (see the class docstring).
 FEATURES = frozenset({"not", "or", "weights", "linear", "formula", "outputs", "hedges",
-                      "tree"})
+                      "tree", "idle"})
 
 FloatArray = NDArray[np.float64]
 
@@ -158,6 +158,8 @@ class SystemTables:
         ``"linear"`` (a first-order consequent), ``"formula"`` (a
         :class:`~it2track.fuzzy.formula.Formula` consequent, evaluated per sample; with it
         ``"linear"`` too), ``"outputs"`` (more than one output),
+        ``"idle"`` (an output other than the first that no rule concludes: its tables have
+        no rules and it is the system's zero-firing value everywhere),
         ``"hedges"`` (a hedged proposition -- its rows are :class:`~it2track.fuzzy.hedges.Hedged`
         -- or a hedged conclusion, applied to the weighted firing of that rule). An
         evaluator that does not implement one of them must refuse the tables or fall back on
@@ -184,7 +186,7 @@ class SystemTables:
         output = 0 if _output is None else _output
         rules_all = rules
         index = [r for r, rule in enumerate(rules) if rule.consequents[output] is not None]
-        if not index:
+        if not index and _output is None:
             raise ValueError(f"no rule has a consequent for output {output + 1}")
         self.rule_index = np.array(index, dtype=np.intp)
         rules = tuple(rules[r] for r in index)
@@ -380,6 +382,8 @@ class SystemTables:
             others = [SystemTables(inputs, tuple(rules_all), snorm=snorm, _output=k)
                       for k in range(1, n_outputs)]
             self.outputs = (self, *others)
+            if any(not t.n_rules for t in others):  # an output no rule concludes
+                self.features = self.features | {"idle"}
 
     def __getstate__(self) -> dict[str, Any]:
         state = self.__dict__.copy()
