@@ -99,8 +99,6 @@ REFUSALS: list[tuple[str, str, str]] = [
      "the values of the outputs it defuzzified before (an order-dependent chain of outputs). "
      "it2track reads formulas (it2track.fuzzy.formula: parsed, never run as code) of the "
      "inputs only."),
-    ("not from a .fis", "a formula reading another output (fuzzylite's chained Function)",
-     ""),
     ("rule mentions no input", "a chained rule lost in a .fis export",
      "fuzzylite wrote the chained rules of Laundry/SimpleDimmerChained/SimpleDimmerInverse "
      "to .fis with antecedent index 0 (a .fis cannot name an output in a condition): the "
@@ -111,14 +109,21 @@ REFUSALS: list[tuple[str, str, str]] = [
      "cinthia.fcl's inputs without terms of their own), so the sets change with every "
      "evaluation; it2track's sets are fixed when the system is built."),
     ("a singleton is the value of a COGS output", "a singleton set in a centroid output",
-     "A singleton has no area; sampled on a centroid's grid it counts only where a grid "
-     "point (jFuzzyLogic builds its grid by repeated addition) hits it exactly, so its "
-     "contribution is an accident of rounding. it2track takes singletons as COGS values."),
+     "junit1/junit2.fcl conclude singletons (TERM closed := 0) in an output without METHOD : "
+     "COGS. jFuzzyLogic itself evaluates neither: a singleton is its discrete membership "
+     "function and only a discrete defuzzifier takes one (RuleActivationMethod.imply throws "
+     "'neither both discrete nor both continuous'), so there is no reference to agree with. "
+     "it2track takes singletons as COGS values."),
     ("centroid_integral", "Octave's centroid_integral defuzzifier",
      "Octave's own integral of the aggregated set; it2track's centroids are on the output "
      "grid (MATLAB's 101 points), so this would be a different number."),
     ("feet and peak must satisfy", "a zero-width triangle",
-     "TRIAN 0 0 0 is a point with no area (see the singleton case)."),
+     "junit_shashankrao.fcl's TRIAN 0 0 0 is 1 at 0 and 0 elsewhere (jFuzzyLogic's "
+     "MembershipFunctionTriangular). On a centroid's grid it counts only at a grid point "
+     "equal to 0: jFuzzyLogic's reference grid, -1 plus 0.002 added 500 times, reaches "
+     "8.7e-16, not 0, so there the term never counts; on it2track's grid (linspace, which "
+     "has 0) it would. Its weight is an accident of rounding, and it2track reads neither "
+     "rounding into the file."),
 ]
 
 
