@@ -163,7 +163,8 @@ _NUMBER = re.compile(r"(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?")
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 _SPACE = re.compile(r"\s+")
 
-# A tree: ("num", value) | ("var", index) | ("call", fn, args) | ("op", fn, args)
+# A tree node, its depth last: ("num", value, 0) | ("var", index, 0) | ("call", fn, args, depth)
+# | ("op", fn, args, depth); fn is one of the whitelisted numpy functions above
 _Node = tuple[Any, ...]
 
 
