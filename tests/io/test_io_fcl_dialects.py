@@ -267,6 +267,12 @@ END_DEFUZZIFY"""
     lo, hi = 1.0 - x / 10.0, x / 10.0  # TWO_RULES: lo = (0, 1) (10, 0), hi = (0, 0) (10, 1)
     expected = (lo * (x * 2.0 + 1.0) + hi * (x * 3.0 + 5.0 * np.sin(x))) / (lo + hi)
     np.testing.assert_allclose(fls(x), expected, rtol=0, atol=1e-12)
+    # fuzzylite's FCL export writes its Function term: fuzzylite's grammar (^ right-associative)
+    fuzzylite = outputs.replace("FUNCTION 3 - x * 0.5", "Function 2 ^ x ^ 0.5 - fabs(x)")
+    fls = loads(fcl(ONE_IN, fuzzylite, TWO_RULES), "fcl")
+    assert fls.rules[1].consequent == Formula("2 ^ x ^ 0.5 - fabs ( x )", "fuzzylite", ("x",))
+    expected = (lo * (x * 2.0 + 1.0) + hi * (2.0 ** np.sqrt(x) - x)) / (lo + hi)
+    np.testing.assert_allclose(fls(x), expected, rtol=0, atol=1e-12)
     for bad, message in [
         ("(x * 3.0) + 5 * SIN(x", "FUNCTION '( x * 3.0 ) + 5 * SIN ( x': '(' at character 23 "
          "is not closed (at the end)"),

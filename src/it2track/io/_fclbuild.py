@@ -195,13 +195,13 @@ class Builder:
                                  f"term {term.name!r}")
             return (value, value) if isinstance(value, float) else value
         if term.kind == "function":
-            formula = self.formula(term, inputs)
+            # fuzzylite's FCL export spells its Function term so, in its grammar
+            dialect = "fuzzylite" if term.shape == "Function" else "jfuzzylogic"
+            formula = self.formula(term, inputs, dialect)
             try:  # linear in the inputs: a Linear (compiled, written)
                 return self.linear(term, inputs)
             except FisFormatError:
                 return formula
-        if term.kind == "shape" and term.shape == "Function":  # fuzzylite's FCL export
-            return self.formula(term, inputs, "fuzzylite")
         raise self.error(term.line, f"term {term.name!r}: a COGS/COGF output term is a value, "
                          "fuzzylite's Constant/Linear or a FUNCTION")
 

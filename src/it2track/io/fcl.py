@@ -44,7 +44,7 @@ What is read
   ``TERM t := value``, fuzzylite's ``Constant``/``Linear``, and jFuzzyLogic's
   ``FUNCTION``: linear in the inputs (``(a * 0.6) + 1.2``) a ``Linear``, else a formula of
   the inputs parsed (never run as code) by :mod:`it2track.fuzzy.formula` in jFuzzyLogic's
-  grammar (``SIN``, ``EXP``, ``^``, ...); fuzzylite's ``Function`` in fuzzylite's.
+  grammar (``SIN``, ``EXP``, ``^``, ...); fuzzylite's ``Function`` (so spelt) in fuzzylite's.
   Parameters given by variables and input singletons are refused.
 - ``RANGE := (lo .. hi)`` in a FUZZIFY/DEFUZZIFY block or after a VAR_INPUT declaration
   (jFuzzyLogic) gives the universe; without it, jFuzzyLogic's estimate from the terms (the
