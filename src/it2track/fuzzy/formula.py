@@ -12,16 +12,17 @@ Dialects
 --------
 ``"fuzzylite"`` (fuzzylite 6/8's ``Function``, ``FunctionFactory``), loosest binding first:
 
-==========================  ===================================================================
-``or``, ``and``             logical (1 or 0), left-associative
-``+`` ``-``                 left-associative
-``*`` ``/`` ``%``           left-associative; ``%`` is numpy's ``remainder`` (the divisor's sign)
-unary ``-`` ``+`` ``.-``    ``-x^2`` is ``-(x^2)`` (fuzzylite's ``.-``; fuzzylite itself reads
-``.+``                      a bare leading ``-`` as a binary minus and refuses it)
-``^`` ``**``                power, *right*-associative: ``2^3^2`` is ``2^9`` (fuzzylite's
-                            associativity 1)
-``!`` ``~``                 logical not, negate: bind tightest, ``~x^2`` is ``(~x)^2``
-==========================  ===================================================================
+==================================  ==========================================================
+``or``, ``and``                     logical (1 or 0), left-associative
+``+`` ``-``                         left-associative
+``*`` ``/`` ``%``                   left-associative; ``%`` is numpy's ``remainder`` (the
+                                    divisor's sign)
+unary ``-`` ``+`` ``.-`` ``.+``     ``-x^2`` is ``-(x^2)`` (fuzzylite's ``.-``; fuzzylite itself
+                                    reads a bare leading ``-`` as a binary minus and refuses it)
+``^`` ``**``                        power, *right*-associative: ``2^3^2`` is ``2^9``
+                                    (fuzzylite's associativity 1)
+``!`` ``~``                         logical not, negate: bind tightest, ``~x^2`` is ``(~x)^2``
+==================================  ==========================================================
 
 Functions (fuzzylite's ``FunctionFactory``): ``gt ge eq neq le lt`` (1 or 0; ``ge``, ``le``,
 ``eq``, ``neq`` take two NaNs as equal), ``min max`` (Python's: ``min(a, b)`` is ``b`` where
@@ -39,6 +40,8 @@ operands of ``+ - /`` (``MffSum``); here NaN propagates as IEEE arithmetic says.
 
 Examples
 --------
+>>> import numpy as np
+>>> from it2track.fuzzy.formula import Formula
 >>> f = Formula("2 * x ^ 2 - 1", "fuzzylite", ("x",))
 >>> f(np.array([0.0, 0.5, 1.0])).tolist()
 [-1.0, -0.5, 1.0]
@@ -417,7 +420,7 @@ class Formula:
     dialect: str
     names: tuple[str, ...]
     _tree: _Node = field(init=False, repr=False, compare=False, hash=False)
-    used: frozenset[str] = field(init=False, compare=False, hash=False)
+    used: frozenset[str] = field(init=False, compare=False, hash=False, repr=False)
 
     def __init__(self, text: str, dialect: str, names: Sequence[str] = ()) -> None:
         if dialect not in DIALECTS:
