@@ -225,7 +225,6 @@ def output_range(
     return a, b
 
 
-
 def refuse_formulas(system: object, fmt: str) -> None:
     """Refuse a system with a formula (a :class:`~it2track.fuzzy.formula.Formula` consequent or
     membership function, read from a fuzzylite or jFuzzyLogic file): no writer carries one."""
