@@ -54,3 +54,44 @@ def test_readme_quotes_what_pytest_collects(request):
     assert readme_counts(README.read_text(encoding="utf-8")) == (collected, xfail), (
         f"README's Tests section is stale: pytest collects {collected} tests, {xfail} of them "
         "marked xfail; re-measure with benchmarks/readme_figures.py and quote its output")
+
+
+CONFORMANCE = README.parent / "docs" / "guide" / "conformance.md"
+
+
+def conformance_figures(readme: str, page: str) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """(README's, the conformance page's) agreeing count, its percentage, the fuzzy systems'
+    count and percentage, the number of files and of fuzzy systems."""
+    flat = " ".join(readme.split())
+    a = re.search(r"Of the (\d+) public example files .*?\*\*(\d+) \(([\d.]+) %\) load "
+                  r"unmodified and agree\*\*.*?(\d+) of the (\d+) that are fuzzy systems, "
+                  r"([\d.]+) %", flat)
+    b = re.search(r"\*\*(\d+) of (\d+) files \(([\d.]+) %\) load and agree\*\*\. Of the (\d+) "
+                  r"files that are fuzzy systems .*?\*\*(\d+) \(([\d.]+) %\) load and agree\*\*",
+                  " ".join(page.split()))
+    if a is None or b is None:
+        raise AssertionError("README's 'Files users already have' paragraph or the conformance "
+                             "page no longer says its figures in the expected words")
+    files, agree, pct, agree_sys, systems, pct_sys = a.groups()
+    page_agree, page_files, page_pct, page_systems, page_agree_sys, page_pct_sys = b.groups()
+    return ((agree, pct, agree_sys, pct_sys, files, systems),
+            (page_agree, page_pct, page_agree_sys, page_pct_sys, page_files, page_systems))
+
+
+def test_readme_quotes_the_conformance_page():
+    """README's conformance figures are the generated page's (tests/conformance/make_table.py
+    writes the page from the measurements; test_conformance checks it is current)."""
+    ours, page = conformance_figures(README.read_text(encoding="utf-8"),
+                                     CONFORMANCE.read_text(encoding="utf-8"))
+    assert ours == page, ("README's conformance figures (agree, %, of fuzzy systems, %, files, "
+                          f"systems) {ours} differ from docs/guide/conformance.md's {page}")
+
+
+def test_the_conformance_sentences_are_read_as_written():
+    readme = ("Of the 12 public example files in x, **9 (75.0 %) load unmodified and agree** "
+              "with y (9 of the 10 that\n are fuzzy systems, 90.0 %); ...")
+    page = ("compares: **9 of 12 files (75.0 %) load and agree**. Of the 10 files that are "
+            "fuzzy systems (the rest ...), **9 (90.0 %) load and agree**.")
+    assert conformance_figures(readme, page) == (("9", "75.0", "9", "90.0", "12", "10"),) * 2
+    with pytest.raises(AssertionError, match="expected words"):
+        conformance_figures("about 90 % agree", page)

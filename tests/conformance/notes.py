@@ -92,13 +92,15 @@ REFUSALS: list[tuple[str, str, str]] = [
      ""),
     ("no TERM", "not a fuzzy system: no rules, no terms",
      "noRules.fcl has an output with no term and no rule, a parser test of jFuzzyLogic."),
-    ("no rule has a consequent for output", "an output no rule concludes",
-     "arm.fcl declares an output (torque2) that no rule concludes. it2track's systems need a "
-     "rule per output; reading the file without it would change the file."),
-    ("never evaluates text", "a formula in text (fuzzylite's Function)",
-     "Evaluating a formula from a file means running text as code; it2track never does "
-     "(hostile input is normal input)."),
-    ("reads functions linear in the inputs", "a formula in text (fuzzylite's Function)", ""),
+    ("no rule has a consequent for output 1", "a first output no rule concludes",
+     "An output no rule concludes is its default (jFuzzyLogic's DEFAULT, as arm.fcl's "
+     "torque2 reads); it2track's system tables are built from the first output's rules, so "
+     "a first output without rules is refused."),
+    ("reads the output", "a formula reading another output (fuzzylite's chained Function)",
+     "approximation's diffFx is Function fabs(outputFx-trueFx): fuzzylite evaluates it with "
+     "the values of the outputs it defuzzified before (an order-dependent chain of outputs). "
+     "it2track reads formulas (it2track.fuzzy.formula: parsed, never run as code) of the "
+     "inputs only."),
     ("rule mentions no input", "a chained rule lost in a .fis export",
      "fuzzylite wrote the chained rules of Laundry/SimpleDimmerChained/SimpleDimmerInverse "
      "to .fis with antecedent index 0 (a .fis cannot name an output in a condition): the "
@@ -109,18 +111,21 @@ REFUSALS: list[tuple[str, str, str]] = [
      "cinthia.fcl's inputs without terms of their own), so the sets change with every "
      "evaluation; it2track's sets are fixed when the system is built."),
     ("a singleton is the value of a COGS output", "a singleton set in a centroid output",
-     "A singleton has no area; sampled on a centroid's grid it counts only where a grid "
-     "point (jFuzzyLogic builds its grid by repeated addition) hits it exactly, so its "
-     "contribution is an accident of rounding. it2track takes singletons as COGS values."),
+     "junit1/junit2.fcl conclude singletons (TERM closed := 0) in an output without METHOD : "
+     "COGS. jFuzzyLogic itself evaluates neither: a singleton is its discrete membership "
+     "function and only a discrete defuzzifier takes one (RuleActivationMethod.imply throws "
+     "'neither both discrete nor both continuous'), so there is no reference to agree with. "
+     "it2track takes singletons as COGS values."),
     ("centroid_integral", "Octave's centroid_integral defuzzifier",
      "Octave's own integral of the aggregated set; it2track's centroids are on the output "
      "grid (MATLAB's 101 points), so this would be a different number."),
-    ("unexpected character", "syntax jFuzzyLogic alone accepts",
-     "junit_functions.fcl writes DEFAULT = 0 (the standard's is :=) in an output whose terms "
-     "are non-linear formulas (FUNCTION ... SIN(inVar)), which it2track would refuse next as "
-     "formulas in text."),
     ("feet and peak must satisfy", "a zero-width triangle",
-     "TRIAN 0 0 0 is a point with no area (see the singleton case)."),
+     "junit_shashankrao.fcl's TRIAN 0 0 0 is 1 at 0 and 0 elsewhere (jFuzzyLogic's "
+     "MembershipFunctionTriangular). On a centroid's grid it counts only at a grid point "
+     "equal to 0: jFuzzyLogic's reference grid, -1 plus 0.002 added 500 times, reaches "
+     "8.7e-16, not 0, so there the term never counts; on it2track's grid (linspace, which "
+     "has 0) it would. Its weight is an accident of rounding, and it2track reads neither "
+     "rounding into the file."),
 ]
 
 

@@ -242,7 +242,7 @@ def test_factory_errors_name_the_function_and_parameter():
         from_fuzzylite("Triangle", [0, 1, 2, 1.5])
     with pytest.raises(ValueError, match="use fuzzylite_consequent"):
         from_fuzzylite("Constant", [1])
-    with pytest.raises(ValueError, match="never evaluates text"):
+    with pytest.raises(ValueError, match="is a formula, not numbers"):
         fuzzylite_consequent("Function", [], 2)
     with pytest.raises(ValueError, match=r"Discrete needs pairs"):
         from_fuzzylite("Discrete", [1])

@@ -22,7 +22,9 @@ from it2track.fuzzy import (
     T1Sugeno,
     T1Tsukamoto,
     WeightedDefuzzifier,
+    ZeroFiringError,
 )
+from it2track.fuzzy.formula import Formula
 from it2track.io import FisFormatError, FisFormatWarning, load, loads
 
 DATA = Path(__file__).parent / "data"
@@ -246,7 +248,7 @@ END_FUZZIFY"""
     assert float(a(6.0, 2.0)) == pytest.approx((0.6 * 8 + 0.4 * 2) / 1.0, abs=1e-12)
 
 
-def test_linear_function_terms_and_the_refused_ones() -> None:
+def test_linear_and_formula_function_terms_and_the_refused_ones() -> None:
     outputs = """DEFUZZIFY y
     TERM a := FUNCTION (x * 2.0) + 1;
     TERM b := FUNCTION 3 - x * 0.5;
@@ -256,12 +258,71 @@ END_DEFUZZIFY"""
     assert fls.rules[0].consequent == Linear([2.0], 1.0)
     assert fls.rules[1].consequent == Linear([-0.5], 3.0)
     assert float(fls(4.0)) == pytest.approx(0.6 * 9.0 + 0.4 * 1.0, abs=1e-12)
+    # not linear: a jFuzzyLogic formula, evaluated per sample (junit_functions.fcl's term)
     sine = outputs.replace("3 - x * 0.5", "(x * 3.0) + 5 * SIN(x)")
-    with pytest.raises(FisFormatError) as info:
-        loads(fcl(ONE_IN, sine, TWO_RULES), "fcl", path="f.fcl")
-    assert info.value.line == fcl(ONE_IN, sine, TWO_RULES).split("\n").index(
-        "    TERM b := FUNCTION (x * 3.0) + 5 * SIN(x);") + 1
-    assert "linear" in info.value.message
+    fls = loads(fcl(ONE_IN, sine, TWO_RULES), "fcl")
+    assert fls.rules[0].consequent == Linear([2.0], 1.0)
+    assert isinstance(fls.rules[1].consequent, Formula)
+    x = np.array([4.0, 7.5])
+    lo, hi = 1.0 - x / 10.0, x / 10.0  # TWO_RULES: lo = (0, 1) (10, 0), hi = (0, 0) (10, 1)
+    expected = (lo * (x * 2.0 + 1.0) + hi * (x * 3.0 + 5.0 * np.sin(x))) / (lo + hi)
+    np.testing.assert_allclose(fls(x), expected, rtol=0, atol=1e-12)
+    # fuzzylite's FCL export writes its Function term: fuzzylite's grammar (^ right-associative)
+    fuzzylite = outputs.replace("FUNCTION 3 - x * 0.5", "Function 2 ^ x ^ 0.5 - fabs(x)")
+    fls = loads(fcl(ONE_IN, fuzzylite, TWO_RULES), "fcl")
+    assert fls.rules[1].consequent == Formula("2 ^ x ^ 0.5 - fabs ( x )", "fuzzylite", ("x",))
+    expected = (lo * (x * 2.0 + 1.0) + hi * (2.0 ** np.sqrt(x) - x)) / (lo + hi)
+    np.testing.assert_allclose(fls(x), expected, rtol=0, atol=1e-12)
+    for bad, message in [
+        ("(x * 3.0) + 5 * SIN(x", "FUNCTION '( x * 3.0 ) + 5 * SIN ( x': '(' at character 23 "
+         "is not closed (at the end)"),
+        ("(x * 3.0) + w", "FUNCTION '( x * 3.0 ) + w': unknown name 'w' (the formula may read: "
+         "x; jfuzzylogic's functions: EXP, LN, LOG, SIN, COS, TAN, ABS) (at character 15)"),
+        ("x ** 2", "FUNCTION 'x * * 2': unexpected '*' where a number, name or '(' should be "
+         "(at character 5)"),
+        ("(x * 3.0) + y", "FUNCTION '( x * 3.0 ) + y' reads the output 'y' (fuzzylite's value "
+         "of it defuzzified before this one): it2track's consequents read the inputs only"),
+    ]:
+        text = fcl(ONE_IN, outputs.replace("3 - x * 0.5", bad), TWO_RULES)
+        with pytest.raises(FisFormatError) as info:
+            loads(text, "fcl", path="f.fcl")
+        assert info.value.line == text.split("\n").index(f"    TERM b := FUNCTION {bad};") + 1
+        assert info.value.message == f"term 'b': {message}"
+
+
+def test_jfuzzylogics_lenient_default_without_assign_or_semicolon() -> None:
+    # junit_functions.fcl: jFuzzyLogic's lexer drops the '=' and its parser puts in ':=' and ';'
+    lenient = SINGLETONS.replace("METHOD : COGS;", "DEFAULT = 5\n    METHOD : COGS;")
+    text = fcl(ONE_IN, lenient, "    RULE 1 : IF x IS lo THEN y IS a;")
+    with pytest.warns(FisFormatWarning, match=r"DEFAULT = 5: read as jFuzzyLogic reads it, "
+                      r"DEFAULT := 5;") as caught:
+        fls = loads(text, "fcl")
+    assert caught[0].message.line == text.split("\n").index("    DEFAULT = 5") + 1
+    assert float(fls(10.0)) == 5.0  # nothing fires at x = 10: the default
+    assert float(fls(5.0)) == 2.0
+    with pytest.warns(FisFormatWarning):
+        same = loads(text.replace("DEFAULT = 5", "DEFAULT = 5;"), "fcl")
+    assert float(same(10.0)) == 5.0
+    with pytest.raises(FisFormatError, match=r"expected a default value \(a number\), got '='"):
+        loads(text.replace("DEFAULT = 5", "DEFAULT == 5"), "fcl")
+    with pytest.raises(FisFormatError, match="expected ':=', got '5'"):
+        loads(text.replace("DEFAULT = 5", "DEFAULT 5"), "fcl")
+
+
+def test_an_output_no_rule_concludes_is_its_default_as_jfuzzylogic() -> None:
+    # arm.fcl: torque2 has terms and DEFAULT := 0 but its rules are commented out;
+    # jFuzzyLogic's defuzzifier gives NaN there and the variable keeps its DEFAULT
+    idle = SINGLETONS.replace("DEFUZZIFY y", "DEFUZZIFY z").replace("COGS;", "COGS;\n"
+                                                                      "    DEFAULT := 4;")
+    first = SINGLETONS.replace("COGS;", "COGS;\n    DEFAULT := 0;")
+    text = fcl(ONE_IN, first + "\n" + idle, TWO_RULES, outputs="y : REAL; z : REAL;")
+    fls = loads(text, "fcl")
+    np.testing.assert_allclose(fls(np.array([0.0, 5.0])), [[2.0, 4.0], [5.0, 4.0]],
+                               rtol=0, atol=1e-12)
+    with pytest.raises(ZeroFiringError, match="concludes output 2, and it has no "
+                       "on_zero_firing value"):
+        loads(text.replace("    DEFAULT := 4;\n", "").replace("    DEFAULT := 0;\n", ""),
+              "fcl")(1.0)
 
 
 def test_tsukamoto_and_hybrid_engines() -> None:

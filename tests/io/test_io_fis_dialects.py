@@ -286,8 +286,35 @@ def test_fuzzylite_term_names_in_fis() -> None:
     text = edit(TIPPER, "'trapmf',[0 0 1 3]", "'rampmf',[3 0]")
     fls = load(text)
     assert fls.inputs[1].sets[0].upper == Ramp(3.0, 0.0)
-    err = error_of(edit(TIPPER, "'trapmf',[0 0 1 3]", "'function',[x*2]"))
-    assert "never evaluates text" in err.message
+    text = edit(TIPPER, "'trapmf',[0 0 1 3]", "'function',[x*2]")
+    err = error_of(text)
+    assert err.line == line_with(text, "'function',[x*2]")
+    assert err.message == ("MF 'rancid': fuzzylite's 'function' (a formula) is read in a .fis "
+                           "as a Takagi-Sugeno output's consequent only (a membership Function "
+                           "is read from fuzzylite's .fll)")
+
+
+def test_fuzzylites_function_consequent_in_fis() -> None:
+    # fuzzylite's export of a Function term (fuzzylite/examples/takagi-sugeno/approximation.fis)
+    text = edit(TIPPER, "'constant',[25]", "'function',[25 + sqrt(service) * food ^ 2]")
+    fls = load(text)
+    f = fls.firing(GRID[:, 0], GRID[:, 1])[1]
+    y = np.stack([np.full(len(GRID), 5.0), np.full(len(GRID), 15.0),
+                  25.0 + np.sqrt(GRID[:, 0]) * GRID[:, 1] ** 2], axis=-1)
+    np.testing.assert_allclose(fls(GRID[:, 0], GRID[:, 1]),
+                               (f * y).sum(1) / f.sum(1), rtol=1e-15, atol=0)
+    for formula, message in [
+        ("25 + tip", "reads the output 'tip' (fuzzylite's value of it defuzzified before this "
+         "one): it2track's consequents read the inputs only"),
+        ("25 + ", "function '25 +': ends where a number, name or '(' should follow (at the "
+         "end)"),
+    ]:
+        bad = edit(TIPPER, "'constant',[25]", f"'function',[{formula}]")
+        err = error_of(bad)
+        assert err.line == line_with(bad, "'function'")
+        assert message in err.message and err.message.startswith("MF 'generous': function")
+    err = error_of(edit(TIPPER, "'constant',[25]", "'function',[service],'Height',1"))
+    assert err.message == "unexpected text after the formula of MF3"
 
 
 def test_an_input_without_mfs_feeds_linear_consequents_as_in_matlabs_slcp1() -> None:

@@ -153,8 +153,10 @@ def test_the_writer_refuses_what_fll_cannot_carry() -> None:
 
 
 MALFORMED = [
-    ("term: dark Triangle 0.0 0.0 0.6", "term: dark Function 1 + x", "term: dark",
-     "never evaluates text"),
+    ("term: dark Triangle 0.0 0.0 0.6", "term: dark Function 1 + x *", "term: dark",
+     "Function '1 + x *': ends where a number, name or '(' should follow (at the end)"),
+    ("term: dark Triangle 0.0 0.0 0.6", "term: dark Function lt(x, y)", "term: dark",
+     "Function 'lt(x, y)': unknown name 'y' (the formula may read: x;"),
     ("term: dark Triangle 0.0 0.0 0.6", "term: dark Triangle 0.0 0.0", "term: dark",
      "Triangle needs 3 parameters"),
     ("term: dark Triangle 0.0 0.0 0.6", "term: dark Triangle 0.0 0.0 x", "term: dark",
@@ -231,3 +233,37 @@ def test_a_shoulder_inside_the_range_is_zero_beyond_its_foot_as_in_fuzzylite() -
                                rtol=0, atol=1e-15)
     again = loads(dumps(fls, "fll"), "fll")
     assert again.inputs == fls.inputs
+
+
+def test_function_terms_are_formulas_of_x_and_of_the_inputs() -> None:
+    # Mamdani: 'high' as fuzzylite's Function of x, negative below 0.8 (floored at 0, as the
+    # Maximum aggregation starting from 0 makes it in fuzzylite): the same system as the
+    # triangle's.
+    text = MAMDANI.replace("term: high Triangle 0.8 2.0 2.0",
+                           "term: high Function min((x - 0.8) / 1.2, 1)")
+    fls, same = loads(text, "fll"), loads(MAMDANI, "fll")
+    x = np.linspace(0.0, 1.0, 11)
+    np.testing.assert_allclose(fls(x), same(x), rtol=1e-15, atol=0)
+    for agg, imp in [("AlgebraicSum", "Minimum"), ("Maximum", "EinsteinProduct")]:
+        other = text.replace("aggregation: Maximum", f"aggregation: {agg}").replace(
+            "implication: Minimum", f"implication: {imp}")
+        err = error_of(other)
+        assert err.line == line_with(other, "term: high Function")
+        assert err.message.startswith("term 'high': a Function output term needs aggregation: "
+                                      "Maximum and implication: Minimum or AlgebraicProduct")
+    # Takagi-Sugeno: a formula of the inputs by name
+    tsk = SUGENO.replace("term: plane Linear 2 -1 0.5", "term: plane Function 2*a - b^2 + 0.5")
+    fls = loads(tsk, "fll")
+    a, b = np.meshgrid(np.linspace(0, 10, 5), np.linspace(0, 10, 5))
+    a, b = a.ravel(), b.ravel()
+    lo_a, hi_a, hi_b = 1 - a / 10, a / 10, b / 10
+    f1 = 1 - (1 - lo_a) * (1 - hi_b)  # AlgebraicSum of (a is lo or b is hi)
+    f2 = 0.25 * hi_a * (1 - hi_b)
+    expected = (f1 * 7 + f2 * (2 * a - b**2 + 0.5)) / (f1 + f2)
+    np.testing.assert_allclose(fls(a, b)[:, 0], expected, rtol=1e-14, atol=0)
+    chained = SUGENO.replace("term: plane Linear 2 -1 0.5", "term: plane Function a + z")
+    err = error_of(chained)
+    assert err.line == line_with(chained, "term: plane Function")
+    assert err.message == ("term 'plane': Function 'a + z' reads the output 'z' (fuzzylite's "
+                           "value of it defuzzified before this one): it2track's consequents "
+                           "read the inputs only")

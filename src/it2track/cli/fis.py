@@ -33,6 +33,7 @@ from ..fuzzy import (
     UncertainMeanGaussianLower,
     UncertainMeanGaussianUpper,
 )
+from ..fuzzy.formula import Formula
 from .outdir import check_output_file, write_output_file
 
 __all__ = ["describe", "fis", "surface"]
@@ -143,6 +144,8 @@ def _consequent_text(cons: Consequent, inputs: tuple[str, ...]) -> str:
         parts = [f"{term(lo, hi)}*{name}"
                  for lo, hi, name in zip(cons.lo, cons.hi, inputs, strict=True)]
         return " + ".join([*parts, term(cons.constant_lo, cons.constant_hi)])
+    if isinstance(cons, Formula):
+        return f"{cons.text}  ({cons.dialect}'s formula)"
     assert cons is not None
     lo, hi = cons
     return _num(lo) if lo == hi else f"[{_num(lo)}, {_num(hi)}]"

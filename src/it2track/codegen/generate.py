@@ -45,7 +45,10 @@ __all__ = [
 SUPPORTED_FEATURES: frozenset[str] = frozenset({"not", "or", "weights", "linear"})
 #: What each feature the generator refuses is, for the message.
 _FEATURE_TEXT = {"outputs": "several outputs (export one with select_output())",
-                 "mamdani": "a Mamdani output"}
+                 "mamdani": "a Mamdani output",
+                 "formula": "a formula consequent (fuzzylite's Function, jFuzzyLogic's "
+                            "FUNCTION)",
+                 "idle": "an output no rule concludes"}
 #: The system types the generator knows (exact types: a subclass may change the semantics).
 SUPPORTED_SYSTEMS: tuple[type, ...] = (IT2Sugeno, T1Sugeno, IT2Mamdani, T1Mamdani)
 #: The operators the generated C implements, per kind (anything else is refused by name).

@@ -5,6 +5,8 @@ Mamdani systems of :mod:`.mamdani` differ only in what a rule's consequent is:
 
 - a number or an interval ``(lo, hi)``: zero-order Sugeno;
 - a :class:`Linear` function of the inputs: first-order Sugeno (TSK);
+- a :class:`~.formula.Formula` of the inputs (fuzzylite's ``Function``, jFuzzyLogic's
+  ``FUNCTION``): a crisp consequent evaluated per sample, read from files;
 - a set label (a string) of an :class:`Output`: Mamdani.
 
 A rule joins its antecedents with AND (the system's t-norm) or OR (its s-norm, see
@@ -25,6 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .conditions import Condition, Is, Join, Modified, Not, inputs_of
+from .formula import Formula
 from .hedges import Hedge
 from .membership import MembershipFunction
 from .norms import Connective, TNorm
@@ -184,12 +187,13 @@ class Linear:
 
 
 #: What one output of a rule can be: an interval (zero-order), a :class:`Linear` function
-#: (first-order), a set label (Mamdani), or ``None`` (the rule does not act on this output).
-Consequent = tuple[float, float] | Linear | str | None
+#: (first-order), a :class:`~.formula.Formula` of the inputs, a set label (Mamdani), or
+#: ``None`` (the rule does not act on this output).
+Consequent = tuple[float, float] | Linear | Formula | str | None
 
 
 def _consequent(value: object, what: str) -> Consequent:
-    if value is None or isinstance(value, Linear):
+    if value is None or isinstance(value, Linear | Formula):
         return value
     if isinstance(value, str):
         if not value:

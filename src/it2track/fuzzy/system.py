@@ -346,11 +346,24 @@ class _SystemBase:
     ) -> tuple[FloatArray, FloatArray]:
         raise NotImplementedError
 
+    def _idle(self, x: FloatArray, k: int) -> tuple[FloatArray, FloatArray]:
+        """Output ``k``, which no rule concludes: no rule fires for it anywhere, so it is its
+        ``on_zero_firing`` value (jFuzzyLogic's DEFAULT, MATLAB's middle of the range) or a
+        :class:`ZeroFiringError`."""
+        zero = self.zero_firing_value(k)
+        if zero is None:
+            raise ZeroFiringError(
+                f"no rule of {type(self).__name__} {self.name!r} concludes output {k + 1}, and "
+                "it has no on_zero_firing value")
+        y = np.full(x.shape[1], float(zero))
+        return y, y.copy()
+
     def _interval_blocks(self, x: FloatArray) -> tuple[FloatArray, FloatArray]:
         """``(yl, yr)`` of shape ``(N,)``, or ``(N, m)`` for ``m > 1`` outputs."""
         if self._c.n_outputs == 1:
             return self._interval_of(self._c, x, 0)
-        pairs = [self._interval_of(c, x, k) for k, c in enumerate(self._c.outputs)]
+        pairs = [self._interval_of(c, x, k) if c.n_rules else self._idle(x, k)
+                 for k, c in enumerate(self._c.outputs)]
         return (np.stack([p[0] for p in pairs], axis=-1),
                 np.stack([p[1] for p in pairs], axis=-1))
 

@@ -26,6 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .conditions import Condition, Is, Join, Modified, Not
+from .formula import Formula
 from .hedges import Hedge, Hedged, apply_hedges
 from .kinds import MFKind, Row
 from .membership import (
@@ -43,7 +44,8 @@ from .sets import ScaledLagged
 __all__ = ["FEATURES", "MFKind", "SystemTables"]
 
 #: Every name :attr:`SystemTables.features` can hold (see the class docstring).
-FEATURES = frozenset({"not", "or", "weights", "linear", "outputs", "hedges", "tree"})
+FEATURES = frozenset({"not", "or", "weights", "linear", "formula", "outputs", "hedges",
+                      "tree", "idle"})
 
 FloatArray = NDArray[np.float64]
 
@@ -153,7 +155,11 @@ class SystemTables:
         Rule-language features beyond zero-order AND rules of weight 1 with one output that
         these tables use, from :data:`FEATURES`: ``"not"`` (a negated antecedent),
         ``"or"`` (an OR rule over two or more inputs), ``"weights"`` (a weight other than 1),
-        ``"linear"`` (a first-order consequent), ``"outputs"`` (more than one output),
+        ``"linear"`` (a first-order consequent), ``"formula"`` (a
+        :class:`~it2track.fuzzy.formula.Formula` consequent, evaluated per sample; with it
+        ``"linear"`` too), ``"outputs"`` (more than one output),
+        ``"idle"`` (an output other than the first that no rule concludes: its tables have
+        no rules and it is the system's zero-firing value everywhere),
         ``"hedges"`` (a hedged proposition -- its rows are :class:`~it2track.fuzzy.hedges.Hedged`
         -- or a hedged conclusion, applied to the weighted firing of that rule). An
         evaluator that does not implement one of them must refuse the tables or fall back on
@@ -180,7 +186,7 @@ class SystemTables:
         output = 0 if _output is None else _output
         rules_all = rules
         index = [r for r, rule in enumerate(rules) if rule.consequents[output] is not None]
-        if not index:
+        if not index and _output is None:
             raise ValueError(f"no rule has a consequent for output {output + 1}")
         self.rule_index = np.array(index, dtype=np.intp)
         rules = tuple(rules[r] for r in index)
@@ -267,9 +273,18 @@ class SystemTables:
         y_hi = np.empty(len(rules))
         coef_lo = np.zeros((len(rules), n_in))
         coef_hi = np.zeros((len(rules), n_in))
+        formulas: dict[int, Formula] = {}
         for r, rule in enumerate(rules):
             cons = rule.consequents[output]
-            if isinstance(cons, Linear):
+            if isinstance(cons, Formula):
+                if len(cons.names) != n_in:
+                    raise ValueError(
+                        f"rule {int(self.rule_index[r])}: formula {cons.text!r} reads "
+                        f"{len(cons.names)} names for {n_in} inputs"
+                    )
+                y_lo[r] = y_hi[r] = 0.0
+                formulas[r] = cons
+            elif isinstance(cons, Linear):
                 if len(cons.lo) != n_in:
                     raise ValueError(
                         f"rule {int(self.rule_index[r])}: linear consequent has "
@@ -286,7 +301,8 @@ class SystemTables:
                 )
         self.y_lo, self.y_hi = y_lo, y_hi
         self.coef_lo, self.coef_hi = coef_lo, coef_hi
-        linear = any(isinstance(rule.consequents[output], Linear) for rule in rules)
+        linear = bool(formulas) or any(isinstance(rule.consequents[output], Linear)
+                                       for rule in rules)
         self.crisp = bool(np.array_equal(y_lo, y_hi)) and bool(np.array_equal(coef_lo, coef_hi))
         self.negated = np.array([rule.negated for rule in rules], dtype=bool).reshape(
             len(rules), n_in
@@ -312,6 +328,8 @@ class SystemTables:
             features.add("weights")
         if linear:
             features.add("linear")
+        if formulas:
+            features.add("formula")
         if n_outputs > 1:
             features.add("outputs")
         self.features: frozenset[str] = frozenset(features)
@@ -337,6 +355,8 @@ class SystemTables:
         # (possibly negated) antecedent reads; unmentioned inputs of OR rules read the 0 row.
         self.general_firing = bool(self.features & {"not", "or", "weights", "hedges", "tree"})
         position = {r: s for s, r in enumerate(self.perm.tolist())}
+        #: (sorted position, formula) of each Formula consequent
+        self.formulas_s = [(position[r], f) for r, f in sorted(formulas.items())]
         self.trees_s = [(position[r], tree) for r, tree in sorted(trees.items())]
         self.consequent_hedges_s = [(s, self.consequent_hedges[r])
                                     for s, r in enumerate(self.perm.tolist())
@@ -362,6 +382,8 @@ class SystemTables:
             others = [SystemTables(inputs, tuple(rules_all), snorm=snorm, _output=k)
                       for k in range(1, n_outputs)]
             self.outputs = (self, *others)
+            if any(not t.n_rules for t in others):  # an output no rule concludes
+                self.features = self.features | {"idle"}
 
     def __getstate__(self) -> dict[str, Any]:
         state = self.__dict__.copy()
@@ -522,6 +544,8 @@ class SystemTables:
             q = self.coef_hi_s[:, i : i + 1] * x[i]
             y_lo += np.minimum(p, q)
             y_hi += np.maximum(p, q)
+        for s, formula in self.formulas_s:
+            y_lo[s] = y_hi[s] = formula(*x)
         return y_lo, y_hi
 
 

@@ -286,9 +286,8 @@ def fuzzylite_consequent(kind: str, params: Sequence[float], n_inputs: int
         constant = values[n_inputs] if len(values) > n_inputs else 0.0
         return Linear(values[:n_inputs], constant)
     if kind == "Function":
-        raise ValueError("fuzzylite's Function term (a formula) is not supported: it2track "
-                         "never evaluates text from a file; replace it by Constant/Linear or "
-                         "by a membership term")
+        raise ValueError("fuzzylite's Function term is a formula, not numbers: parse its "
+                         "text with it2track.fuzzy.formula.Formula")
     raise ValueError(f"unknown fuzzylite output term {kind!r} for a Takagi-Sugeno output "
                      "(Constant, Linear)")
 

@@ -30,6 +30,7 @@ never leaves a half-written file.
 
 from __future__ import annotations
 
+import functools
 import os
 from collections.abc import Callable
 from pathlib import Path
@@ -39,6 +40,7 @@ from ..atomicfile import atomic_write_text
 from ..fuzzy import AnySystem
 from . import fcl, fll, fml, matfis, t2fis, tomlfmt
 from ._matlab import decode
+from ._writing import refuse_formulas
 from .errors import FisFormatError, FisFormatWarning, UnsupportedFeatureError
 
 __all__ = [
@@ -59,13 +61,22 @@ _Loader = Callable[[str, str], AnySystem]
 _Dumper = Callable[[AnySystem], str]
 
 
+def _no_formulas(dumper: _Dumper, fmt: str) -> _Dumper:
+    """``dumper``, refusing a system with a formula (:mod:`it2track.fuzzy.formula`) first."""
+    @functools.wraps(dumper)
+    def dumps(system: AnySystem) -> str:
+        refuse_formulas(system, fmt)
+        return dumper(system)
+    return dumps
+
+
 #: format name -> (file suffix, loads, dumps): the formats it2track reads and writes
 FORMATS: dict[str, tuple[str, _Loader, _Dumper]] = {
-    "toml": (".toml", tomlfmt.loads, tomlfmt.dumps),
-    "t2fis": (".t2fis", t2fis.loads, t2fis.dumps),
-    "fis": (".fis", matfis.loads, matfis.dumps),
-    "fll": (".fll", fll.loads, fll.dumps),
-    "fml": (".fml", fml.loads, fml.dumps),
+    "toml": (".toml", tomlfmt.loads, _no_formulas(tomlfmt.dumps, ".toml")),
+    "t2fis": (".t2fis", t2fis.loads, _no_formulas(t2fis.dumps, ".t2fis")),
+    "fis": (".fis", matfis.loads, _no_formulas(matfis.dumps, ".fis")),
+    "fll": (".fll", fll.loads, _no_formulas(fll.dumps, ".fll")),
+    "fml": (".fml", fml.loads, _no_formulas(fml.dumps, ".fml")),
 }
 #: the formats that carry interval type-2 systems (the others are type-1 only)
 TYPE2 = frozenset({"toml", "t2fis", "fis"})

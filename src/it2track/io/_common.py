@@ -89,6 +89,10 @@ def mf_from_matlab(doc: Document, mfv: MFValue, *, with_height: bool) -> Members
     """
     kind = mfv.type
     spec = MATLAB_MFS.get(kind)
+    if kind == "function":
+        raise doc.error(mfv.line, f"MF {mfv.name!r}: fuzzylite's 'function' (a formula) is read "
+                        "in a .fis as a Takagi-Sugeno output's consequent only (a membership "
+                        "Function is read from fuzzylite's .fll)")
     if spec is None:
         if doc.lenient and kind in FUZZYLITE_FIS_NAMES:
             with guard(doc, mfv.line, f"MF {mfv.name!r}"):

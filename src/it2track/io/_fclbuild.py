@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from typing import Any
 
 import numpy as np
@@ -30,6 +30,7 @@ from ..fuzzy import (
     Triangle,
     WeightedDefuzzifier,
 )
+from ..fuzzy.formula import Formula, FormulaError
 from ..fuzzy.terms import FUZZYLITE_TERMS, from_fuzzylite, fuzzylite_consequent
 from ._common import footed
 from ._fclparse import FclTerm, FclVar, FunctionBlock, Parser
@@ -184,7 +185,8 @@ class Builder:
                              "output without METHOD : COGS) as here")
         raise self.error(term.line, f"term {term.name!r}: FUNCTION is a COGF output term")
 
-    def consequent(self, term: FclTerm, inputs: list[str]) -> Consequent:
+    def consequent(self, term: FclTerm, inputs: list[str],
+                   outputs: Iterable[str] = ()) -> Consequent:
         if term.kind == "singleton":
             return (term.value, term.value)
         if term.kind == "shape" and term.shape in ("Constant", "Linear"):
@@ -194,9 +196,37 @@ class Builder:
                                  f"term {term.name!r}")
             return (value, value) if isinstance(value, float) else value
         if term.kind == "function":
-            return self.linear(term, inputs)
+            # fuzzylite's FCL export spells its Function term so, in its grammar
+            dialect = "fuzzylite" if term.shape == "Function" else "jfuzzylogic"
+            formula = self.formula(term, inputs, dialect, outputs)
+            try:  # linear in the inputs: a Linear (compiled, written)
+                return self.linear(term, inputs)
+            except FisFormatError:
+                return formula
         raise self.error(term.line, f"term {term.name!r}: a COGS/COGF output term is a value, "
                          "fuzzylite's Constant/Linear or a FUNCTION")
+
+    def formula(self, term: FclTerm, inputs: list[str], dialect: str = "jfuzzylogic",
+                outputs: Iterable[str] = ()) -> Formula:
+        """A FUNCTION's formula of the inputs (its tokens, rejoined); one reading an output
+        (of ``outputs``) is refused as such."""
+        text, starts = "", []
+        for tok in term.params:
+            starts.append(len(text))
+            text += tok.text + " "
+        text = text.rstrip()
+        try:
+            return Formula(text, dialect, inputs)
+        except FormulaError as exc:
+            k = max([0, *(k for k, start in enumerate(starts) if start <= exc.position)])
+            line = term.params[k].line if term.params else term.line
+            where = f"FUNCTION {text!r}" if dialect == "jfuzzylogic" else f"Function {text!r}"
+            if exc.token in set(outputs):
+                raise self.error(line, f"term {term.name!r}: {where} reads the output "
+                                 f"{exc.token!r} (fuzzylite's value of it defuzzified before "
+                                 "this one): it2track's consequents read the inputs only"
+                                 ) from None
+            raise self.error(line, f"term {term.name!r}: {where}: {exc}") from None
 
     def linear(self, term: FclTerm, inputs: list[str]) -> Linear:
         """A jFuzzyLogic FUNCTION that is linear in the inputs."""

@@ -24,7 +24,7 @@ _TOKEN = re.compile(
       | (?P<num>(?:\d+(?:\.(?!\.)\d*)?|\.\d+)(?:[eE][+-]?\d{1,3})?(?!\d)(?!\.\d))
       | (?P<range>\.\.)
       | (?P<assign>:=)
-      | (?P<punct>[:;(),|*/+-])
+      | (?P<punct>[:;(),|*/+^%=-])
       | (?P<ident>[A-Za-z_][A-Za-z0-9_.]*)
     """,
     re.VERBOSE | re.DOTALL,
@@ -289,18 +289,31 @@ class Parser:
                 var.accu = self.ident("an accumulation method")
                 self.expect(";")
             elif key.upper == "DEFAULT" and word == "DEFUZZIFY":
-                self.expect(":=")
+                # jFuzzyLogic also reads 'DEFAULT = 0' without ';' (its lexer drops the '=',
+                # its parser puts in the missing ':=' and ';'; junit_functions.fcl)
+                lenient = self.skip("=")
+                if not lenient:
+                    self.expect(":=")
                 # NC ("no change", IEC 61131-7): the last output where no rule fires, the
                 # system's lock_previous (evaluate_sequence); fuzzylite: DEFAULT := nan | NC
                 if self.at("NC"):
                     self.next("NC")
                     var.nc = True
                 else:
-                    var.default = (self.number("a default value"), key.line)
+                    value = self.number("a default value")
+                    var.default = (value, key.line)
                     if self.skip("|"):
                         self.expect("NC")
                         var.nc = True
-                self.expect(";")
+                    if lenient:
+                        warnings.warn(FisFormatWarning(
+                            self.path, key.line, f"DEFAULT = {value:g}: read as jFuzzyLogic "
+                            f"reads it, DEFAULT := {value:g}; (the standard's form)"),
+                            stacklevel=2)
+                if lenient:
+                    self.skip(";")
+                else:
+                    self.expect(";")
             else:
                 raise self.error(key.line, f"unexpected {key.text!r} in {word} {var.name}")
         self.expect(end)

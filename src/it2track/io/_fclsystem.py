@@ -218,7 +218,8 @@ def _assemble(b: Builder, fb: FunctionBlock, outputs: dict[str, FclVar], inputs:
     values: dict[str, dict[str, Consequent]] = {}
     if sugeno:
         for name, var in outputs.items():
-            values[name] = {t.name: b.consequent(t, in_names) for t in var.terms.values()}
+            values[name] = {t.name: b.consequent(t, in_names, fb.outputs)
+                            for t in var.terms.values()}
     built: list[Rule] = []
     users: dict[tuple[str, str], tuple[int, str]] = {}
     shared = False

@@ -31,6 +31,7 @@ from ..fuzzy import (
     TNorm,
     TypeReducer,
 )
+from ..fuzzy.formula import Formula, FormulaError
 from ..fuzzy.mamdani import RESOLUTION
 from ._common import build_input, build_rules, guard, linear_from
 from ._matlab import Document, Entry, MFValue, Section
@@ -146,7 +147,8 @@ class FisReader:
             count_entry = doc.entry(section, "NumMFs")
             n = doc.integer(count_entry, minimum=1)
             consequents.append([
-                self.consequent(doc.mf(entry), counts.n_inputs)
+                self.consequent(doc.mf(entry), counts.n_inputs,
+                                tuple(i.name for i in inputs))
                 for entry in self.mf_lines(section, n, count_entry)
             ])
         rules = build_rules(doc, doc.counted_rules(counts), inputs, consequents,
@@ -187,8 +189,25 @@ class FisReader:
         self.doc.check_mf_keys(section, n, count_entry)
         return [section.entries[f"MF{j}"] for j in range(1, n + 1)]
 
-    def consequent(self, mfv: MFValue, n_inputs: int) -> Consequent:
-        """A Sugeno output MF: ``'linear'`` or ``'constant'`` (see :meth:`constant`)."""
+    def consequent(self, mfv: MFValue, n_inputs: int, names: tuple[str, ...] = ()
+                   ) -> Consequent:
+        """A Sugeno output MF: ``'linear'`` or ``'constant'`` (see :meth:`constant`), or
+        fuzzylite's ``'function'``, a formula of the inputs ``names``."""
+        if mfv.type == "function":
+            try:
+                return Formula(mfv.formula, "fuzzylite", names)
+            except FormulaError as exc:
+                outputs = {self.doc.string(s.entries["Name"]) for t, s in
+                           self.doc.sections.items() if t.startswith("Output")
+                           and "Name" in s.entries}
+                if exc.token in outputs:
+                    raise self.doc.error(mfv.line, f"MF {mfv.name!r}: function "
+                                         f"{mfv.formula!r} reads the output {exc.token!r} "
+                                         "(fuzzylite's value of it defuzzified before this "
+                                         "one): it2track's consequents read the inputs only"
+                                         ) from None
+                raise self.doc.error(mfv.line, f"MF {mfv.name!r}: function {mfv.formula!r}: "
+                                     f"{exc}") from None
         if mfv.type == "linear":
             return linear_from(self.doc, mfv, n_inputs, interval=self.interval_linear)
         if mfv.type != "constant":

@@ -8,7 +8,7 @@ import itertools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, TypeVar
+from typing import Any, TypeVar, cast
 
 import numpy as np
 
@@ -33,6 +33,7 @@ from ..fuzzy import (
     WeightedDefuzzifier,
 )
 from ..fuzzy.conditions import Condition as CoreCondition
+from ..fuzzy.formula import Formula, FormulaError, FormulaMembership
 from ..fuzzy.terms import from_fuzzylite, fuzzylite_consequent
 from ._chain import Chain
 from ._common import footed
@@ -114,15 +115,30 @@ class _Builder:
             raise self.error(item.line, f"expected 'term: name Kind parameters', got "
                              f"{show(item.value)}")
         name, kind = parts[0], parts[1]
-        if kind == "Function":
-            raise self.error(item.line, f"term {name!r}: fuzzylite's Function (a formula) is not "
-                             "supported: it2track never evaluates text from a file")
+        if kind == "Function":  # the formula: the rest of the line
+            return name, kind, []
         params = [self.doc.number(p, item.line, f"term {name!r}", finite=False)
                   for p in parts[2:]]
         return name, kind, params
 
+    def formula(self, item: Item, name: str, names: tuple[str, ...]) -> Formula:
+        """A ``Function`` term's formula over ``names`` (``x`` for a membership function)."""
+        text = item.value.split(None, 2)[2] if len(item.value.split(None, 2)) > 2 else ""
+        try:
+            return Formula(text, "fuzzylite", names)
+        except FormulaError as exc:
+            outputs = {s.name for s in self.doc.sections if s.kind == "OutputVariable"}
+            if exc.token in outputs:
+                raise self.error(item.line, f"term {name!r}: Function {text!r} reads the output "
+                                 f"{exc.token!r} (fuzzylite's value of it defuzzified before "
+                                 "this one): it2track's consequents read the inputs only"
+                                 ) from None
+            raise self.error(item.line, f"term {name!r}: Function {text!r}: {exc}") from None
+
     def mf(self, item: Item, universe: tuple[float, float]) -> tuple[str, MembershipFunction]:
         name, kind, params = self.term(item, universe)
+        if kind == "Function":  # fuzzylite's f(x), neither clipped nor footed
+            return name, cast(MembershipFunction, self.formula(item, name, ("x",)))
         mf = self.guarded(item.line, lambda: from_fuzzylite(kind, params), f"term {name!r}")
         return name, footed(mf, universe)  # 0 beyond a foot inside the range, as fuzzylite
 
@@ -154,7 +170,7 @@ class _Builder:
         sets = [self.mf(item, universe) for item in section.terms]
         return self.guarded(section.line, lambda: Input(name, universe, sets))
 
-    def output(self, section: Section, n_inputs: int) -> _Output:
+    def output(self, section: Section, inputs: tuple[str, ...]) -> _Output:
         self.flag(section, "enabled", True, "a disabled variable")
         self.flag(section, "lock-previous", False, "")  # a boolean; read in _output_options
         self.name(section)
@@ -188,9 +204,12 @@ class _Builder:
             value: Any
             if out_kind == "sugeno":
                 name, tkind, values = self.term(t, universe)
-                value = self.consequent(t.line, name, tkind, values, n_inputs)
+                value = (self.formula(t, name, inputs) if tkind == "Function" else
+                         self.consequent(t.line, name, tkind, values, len(inputs)))
             else:
                 name, value = self.mf(t, universe)
+                if isinstance(value, Formula):  # see _formula_sets
+                    value = FormulaMembership(value)
             if name in terms:
                 self.doc.warn(t.line, f"duplicate term {name!r} (first at line "
                               f"{terms[name][1]}): rules naming it take this one")
@@ -235,7 +254,8 @@ def build(doc: Document) -> AnySystem:
     inputs = [b.input(s) for s in doc.sections if s.kind == "InputVariable"]
     if not inputs:
         raise b.error(None, "no InputVariable")
-    outputs = [b.output(s, len(inputs)) for s in doc.sections if s.kind == "OutputVariable"]
+    names = tuple(i.name for i in inputs)
+    outputs = [b.output(s, names) for s in doc.sections if s.kind == "OutputVariable"]
     if not outputs:
         raise b.error(None, "no OutputVariable")
     seen: dict[str, int] = {}
@@ -363,6 +383,8 @@ def _part(b: _Builder, inputs: list[Input], outputs: list[_Output], rules: list[
     built = [_rule(b, inputs, outputs, r.item, r.op, r.props,
                    [c for c in r.conclusions if c[0] in names], r.weight, r.tree) for r in mine]
     options.update(_output_options(b, outputs, implications))
+    if kind == "mamdani":
+        _formula_sets(b, outputs, options)
     if kind == "sugeno":
         cls: type = T1Sugeno
         if len(outputs) > 1 or outputs[0].section.name != "output1":
@@ -371,6 +393,21 @@ def _part(b: _Builder, inputs: list[Input], outputs: list[_Output], rules: list[
         cls = T1Mamdani if kind == "mamdani" else T1Tsukamoto
         options["outputs"] = tuple(_mf_output(b, o) for o in outputs)
     return b.guarded(None, lambda: cls(inputs=tuple(inputs), rules=tuple(built), **options))
+
+
+def _formula_sets(b: _Builder, outputs: list[_Output], options: dict[str, Any]) -> None:
+    """A ``Function`` output term is read floored at 0 (:class:`FormulaMembership`), which is
+    fuzzylite's aggregated set only under Maximum aggregation and a Minimum or
+    AlgebraicProduct implication."""
+    exact = (options["aggregation"] is Aggregation.MAXIMUM
+             and options["implication"] in (Implication.MINIMUM, Implication.PRODUCT))
+    for out in outputs:
+        for name, (mf, line) in out.terms.items():
+            if isinstance(mf, FormulaMembership) and not exact:
+                raise b.error(line, f"term {name!r}: a Function output term needs aggregation: "
+                              "Maximum and implication: Minimum or AlgebraicProduct (fuzzylite "
+                              "does not clip a Function's values; it2track's sets are degrees "
+                              "in [0, 1], the same aggregated set only with those operators)")
 
 
 def _check_names(b: _Builder, item: Item, condition: Condition, inputs: list[Input],

@@ -63,6 +63,8 @@ class MFValue:
     params: tuple[float, ...]
     extras: dict[str, tuple[str, ...]]
     line: int
+    #: fuzzylite's ``'function',[formula]``: the formula's text (``params`` is empty)
+    formula: str = ""
 
 
 class ValueParser:
@@ -211,9 +213,10 @@ class ValueParser:
             )
         name = self._unquote(tokens[0][1])
         kind = self._unquote(tokens[2][1])
-        if kind == "function":
-            raise self.error(entry.line, "fuzzylite's 'function' MF (a formula) is not "
-                             "supported: it2track never evaluates text from a file")
+        if kind == "function":  # fuzzylite's formula: the text between the brackets
+            if tokens[5:]:
+                raise self.error(entry.line, f"unexpected text after the formula of {entry.key}")
+            return MFValue(name, kind, (), {}, entry.line, formula=tokens[4][1][1:-1].strip())
         params = self._vector(tokens[4][1], entry)
         found: dict[str, tuple[str, ...]] = {}
         rest = tokens[5:]

@@ -26,6 +26,7 @@ from ..fuzzy import (
     TNorm,
     WeightedDefuzzifier,
 )
+from ..fuzzy.formula import Formula, FormulaMembership
 from .errors import UnsupportedFeatureError
 
 __all__ = [
@@ -230,3 +231,22 @@ def output_range(
         )
     return a, b
 
+
+def refuse_formulas(system: object, fmt: str) -> None:
+    """Refuse a system with a formula (a :class:`~it2track.fuzzy.formula.Formula` consequent or
+    membership function, read from a fuzzylite or jFuzzyLogic file): no writer carries one."""
+    for part in getattr(system, "systems", None) or (system,):
+        for rule in getattr(part, "rules", ()):
+            for cons in rule.consequents:
+                if isinstance(cons, Formula):
+                    raise UnsupportedFeatureError(
+                        f"the consequent formula {cons.text!r} cannot be written to {fmt}: "
+                        "it2track writes numbers, not formulas")
+        variables = [*getattr(part, "inputs", ()), *getattr(part, "outputs", ())]
+        for var in variables:
+            for s in getattr(var, "sets", ()):
+                for mf in (s.upper, s.lower):
+                    if isinstance(mf, Formula | FormulaMembership):
+                        raise UnsupportedFeatureError(
+                            f"set {s.name!r} of {var.name!r} is a formula, which it2track "
+                            f"cannot write to {fmt}: it writes numbers, not formulas")

@@ -42,8 +42,10 @@ What is read
   ``max(s1 - s2, 0)`` is then MATLAB's ``dsigmf``), ``COSINE half_width center``; fuzzylite's
   term names (``Triangle``, ``Bell``, ..., with its parameter order); output singletons
   ``TERM t := value``, fuzzylite's ``Constant``/``Linear``, and jFuzzyLogic's
-  ``FUNCTION`` when it is linear in the inputs (``(a * 0.6) + 1.2``). Parameters given by
-  variables, non-linear functions and input singletons are refused.
+  ``FUNCTION``: linear in the inputs (``(a * 0.6) + 1.2``) a ``Linear``, else a formula of
+  the inputs parsed (never run as code) by :mod:`it2track.fuzzy.formula` in jFuzzyLogic's
+  grammar (``SIN``, ``EXP``, ``^``, ...); fuzzylite's ``Function`` (so spelt) in fuzzylite's.
+  Parameters given by variables and input singletons are refused.
 - ``RANGE := (lo .. hi)`` in a FUZZIFY/DEFUZZIFY block or after a VAR_INPUT declaration
   (jFuzzyLogic) gives the universe; without it, jFuzzyLogic's estimate from the terms (the
   points' span, triangle and trapezoid feet, ``mean +- 4 sigma``, a bell's 0.001 level,
@@ -52,9 +54,10 @@ What is read
   rightmost / mean of maxima) give a :class:`~it2track.fuzzy.T1Mamdani` (101 points);
   ``COGS`` (singletons, fuzzylite's constant and linear terms), ``COGF`` (jFuzzyLogic's
   functions) and fuzzylite's ``COGSS`` (weighted sum) a :class:`~it2track.fuzzy.T1Sugeno`.
-  ``DEFAULT := v`` is ``on_zero_firing`` (``nan``: none); ``NC`` ("no change": keep the last
-  output), alone or as fuzzylite writes it (``DEFAULT := nan | NC``), is the system's
-  ``lock_previous``, which ``evaluate_sequence`` follows (``__call__`` is stateless).
+  ``DEFAULT := v`` is ``on_zero_firing`` (``nan``: none; jFuzzyLogic's lenient
+  ``DEFAULT = v`` without ``;`` is read as it reads it, with a warning); ``NC`` ("no change":
+  keep the last output), alone or as fuzzylite writes it (``DEFAULT := nan | NC``), is the
+  system's ``lock_previous``, which ``evaluate_sequence`` follows (``__call__`` is stateless).
 - Operators by the standard's, jFuzzyLogic's and fuzzylite's names: ``AND`` ``MIN``,
   ``PROD``, ``BDIF``, ``DPROD``, ``EPROD``/``EINSTEIN``, ``HPROD``/``HAMACHER``,
   ``NMIN``/``NIPMIN``; ``OR`` ``MAX``, ``ASUM``, ``BSUM``, ``DSUM``, ``ESUM``, ``HSUM``,

@@ -31,7 +31,11 @@ What is read
 - ``#`` starts a comment; keys and section names as fuzzylite 6 to 8 write them.
 - Terms: every membership term of :data:`~it2track.fuzzy.terms.FUZZYLITE_TERMS` (parameters
   in fuzzylite's order, optional trailing height); Takagi-Sugeno outputs' ``Constant`` and
-  ``Linear`` terms. ``Function`` (a formula) is refused: it2track evaluates no text.
+  ``Linear`` terms; ``Function`` terms, fuzzylite's formulas, parsed (never run as code) by
+  :mod:`it2track.fuzzy.formula`: of ``x`` as a membership function (a Mamdani output's is
+  read floored at 0, fuzzylite's aggregated set under Maximum aggregation with a Minimum or
+  AlgebraicProduct implication, and refused under others), of the inputs as a Takagi-Sugeno
+  consequent (a formula reading an output, fuzzylite's chained value, is refused).
 - Operators: conjunction / disjunction, implication and aggregation by fuzzylite's class
   names (``AlgebraicProduct``, ``EinsteinSum``, ...; ``none`` where no rule needs one);
   ``activation: General`` (the others select or scale rules and are refused).

@@ -44,7 +44,9 @@ indices written ``1.000``. ``%``/``#`` comment lines, ``pi`` expressions, fuzzyl
 MF parameters, a repeated ``MF`` key and undercounted ``NumMFs``/``NumRules`` are read as
 MATLAB or fuzzylite reads them, with a :class:`~it2track.io.FisFormatWarning`.
 
-- ``Type='sugeno'``: ``'constant',[c]`` and ``'linear',[c1 ... cn c0]`` outputs (an output of
+- ``Type='sugeno'``: ``'constant',[c]`` and ``'linear',[c1 ... cn c0]`` outputs, and
+  fuzzylite's ``'function',[formula]`` (a formula of the inputs, parsed by
+  :mod:`it2track.fuzzy.formula`, never run as code) (an output of
   monotonic MFs: fuzzylite's Tsukamoto); ``DefuzzMethod`` ``'wtaver'`` or ``'wtsum'``; missing
   ``AndMethod``/``DefuzzMethod`` mean MATLAB's Sugeno defaults ``'prod'``/``'wtaver'``.
 - ``Type='mamdani'``: output sets like the input sets (evaluated on MATLAB's 101 points);
@@ -191,7 +193,8 @@ class _Reader(FisReader):
     def output_kind(self, section: Section) -> str:
         if self.type not in ("hybrid", "sugeno") or self.type2:
             return self.type
-        constant = {self.doc.mf(entry).type in ("constant", "linear") for entry in section.mfs}
+        constant = {self.doc.mf(entry).type in ("constant", "linear", "function")
+                    for entry in section.mfs}
         if self.type == "hybrid":  # fuzzylite's: an output of 'constant'/'linear' MFs is TSK
             return "sugeno" if constant == {True} else "mamdani"
         if constant == {False}:

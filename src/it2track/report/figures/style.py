@@ -18,6 +18,7 @@ from typing import Any
 import matplotlib
 import PIL.Image
 from matplotlib.figure import Figure
+from matplotlib.gridspec import GridSpec
 
 from ...atomicfile import atomic_open
 from ..identity import _FLC, _IT2, _PD, _T1M, _T1S, INTEGRAL_UNITS, _Ctrl, _order_key
@@ -127,12 +128,17 @@ def _save(fig: Figure, out_dir: Path, stem: str, *, svg: bool = True,
     png = out_dir / f"{stem}.png"
     buf = io.BytesIO()
     if draft:  # straight from matplotlib, fast zlib, no quantisation
-        # and no constrained layout, which measures every label twice (a third of a figure's
+        # and no constrained layout, which measures every label twice (a fifth of a figure's
         # CPU): the grid's fixed spacing, widened so that titles clear the row above.
         fig.set_layout_engine("none")
-        for grid in {ax.get_subplotspec().get_topmost_subplotspec().get_gridspec()
-                     for ax in fig.axes if ax.get_subplotspec() is not None}:
-            grid.update(**_DRAFT_SPACING)
+        grids = set()
+        for ax in fig.axes:
+            spec = ax.get_subplotspec()
+            if spec is not None:
+                grids.add(spec.get_topmost_subplotspec().get_gridspec())
+        for grid in grids:
+            if isinstance(grid, GridSpec):  # a figure's own grid (not a nested one)
+                grid.update(**_DRAFT_SPACING)
         fig.savefig(buf, format="png", dpi=DRAFT_DPI, pil_kwargs={"compress_level": 1})
         data = buf.getvalue()
     else:
