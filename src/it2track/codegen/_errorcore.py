@@ -123,7 +123,7 @@ def firing_and_errors(system: Any, t: Any, xc: FloatArray
     float error of each (``eu``, ``el``; steps 1 and 2 of the module docstring)."""
     m = t.memberships(xc).copy()
     e = row_errors(system, t)
-    general = bool(frozenset(getattr(t, "features", frozenset())) & {"not", "or", "weights"})
+    general = bool(t.features & {"not", "or", "weights"})
     if general:
         # NOT, OR, weights: rows [m, 1, 0, 1 - m] with errors [e, 0, 0, e + eps]; every t-norm
         # and s-norm here is 1-Lipschitz in each argument on [0, 1] (the probabilistic OR too:
@@ -133,7 +133,7 @@ def firing_and_errors(system: Any, t: Any, xc: FloatArray
         fl, fu = fl_b.copy(), fu_b.copy()
         n_rows = t.n_rows
         e_ext = np.concatenate([e[:n_rows], [0.0, 0.0], e[:n_rows] + EPS32])
-        w = np.asarray(getattr(t, "weight_s", np.ones(t.n_rules)))[:, None]
+        w = t.weight_s[:, None]
         n_in = t.n_inputs
         eu = (e_ext[t.up_ext_s].sum(axis=1)[:, None] + 3.0 * n_in * EPS32) * w + EPS32 * fu
         el = (e_ext[t.lo_ext_s].sum(axis=1)[:, None] + 3.0 * n_in * EPS32) * w + EPS32 * fl
