@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from fractions import Fraction
 
 import numpy as np
 import pytest
@@ -144,9 +145,9 @@ Y_LO, Y_HI = [-1.0, -0.75], [0.5, 4.0]  # y_lo spans 1/4, y_hi spans 7/2; max|y|
 def test_wu_mendel_bound_by_hand_on_a_batch():
     s = IT2Sugeno(inputs=[it2_input()], reducer=WU_MENDEL,
                   rules=[Rule(["a"], (Y_LO[0], Y_HI[0])), Rule(["b"], (Y_LO[1], Y_HI[1]))])
-    xs = [1.5, 2.5]
+    xs = [1.5, 2.5, 3.25]  # sum fu is 1 between the peaks, 3/4 at 3.25
     b_yl, b_yr, b_u = float_error_bound(s, [[x] for x in xs])
-    assert b_yl.shape == b_yr.shape == b_u.shape == (2,)
+    assert b_yl.shape == b_yr.shape == b_u.shape == (3,)
     seen_t, seen_pq = set(), []
     for j, x in enumerate(xs):
         fl, fu, big_e = one_input_firing(x)
@@ -306,6 +307,23 @@ def test_nie_tan_with_first_order_consequents_by_hand():
         assert b_u[j] == pytest.approx(want + EPS * ymax, rel=REL), x
 
 
+def test_wu_mendel_with_first_order_consequents_by_hand():
+    # the consequents' spreads (max - min over the rules) are per point, as everything else
+    xs, clipped = [(1.5, -1.5), (2.5, 3.0)], [(1.5, -1.5), (2.5, 1.0)]
+    b_yl, b_yr, b_u = float_error_bound(interval_tsk(WU_MENDEL), xs)
+    spreads = []
+    for j, x in enumerate(clipped):
+        fl, fu, big_e, y_lo, y_hi = interval_tsk_firing(x)
+        ymax = max(abs(v) for v in y_lo + y_hi)
+        a, cons = arith(2, ymax), linear_error([INT_A, INT_B], x)
+        want_l = wu_mendel_side(fl, fu, y_lo, big_e, 2, a, left=True)[0] + cons
+        want_r = wu_mendel_side(fl, fu, y_hi, big_e, 2, a, left=False)[0] + cons
+        spreads.append((max(y_lo) - min(y_lo), max(y_hi) - min(y_hi)))
+        assert (b_yl[j], b_yr[j]) == pytest.approx((want_l, want_r), rel=REL), x
+        assert b_u[j] == pytest.approx(0.5 * (want_l + want_r) + EPS * ymax, rel=REL), x
+    assert spreads[0] != spreads[1]
+
+
 def test_nie_tan_batch_with_a_point_where_nothing_fires():
     # zero-order, per-point sums; at x = 0 nothing fires (ref = 0 / 0): inf, no warning
     s = IT2Sugeno(inputs=[it2_input()], reducer=NIE_TAN,
@@ -358,19 +376,24 @@ def test_two_inputs_three_points_each_point_alone(tnorm):
         assert (b_yl[j], b_yr[j]) == pytest.approx((want_l, want_r), rel=REL), (x1, x2)
 
 
-def test_the_bound_is_inf_exactly_at_sum_fl_equal_to_3_sum_e():
-    # one rule, x on the rising edge of a triangle (0, 1, 3) of the universe (0, 4): f = x and
-    # E = e + eps f; at the x where f == 3 E exactly the denominator is 0 and so is
-    # sum E |y - c|: no bound (inf), not 0 / 0
-    e = e_trap(1.0, 4.0, 3.0, 1.0)
-    x = 3.0 * e / (1.0 - 3.0 * EPS)
+@pytest.mark.parametrize("n_rules", [1, 2])
+def test_the_bound_is_inf_exactly_at_sum_fl_equal_to_3_sum_e(n_rules):
+    # x on the rising edge of a triangle (0, 1, 3) of the universe (0, 4): f = x, E = e + eps f;
+    # a second rule (triangle 1, 3, 4) does not fire there but adds its row error e_b to sum E.
+    # At the x where f == 3 sum E exactly the denominator is 0, and the numerator sum E |y - c|
+    # is 0 (one rule: 0 / 0) or not (two: e_b |y_b - y_a| / 0): no bound, inf, no warning
+    e, e_b = e_trap(1.0, 4.0, 3.0, 1.0), e_trap(1.0, 4.0, 4.0, 1.0) if n_rules == 2 else 0.0
+    x = 3.0 * (e + e_b) / (1.0 - 3.0 * EPS)
     for _ in range(5):
-        x = 3.0 * (e + EPS * x)
-    assert x == 3.0 * (e + EPS * x)
-    s = T1Sugeno(inputs=[Input("x", (0, 4), [("a", Triangle(0, 1, 3))])], rules=[Rule(["a"], 2.0)])
+        x = 3.0 * ((e + EPS * x) + e_b)
+    assert x == 3.0 * ((e + EPS * x) + e_b)
+    sets = [("a", Triangle(0, 1, 3)), ("b", Triangle(1, 3, 4))][:n_rules]
+    s = T1Sugeno(inputs=[Input("x", (0, 4), sets)],
+                 rules=[Rule(["a"], -1.0), Rule(["b"], 2.0)][:n_rules])
     t = antecedent_tables(s)
     fl, _, eu, _ = firing_and_errors(s, t, np.array([[x]]))
-    assert fl[0, 0] == x and eu[0, 0] == e
+    assert fl[:, 0].tolist() == [x, 0.0][:n_rules]
+    assert eu[:, 0].tolist() == [e, e_b][:n_rules]
     b_yl, b_yr, b_u = float_error_bound(s, [[x], [np.nextafter(x, 1.0) * 2.0]])
     assert [b_yl[0], b_yr[0], b_u[0]] == [math.inf] * 3
     assert math.isfinite(b_yl[1])
@@ -387,21 +410,23 @@ def test_a_point_of_tiny_lower_firing_has_no_bound_though_its_centroid_is_finite
 
 # --- the general firing bound with interval rows and two inputs --------------------------------
 
-def test_general_firing_upper_and_lower_errors_with_two_inputs():
-    # rule 1: x1 a OR x2 b WITH 0.5; rule 2: x1 b OR x2 unmentioned (the OR identity: the
-    # constant 0, of error 0). Each side: (sum of its rows' errors + 3 n_in eps) w + eps f,
-    # n_in = 2; the upper side the larger in both rules
-    s = IT2Sugeno(inputs=[it2_input("x1"), it2_input("x2")], reducer=EXHAUSTIVE,
-                  rules=[Rule(["a", "b"], (Y_LO[0], Y_HI[0]), connective="or", weight=0.5),
-                         Rule(["b", None], (Y_LO[1], Y_HI[1]), connective="or")])
-    x1, x2 = 1.5, 2.5
-    fu = [0.5 * max(tri(x1, *A_UP), tri(x2, *B_UP)), tri(x1, *B_UP)]
-    fl = [0.5 * max(tri(x1, *A_LO), tri(x2, *B_LO)), tri(x1, *B_LO)]
-    eu = [(E_A_UP + E_B_UP + 6 * EPS) * 0.5 + EPS * fu[0], E_B_UP + 6 * EPS + EPS * fu[1]]
-    el = [(E_A_LO + E_B_LO + 6 * EPS) * 0.5 + EPS * fl[0], E_B_LO + 6 * EPS + EPS * fl[1]]
+def test_general_firing_upper_and_lower_errors_with_or_rules():
+    # three inputs (3 n_in eps = 9 eps per side). Rule 1: x1 a OR x2 b WITH 0.5, x3 unmentioned;
+    # rule 2: x1 b OR x3 a, x2 unmentioned. An input an OR rule does not mention is its
+    # identity, the constant 0, of error 0. Each side: (sum of its rows' errors + 9 eps) w +
+    # eps f; the upper side the larger in both rules
+    s = IT2Sugeno(inputs=[it2_input("x1"), it2_input("x2"), it2_input("x3")], reducer=EXHAUSTIVE,
+                  rules=[Rule(["a", "b", None], (Y_LO[0], Y_HI[0]), connective="or", weight=0.5),
+                         Rule(["b", None, "a"], (Y_LO[1], Y_HI[1]), connective="or")])
+    assert s.tables.is_or_s.tolist() == [True, True]
+    x1, x2, x3 = 1.5, 2.5, 2.75
+    fu = [0.5 * max(tri(x1, *A_UP), tri(x2, *B_UP)), max(tri(x1, *B_UP), tri(x3, *A_UP))]
+    fl = [0.5 * max(tri(x1, *A_LO), tri(x2, *B_LO)), max(tri(x1, *B_LO), tri(x3, *A_LO))]
+    eu = [(E_A_UP + E_B_UP + 9 * EPS) * 0.5 + EPS * fu[0], E_B_UP + E_A_UP + 9 * EPS + EPS * fu[1]]
+    el = [(E_A_LO + E_B_LO + 9 * EPS) * 0.5 + EPS * fl[0], E_B_LO + E_A_LO + 9 * EPS + EPS * fl[1]]
     assert eu[0] > el[0] and eu[1] > el[1]
     big_e = [max(u, v) + EPS * f for u, v, f in zip(eu, el, fu, strict=True)]
-    b_yl, b_yr, _ = float_error_bound(s, [[x1, x2]])
+    b_yl, b_yr, _ = float_error_bound(s, [[x1, x2, x3]])
     want_l = weighted(fl, big_e, Y_LO, corners(fl, fu, Y_LO, min)) + arith(2, 4.0)
     want_r = weighted(fl, big_e, Y_HI, corners(fl, fu, Y_HI, max)) + arith(2, 4.0)
     assert (b_yl[0], b_yr[0]) == pytest.approx((want_l, want_r), rel=REL)
@@ -475,10 +500,11 @@ def test_a_centroid_mamdani_system_takes_the_mamdani_bound():
 
 
 def test_the_bound_is_double_whatever_the_points_type():
-    s = T1Sugeno(inputs=[Input("x", (0, 4), [("a", Triangle(0, 1, 3)), ("b", Triangle(1, 3, 4))])],
-                 rules=[Rule(["a"], -1.0), Rule(["b"], 2.0)])
-    want = float_error_bound(s, [[1.5]])
-    for x in (np.array([[1.5]], np.float32), np.array([[1.5]], np.longdouble), [[1.5]]):
+    # first-order consequents are evaluated at the points themselves: in double
+    s = interval_tsk(EXHAUSTIVE)
+    want = float_error_bound(s, [[1.5, -1.5]])
+    for x in (np.array([[1.5, -1.5]], np.float32), np.array([[1.5, -1.5]], np.longdouble),
+              [[1.5, -1.5]], [[Fraction(3, 2), Fraction(-3, 2)]]):
         got = float_error_bound(s, x)
         assert [b.dtype for b in got] == [np.float64] * 3
         assert [b.tolist() for b in got] == [b.tolist() for b in want]

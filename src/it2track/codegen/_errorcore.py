@@ -28,7 +28,11 @@ def row_errors(system: Any, tables: Any = None) -> FloatArray:
     ``tables`` are the system's rule tables (a Mamdani system's antecedents; by default
     ``system.tables``).
     """
-    t = system.tables if tables is None else tables
+    return _row_errors(system.tables if tables is None else tables)
+
+
+def _row_errors(t: Any) -> FloatArray:
+    """:func:`row_errors` of the rule tables ``t``."""
     out = np.zeros(t.n_rows + 1)
     for k in range(t.n_rows):
         i = int(t.mf_input[k])
@@ -77,9 +81,10 @@ def _firing_error(m: FloatArray, e: FloatArray, rows: NDArray[np.intp], tnorm: T
 
 def _centroid_bound(lower_sum: FloatArray, sum_e: FloatArray, spread_y: float,
                     arith: float) -> FloatArray:
+    """``spread_y sum E / (lower_sum - sum E) + A``, inf where the denominator is not positive
+    (called under :func:`_wu_mendel_side`'s ``errstate``)."""
     s = lower_sum - sum_e
-    with np.errstate(divide="ignore", invalid="ignore"):
-        b = np.where(s > 0, spread_y * sum_e / s + arith, np.inf)
+    b: FloatArray = np.where(s > 0, spread_y * sum_e / s + arith, np.inf)
     return b
 
 
@@ -122,7 +127,7 @@ def firing_and_errors(system: Any, t: Any, xc: FloatArray
     """Exact firing intervals ``(fl, fu)`` (R, N) at the clipped inputs and the bounds on the
     float error of each (``eu``, ``el``; steps 1 and 2 of the module docstring)."""
     m = t.memberships(xc).copy()
-    e = row_errors(system, t)
+    e = _row_errors(t)
     general = bool(t.features & {"not", "or", "weights"})
     if general:
         # NOT, OR, weights: rows [m, 1, 0, 1 - m] with errors [e, 0, 0, e + eps]; every t-norm
