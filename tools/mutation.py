@@ -79,10 +79,13 @@ DEFAULT_TESTS: dict[str, list[str]] = {
         "tests/experiments/test_robustness.py::test_a_choice_value_is_validated_against_the_loop"],
     "it2track.io.fcl": ["tests/io/test_io_fcl.py", "tests/io/test_io_fcl_dialects.py"],
     "it2track.fuzzy.mamdani": ["tests/fuzzy/test_mamdani.py", "tests/fuzzy/test_mamdani_edges.py"],
-    "it2track.codegen.errorbound": [
-        "tests/codegen/test_errorbound.py",
-        "tests/codegen/test_codegen_fixed.py::test_rows_term_rounding_and_constants_are_both_needed",
-        "tests/codegen/test_codegen_fixed.py::test_products_term_is_needed"],
+    "it2track.codegen.errorbound": ["tests/codegen/test_errorbound.py",
+                                    "tests/codegen/test_errorbound_terms.py"],
+    "it2track.codegen._errorcore": ["tests/codegen/test_errorbound.py",
+                                    "tests/codegen/test_errorbound_terms.py"],
+    "it2track.codegen.generate": ["tests/codegen/test_generate.py",
+                                  "tests/codegen/test_codegen_refuses.py",
+                                  "tests/codegen/test_codegen_header.py"],
 }
 
 #: What is copied into the scratch folder (mutmut copies it again into ``mutants/``).

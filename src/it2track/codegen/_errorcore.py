@@ -28,7 +28,11 @@ def row_errors(system: Any, tables: Any = None) -> FloatArray:
     ``tables`` are the system's rule tables (a Mamdani system's antecedents; by default
     ``system.tables``).
     """
-    t = system.tables if tables is None else tables
+    return _row_errors(system.tables if tables is None else tables)
+
+
+def _row_errors(t: Any) -> FloatArray:
+    """:func:`row_errors` of the rule tables ``t``."""
     out = np.zeros(t.n_rows + 1)
     for k in range(t.n_rows):
         i = int(t.mf_input[k])
@@ -77,9 +81,10 @@ def _firing_error(m: FloatArray, e: FloatArray, rows: NDArray[np.intp], tnorm: T
 
 def _centroid_bound(lower_sum: FloatArray, sum_e: FloatArray, spread_y: float,
                     arith: float) -> FloatArray:
+    """``spread_y sum E / (lower_sum - sum E) + A``, inf where the denominator is not positive
+    (called under :func:`_wu_mendel_side`'s ``errstate``)."""
     s = lower_sum - sum_e
-    with np.errstate(divide="ignore", invalid="ignore"):
-        b = np.where(s > 0, spread_y * sum_e / s + arith, np.inf)
+    b: FloatArray = np.where(s > 0, spread_y * sum_e / s + arith, np.inf)
     return b
 
 
@@ -122,8 +127,8 @@ def firing_and_errors(system: Any, t: Any, xc: FloatArray
     """Exact firing intervals ``(fl, fu)`` (R, N) at the clipped inputs and the bounds on the
     float error of each (``eu``, ``el``; steps 1 and 2 of the module docstring)."""
     m = t.memberships(xc).copy()
-    e = row_errors(system, t)
-    general = bool(frozenset(getattr(t, "features", frozenset())) & {"not", "or", "weights"})
+    e = _row_errors(t)
+    general = bool(t.features & {"not", "or", "weights"})
     if general:
         # NOT, OR, weights: rows [m, 1, 0, 1 - m] with errors [e, 0, 0, e + eps]; every t-norm
         # and s-norm here is 1-Lipschitz in each argument on [0, 1] (the probabilistic OR too:
@@ -133,7 +138,7 @@ def firing_and_errors(system: Any, t: Any, xc: FloatArray
         fl, fu = fl_b.copy(), fu_b.copy()
         n_rows = t.n_rows
         e_ext = np.concatenate([e[:n_rows], [0.0, 0.0], e[:n_rows] + EPS32])
-        w = np.asarray(getattr(t, "weight_s", np.ones(t.n_rules)))[:, None]
+        w = t.weight_s[:, None]
         n_in = t.n_inputs
         eu = (e_ext[t.up_ext_s].sum(axis=1)[:, None] + 3.0 * n_in * EPS32) * w + EPS32 * fu
         el = (e_ext[t.lo_ext_s].sum(axis=1)[:, None] + 3.0 * n_in * EPS32) * w + EPS32 * fl

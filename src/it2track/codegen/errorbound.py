@@ -132,7 +132,7 @@ def float_error_bound(system: Any, x: ArrayLike
     fl, fu, eu, el = firing_and_errors(system, t, xc)
     big_e = np.maximum(eu, el) + EPS32 * fu  # + the rounding of d = fu - fl in the reducers
     r = t.n_rules
-    linear = "linear" in frozenset(getattr(t, "features", frozenset()))
+    linear = "linear" in t.features
     if linear:
         # first-order consequents at the clipped inputs, and each one's float error (below)
         y_lo, y_hi = (np.array(v) for v in t.consequents_block(xc))

@@ -26,7 +26,8 @@ def literal(value: float, real: RealType) -> str:
     if not math.isfinite(v):
         raise ValueError(f"cannot write the non-finite constant {v!r} to C")
     if real is RealType.FLOAT:
-        f32 = float(np.float32(v))
+        with np.errstate(over="ignore"):  # refused just below, by name
+            f32 = float(np.float32(v))
         if not math.isfinite(f32):
             raise UnsupportedFeatureError(f"constant {v!r} overflows a 32-bit float")
         text = repr(f32)

@@ -11,6 +11,7 @@ or :mod:`.fixedpoint` (q15) computes.
 from __future__ import annotations
 
 import re
+from typing import Any
 
 from ..fuzzy import (
     Aggregation,
@@ -85,14 +86,13 @@ def check_prefix(prefix: str) -> str:
     return prefix
 
 
-def _operator(value: object, allowed: frozenset[object], what: str, system: object,
+def _operator(value: object, allowed: frozenset[Any], what: str, system: Any,
               why: str = "") -> None:
     if value not in allowed:
         shown = getattr(value, "value", value)
         raise UnsupportedFeatureError(
-            f"system {getattr(system, 'name', '')!r}: {what} {shown!r} has no C implementation "
-            f"(supported: {', '.join(sorted(str(getattr(v, 'value', v)) for v in allowed))})"
-            + why)
+            f"system {system.name!r}: {what} {shown!r} has no C implementation "
+            f"(supported: {', '.join(sorted(str(v.value) for v in allowed))})" + why)
 
 
 def check_supported(system: object, real: RealType | None = None) -> None:
@@ -131,7 +131,7 @@ def check_supported(system: object, real: RealType | None = None) -> None:
             f"system {system.name!r} groups its rules by consequent value (T1Sugeno "
             "aggregation, jFuzzyLogic's ACCU), which C generation does not implement")
     tables = antecedent_tables(system)
-    features = frozenset(getattr(tables, "features", frozenset()))
+    features = tables.features
     extra = sorted(features - SUPPORTED_FEATURES)
     if extra:
         raise UnsupportedFeatureError(
