@@ -71,6 +71,7 @@ DEFAULT_TESTS: dict[str, list[str]] = {
                                          "tests/experiments/test_sweep_checksums.py"],
     "it2track.experiments.sweep.plan": ["tests/experiments/test_sweep_store.py",
                                         "tests/experiments/test_sweep_config.py"],
+    "it2track.experiments.analysis": ["tests/experiments/test_analysis.py"],
     "it2track.experiments.stats": ["tests/experiments/test_stats.py",
                                    "tests/experiments/test_analysis.py"],
     "it2track.experiments.choices": [
