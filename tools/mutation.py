@@ -68,10 +68,20 @@ DEFAULT_TESTS: dict[str, list[str]] = {
         "tests/cli/test_reproduce.py::test_publish_replaces_a_previous_run_without_leftovers",
         "tests/cli/test_reproduce.py::test_publish_never_removes_directories"],
     "it2track.experiments.sweep.store": ["tests/experiments/test_sweep_store.py",
-                                         "tests/experiments/test_sweep_checksums.py"],
+                                         "tests/experiments/test_sweep_checksums.py",
+                                         "tests/experiments/test_sweep_resume_refusals.py"],
     "it2track.experiments.sweep.plan": ["tests/experiments/test_sweep_store.py",
                                         "tests/experiments/test_sweep_config.py"],
     "it2track.experiments.analysis": ["tests/experiments/test_analysis.py"],
+    "it2track.experiments.robustness": [
+        "tests/experiments/test_robustness_judge.py",
+        "tests/experiments/test_robustness.py::test_change_is_called_against_the_baselines_spread"],
+    "it2track.experiments.robustness_config": [
+        "tests/experiments/test_robustness_config.py",
+        "tests/experiments/test_robustness.py::test_bad_choices_and_robustness_name_file_section_key_and_value",
+        "tests/experiments/test_robustness.py::test_variants_one_at_a_time_then_factorial",
+        "tests/experiments/test_robustness.py::test_the_default_factorial_crosses_half_track_period_and_output_gain",
+        "tests/experiments/test_robustness.py::test_implied_choices_follow_the_studys_own_settings"],
     "it2track.experiments.stats": ["tests/experiments/test_stats.py",
                                    "tests/experiments/test_analysis.py"],
     "it2track.experiments.choices": [

@@ -1,0 +1,150 @@
+"""What a resume refuses, to the letter: a changed configuration names the keys and the files
+whose bytes changed (and only those), a tampered sweep.json is still read safely; and
+read_results returns the cells exactly (store.py)."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import textwrap
+from pathlib import Path
+
+import pytest
+
+from it2track import heading_fls, save
+from it2track.experiments.sweep import StoreError, load_sweep_config, read_results, run_sweep
+
+CONFIG = """
+[sweep]
+seeds = 1
+noise_std = 0.1
+trajectories = ["straight", "wp.csv"]
+
+[simulation]
+duration = 0.5
+
+[[controllers]]
+kind = "flc"
+
+[[controllers]]
+kind = "file"
+path = "ctrl.t2fis"
+"""
+PATH = "t,x,y\n0,0,0\n1,1,0\n2,2,0.5\n3,3,0\n"
+
+
+def _sha(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def _start(tmp_path: Path) -> tuple[Path, Path]:
+    save(heading_fls(0.3), tmp_path / "ctrl.t2fis")
+    (tmp_path / "wp.csv").write_text(PATH)
+    cfg = tmp_path / "sweep.toml"
+    cfg.write_text(textwrap.dedent(CONFIG), encoding="utf-8")
+    out = tmp_path / "out"
+    run_sweep(load_sweep_config(cfg), out, progress=False)
+    return cfg, out
+
+
+def _refusal(cfg: Path, out: Path) -> str:
+    with pytest.raises(StoreError) as info:
+        run_sweep(load_sweep_config(cfg), out, resume=True, progress=False)
+    return str(info.value)
+
+
+def test_a_resume_names_every_changed_file_with_both_digests(tmp_path: Path) -> None:
+    cfg, out = _start(tmp_path)
+    ctrl, wp = tmp_path / "ctrl.t2fis", tmp_path / "wp.csv"
+    before = (_sha(ctrl), _sha(wp))
+    stored = json.loads((out / "sweep.json").read_text())["hash"]
+    save(heading_fls(0.5), ctrl)
+    wp.write_text(PATH.replace("0.5", "0.7"))
+    now = load_sweep_config(cfg).config_hash()
+    assert _refusal(cfg, out) == (
+        f"{out}: the configuration changed since the sweep started (stored hash "
+        f"{stored[:12]}, now {now[:12]}; differs in: controllers, trajectories); "
+        f"controller file {str(ctrl)!r} ([[controllers]] 'ctrl.t2fis') has changed: sha256 "
+        f"{before[0][:12]} when the sweep started, now {_sha(ctrl)[:12]}; "
+        f"trajectory file {str(wp)!r} has changed: sha256 {before[1][:12]} when the sweep "
+        f"started, now {_sha(wp)[:12]}; resume with the original config and files or use "
+        "another directory")
+
+
+def test_an_unchanged_file_is_not_named(tmp_path: Path) -> None:
+    cfg, out = _start(tmp_path)
+    wp = tmp_path / "wp.csv"
+    old = _sha(wp)
+    wp.write_text(PATH.replace("0.5", "0.7"))
+    message = _refusal(cfg, out)
+    assert "differs in: trajectories); trajectory file" in message
+    assert f"sha256 {old[:12]} when the sweep started, now {_sha(wp)[:12]}; resume" in message
+    assert "controller file" not in message
+
+
+def test_a_changed_controller_file_alone_is_named(tmp_path: Path) -> None:
+    cfg, out = _start(tmp_path)
+    save(heading_fls(0.5), tmp_path / "ctrl.t2fis")
+    message = _refusal(cfg, out)
+    assert "differs in: controllers); controller file" in message
+    assert "trajectory file" not in message
+
+
+def test_a_hash_that_differs_with_the_same_settings_is_the_store_format(tmp_path: Path) -> None:
+    cfg, out = _start(tmp_path)
+    meta = json.loads((out / "sweep.json").read_text())
+    meta["hash"] = "0" * 64
+    (out / "sweep.json").write_text(json.dumps(meta))
+    now = load_sweep_config(cfg).config_hash()
+    assert _refusal(cfg, out) == (
+        f"{out}: the configuration changed since the sweep started (stored hash 000000000000, "
+        f"now {now[:12]}; differs in: (store format)); resume with the original config and "
+        "files or use another directory")
+
+
+def test_a_tampered_sweep_json_is_read_without_guessing(tmp_path: Path) -> None:
+    # entries that are not tables, or lack the name or the digest, name no file; a key only
+    # one side has is a difference
+    cfg, out = _start(tmp_path)
+    meta = json.loads((out / "sweep.json").read_text())
+    ctrl = meta["config"]["controllers"]
+    # (a digest for a built-in controller or trajectory: they have no file to name)
+    meta["config"]["controllers"] = ["junk", {"label": "ctrl.t2fis"}, ctrl[0],
+                                     {"file_sha256": "ab" * 32},
+                                     {"label": "FLC", "file_sha256": "ab" * 32}]
+    meta["config"]["trajectories"] = [7, {"name": "wp"}, {"sha256": "cd" * 32},
+                                      {"name": "straight", "sha256": "cd" * 32}]
+    meta["config"]["extra"] = 1
+    meta["hash"] = "0" * 64
+    (out / "sweep.json").write_text(json.dumps(meta))
+    message = _refusal(cfg, out)
+    assert "differs in: controllers, extra, trajectories); resume with" in message
+    assert "file" not in message.split("differs in")[1].split("; resume")[0]
+    # no sections at all, then no configuration at all: every key differs, no file named
+    del meta["config"]["controllers"], meta["config"]["trajectories"]
+    (out / "sweep.json").write_text(json.dumps(meta))
+    assert "differs in: controllers, extra, trajectories); resume with" in _refusal(cfg, out)
+    del meta["config"]
+    (out / "sweep.json").write_text(json.dumps(meta))
+    keys = ", ".join(sorted(load_sweep_config(cfg).normalised()))
+    assert f"differs in: {keys}); resume with" in _refusal(cfg, out)
+
+
+def test_read_results_keeps_every_cell_as_written(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    path = tmp_path / "r.csv"
+    # a quoted cell holding a line break and a non-ASCII label: read back exactly
+    path.write_bytes('run,label\r\n0,"a\r\nb"\r\n1,θ\r\n'.encode())
+    assert read_results(path) == (["run", "label"], [["0", "a\r\nb"], ["1", "θ"]])
+    # UTF-8 whatever the platform's default encoding (here made Latin-1 for files opened
+    # without one)
+    from it2track.experiments.sweep import store
+
+    def latin1_default(file, mode="r", *args, **kwargs):
+        if kwargs.get("encoding") is None and "b" not in mode:
+            kwargs["encoding"] = "latin-1"
+        return open(file, mode, *args, **kwargs)
+
+    monkeypatch.setattr(store, "open", latin1_default, raising=False)
+    assert read_results(path)[1][1] == ["1", "θ"]
