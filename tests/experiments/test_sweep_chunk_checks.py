@@ -149,3 +149,132 @@ def test_a_missing_chunk_or_a_directory_is_not_trusted(tmp_path):
     path.mkdir(parents=True)
     digest_path(path).write_text(f"{hashlib.sha256(b'').hexdigest()}  {path.name}\n")
     assert _check(path, 0) is None
+
+
+# -- the plan: its checks, layout, identity and row text ---------------------------------------
+
+def _plan(**kw) -> SweepPlan:
+    values = dict(config=LoopConfig(duration=0.5), robots=(RobotParams(),), robot_columns={},
+                  controllers=(ControllerSpec(kind=ControllerKind.FLC),),
+                  trajectory_refs=(TrajectoryRef("straight"),), noise_std=(0.1,), seeds=(0,))
+    return SweepPlan(**{**values, **kw})
+
+
+@pytest.mark.parametrize("name", ["robots", "controllers", "trajectory_refs", "noise_std",
+                                  "seeds"])
+def test_every_axis_must_have_a_value(name):
+    with pytest.raises(ValueError) as info:
+        _plan(**{name: ()})
+    assert str(info.value) == f"SweepPlan.{name} must not be empty"
+
+
+def test_a_plant_column_needs_one_value_per_robot():
+    with pytest.raises(ValueError) as info:
+        _plan(robot_columns={"half_track": (5.6, 0.4)})
+    assert str(info.value) == "SweepPlan.robot_columns['half_track'] needs one value per robot"
+
+
+@pytest.mark.parametrize("key", ["chunk_size", "batch_size"])
+@pytest.mark.parametrize("value", [0, True, 2.0, -1])
+def test_chunk_and_batch_sizes_are_integers_of_at_least_one(key, value):
+    with pytest.raises(ValueError) as info:
+        _plan(**{key: value})
+    assert str(info.value) == f"SweepPlan.{key}={value!r} must be an integer >= 1"
+    assert getattr(_plan(**{key: 1}), key) == 1
+
+
+def test_the_chunk_layout_at_the_chunk_size_boundaries():
+    # 16 runs per group
+    assert [(c.start, c.stop) for c in PLAN.chunks() if c.group == 0] == [
+        (0, 5), (5, 10), (10, 15), (15, 16)]
+    from dataclasses import replace
+
+    for size, bounds in ((16, [(0, 16)]), (15, [(0, 15), (15, 16)]), (17, [(0, 16)]),
+                         (1, [(i, i + 1) for i in range(16)])):
+        plan = replace(PLAN, chunk_size=size)
+        assert [(c.start, c.stop) for c in plan.chunks() if c.group == 1] == bounds
+        assert [c.id for c in plan.chunks()] == list(range(2 * len(bounds)))
+    assert (PLAN.runs_per_group, PLAN.n_runs) == (16, 32)
+    assert [c.size for c in PLAN.chunks()] == [5, 5, 5, 1] * 2
+
+
+def test_a_task_is_the_chunks_runs_under_its_groups_plant():
+    chunk = PLAN.chunks()[5]  # group 1, runs 5..9: controller 0 then 1
+    task = PLAN.task(chunk)
+    assert (task.chunk_id, task.start, task.stop, task.batch_size) == (5, 5, 10,
+                                                                       PLAN.batch_size)
+    assert task.config.robot.half_track == 0.4 and task.config.duration == 0.5
+    assert task.controller_offset == 0 and len(task.controllers) == 2
+    assert task.runs().seed.tolist() == [10, 1, 10, 1, 10]
+    assert PLAN.task(PLAN.chunks()[2]).controller_offset == 1
+
+
+def test_plain_specs_are_wrapped_and_trajectories_loaded():
+    from it2track.experiments.sweep.refs import ControllerRef
+
+    assert all(isinstance(c, ControllerRef) for c in PLAN.controllers)
+    assert [t.name for t in PLAN.trajectories] == ["straight", "curved"]
+
+
+def test_the_identity_is_everything_that_changes_a_number():
+    import json
+
+    from it2track import __version__
+
+    n = PLAN.normalised()
+    assert sorted(n) == ["chunk_size", "controllers", "format", "it2track_version",
+                         "noise_std", "robot_columns", "robots", "seeds", "simulation",
+                         "trajectories"]
+    assert (n["format"], n["it2track_version"], n["chunk_size"]) == ("it2track-sweep/2",
+                                                                     __version__, 5)
+    assert n["robot_columns"] == {"half_track": [5.6, 0.4]}
+    assert [r["half_track"] for r in n["robots"]] == [5.6, 0.4]
+    assert "robot" not in n["simulation"] and n["simulation"]["duration"] == 0.5
+    assert n["trajectories"] == [{"name": "straight", "source": "builtin"},
+                                 {"name": "curved", "source": "builtin"}]
+    assert (n["noise_std"], n["seeds"]) == ([0.0, 0.1], [1, 10])
+    assert n["controllers"][1]["label"] == LABEL
+    text = json.dumps(n, sort_keys=True, separators=(",", ":"), allow_nan=False)
+    assert PLAN.config_hash() == hashlib.sha256(text.encode()).hexdigest()
+    from dataclasses import replace
+
+    assert replace(PLAN, batch_size=7).config_hash() == PLAN.config_hash()
+    assert replace(PLAN, chunk_size=7).config_hash() != PLAN.config_hash()
+
+
+def test_rows_are_the_keys_then_the_metrics_by_repr():
+    chunk = PLAN.chunks()[3]  # one run
+    metrics = {m: np.array([0.1 + 0.2 + i]) for i, m in enumerate(METRIC_NAMES)}
+    text = PLAN.rows_csv(chunk, metrics)
+    assert text == PLAN.row_keys(chunk)[0] + "," + ",".join(
+        repr(0.1 + 0.2 + i) for i in range(len(METRIC_NAMES))) + "\n"
+    (cells,) = csv.reader(io.StringIO(text))
+    assert cells[4] == LABEL and cells[14] == "0.30000000000000004"  # IAE
+    two = PLAN.chunks()[0]
+    rows = PLAN.rows_csv(two, {m: np.arange(5.0) for m in METRIC_NAMES}).splitlines()
+    assert [r.split(",")[0] for r in rows] == ["0", "1", "2", "3", "4"]
+    assert rows[4].endswith("," + ",".join(["4.0"] * len(METRIC_NAMES)))
+
+
+def test_rows_refuse_missing_or_mis_sized_metrics():
+    chunk = PLAN.chunks()[1]
+    metrics = {m: np.zeros(5) for m in METRIC_NAMES if m not in ("ISE", "effort")}
+    with pytest.raises(ValueError) as info:
+        PLAN.rows_csv(chunk, metrics)
+    assert str(info.value) == "chunk 1: metrics ['ISE', 'effort'] missing from the result"
+    for bad in (np.zeros(4), np.zeros(6), np.zeros((5, 1))):
+        metrics = {m: np.zeros(5) for m in METRIC_NAMES} | {"ITSE": bad}
+        with pytest.raises(ValueError) as info:
+            PLAN.rows_csv(chunk, metrics)
+        assert str(info.value) == "chunk 1: expected 5 values per metric"
+
+
+def test_cells_are_written_as_csv_writer_writes_them():
+    from it2track.experiments.sweep.plan import _csv_cell, _fmt
+
+    for text in ("plain", "a,b", 'say "hi"', "two\nlines", " lead", "θ"):
+        assert _csv_cell(text) == _csv([text])
+    assert _csv_cell("") == ""
+    assert (_fmt(True), _fmt(False), _fmt(0.1), _fmt(3), _fmt("x")) == (
+        "true", "false", "0.1", "3", "x")
+    assert _fmt(1e-20) == "1e-20" and _fmt(2.0) == "2.0"
