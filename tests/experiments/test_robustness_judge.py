@@ -82,7 +82,7 @@ VARIANTS = [
     variant("half_track x output_gain", "worse x tied"),  # factorial: flipped
 ]
 ROWS = [
-    rows(good),
+    rows(good, measured=0.02),  # judged on the true heading: the measured one is worse
     rows(worse, seed=1),
     rows(tied, seed=2, noisy=0.02),
     rows(lambda t, s: 0.01 * (1 - 0.004) if s == 0.1 else good(t, s), seed=5, noisy=0.01),
@@ -95,7 +95,7 @@ BATCHES = [rows(lambda t, s: GOOD["FLC"] if s == 0.2 else good(t, s), seed=7, no
            rows(good, seed=8)]
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture  # (per test: mutmut picks the tests of a function by the calls each makes)
 def result():
     return judge_variants(VARIANTS, ROWS, config=CONFIG, fous=FOUS, main_fou=0.2,
                           trajectories=TRAJ, reference_sigma=0.1, baseline_batches=BATCHES,
