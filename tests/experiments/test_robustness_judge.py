@@ -16,23 +16,25 @@ from it2track.tracking import METRIC_NAMES, LoopConfig
 
 TRAJ = ("straight", "curved")
 FOUS = (0.1, 0.2, 0.3)
-CTRL = ("FLC", "IT2FLC FoU 0.1", "IT2FLC FoU 0.2", "IT2FLC FoU 0.3")
 #: Errors fall with the FoU; the straight ISE minimum 0.003 lies in C3's band.
 GOOD = {"FLC": 0.01, "IT2FLC FoU 0.1": 0.008, "IT2FLC FoU 0.2": 0.005, "IT2FLC FoU 0.3": 0.003}
 
 
-def rows(main, *, levels=(0.0, 0.1, 0.2), n=10, seed=0, noisy=0.001, measured=None):
+def rows(main, *, levels=(0.0, 0.1, 0.2), n=10, seed=0, noisy=0.001, measured=None,
+         extra=None):
     """Metrics of the robustness experiment: every controller at its GOOD value, except the
     IT2FLC FoU 0.2 at ``main(trajectory, sigma)``; a shared relative noise per seed (common
     random numbers) and ``noisy`` own noise per controller, none at sigma = 0. With
-    ``measured``, the *_meas metrics of the IT2FLC FoU 0.2 are ``measured`` instead."""
+    ``measured``, the *_meas metrics of the IT2FLC FoU 0.2 are ``measured`` instead;
+    ``extra``: more controllers and their values."""
     rng = np.random.default_rng(seed)
+    values = {**GOOD, **(extra or {})}
     cols = {k: [] for k in ("experiment", "trajectory", "controller", "noise_std", "seed",
                             *METRIC_NAMES)}
     for t in TRAJ:
         for s in levels:
             shared = rng.normal(0.0, 0.05, n)
-            for c in CTRL:
+            for c in values:
                 own = rng.normal(0.0, noisy, n)
                 for k in range(n):
                     cols["experiment"].append("robustness")
@@ -41,7 +43,7 @@ def rows(main, *, levels=(0.0, 0.1, 0.2), n=10, seed=0, noisy=0.001, measured=No
                     cols["noise_std"].append(s)
                     cols["seed"].append(k)
                     jitter = 1.0 if s == 0.0 else 1.0 + shared[k] + own[k]
-                    true = main(t, s) if c == "IT2FLC FoU 0.2" else GOOD[c]
+                    true = main(t, s) if c == "IT2FLC FoU 0.2" else values[c]
                     meas = measured if measured is not None and c == "IT2FLC FoU 0.2" else true
                     for m in METRIC_NAMES:
                         cols[m].append((meas if m.endswith("_meas") else true) * jitter)
@@ -263,3 +265,68 @@ def test_the_target_settles_levels():
     assert (v["settled"], v["level_change"], v["change"]) == (
         "yes;yes;yes", "unchanged;unchanged;unchanged", "unchanged")
     assert loose.target == 0.5
+
+
+def _judge(variants, data, **kw):
+    kw = {"config": CONFIG, "fous": FOUS, "main_fou": 0.2, "trajectories": TRAJ,
+          "reference_sigma": 0.1, "resamples": 200, "seed": 3, **kw}
+    return judge_variants(variants, data, **kw)
+
+
+def test_every_variant_needs_its_rows():
+    with pytest.raises(ValueError):
+        _judge(VARIANTS[:3], ROWS[:2])
+
+
+def test_the_baseline_alone():
+    alone = _judge(VARIANTS[:1], ROWS[:1])
+    assert alone.flips == {c: {"unchanged": [], "changed": [], "flipped": [], "unsettled": []}
+                           for c in ("C1", "C2", "C3")}
+    assert alone.ranking == []
+    # one batch: no pair to disagree
+    assert [(r["claim"], r["sigma"], r["batches"], r["agreement"]) for r in alone.spread] == [
+        (c, s, 1, 1.0) for c in ("C1", "C2", "C3") for s in (0.1, 0.2)]
+    assert [v["change"] for v in alone.verdicts] == ["baseline"] * 3
+
+
+def test_a_claim_a_variant_cannot_judge_skips_only_itself():
+    # the baseline has the dead-zone-matched FLC (D2), the variant it and no slope-matched
+    # one: D1 is not evaluated for either, D2 after it still is
+    dz = {"T1 dead-zone-matched 0.2": 0.007}
+    out = _judge(VARIANTS[:2], [rows(good, extra=dz), rows(worse, seed=1, extra=dz)])
+    assert [(v["claim"], v["choice"]) for v in out.verdicts] == [
+        (c, v) for v in ("baseline", "half_track") for c in ("C1", "C2", "C3", "D2")]
+    assert set(out.flips) == {"C1", "C2", "C3", "D2"}
+    assert out.flips["D2"]["flipped"] == ["half_track worse"]
+
+
+def test_the_baselines_batches_are_judged_on_its_heading():
+    # a study that judges the measured heading: its batches too (their true heading is worse)
+    base = variant("baseline", "paper", heading="measured")
+    batch = rows(worse, seed=8, measured=GOOD["IT2FLC FoU 0.2"])
+    out = _judge([base, VARIANTS[1]], [rows(worse, measured=GOOD["IT2FLC FoU 0.2"]),
+                                       ROWS[1]], baseline_batches=[batch])
+    assert {r["spread"] for r in out.spread if r["claim"] == "C1"} == {"holds 2"}
+
+
+def test_the_other_batches_take_a_fifth_of_the_resamples_when_more_than_100():
+    out = _judge(VARIANTS[:1], ROWS[:1], baseline_batches=BATCHES[:1], resamples=600)
+    row = next(r for r in out.spread if r["claim"] == "C1" and r["sigma"] == 0.2)
+    expect = [_replication(ROWS[0], 600), _replication(BATCHES[0], 120)]
+    assert row["replication_mean"] == float(np.mean([r["C1"].replication[("all", 0.2)]
+                                                      for r in expect]))
+
+
+def test_the_bootstrap_defaults():
+    few = [VARIANTS[0], VARIANTS[3]]
+    data = [ROWS[0], ROWS[3]]
+    kw = {"config": CONFIG, "fous": FOUS, "main_fou": 0.2, "trajectories": TRAJ,
+          "reference_sigma": 0.1}
+    default = judge_variants(few, data, **kw)
+    explicit = judge_variants(few, data, resamples=1000, seed=0, target=0.95, **kw)
+    assert default.verdicts == explicit.verdicts and default.target == 0.95
+    other = judge_variants(few, data, resamples=1000, seed=1, **kw)
+    fewer = judge_variants(few, data, resamples=999, seed=0, **kw)
+    rep = verdict(default, "C1", "control_period")["replication"]
+    assert rep != verdict(other, "C1", "control_period")["replication"]
+    assert rep != verdict(fewer, "C1", "control_period")["replication"]

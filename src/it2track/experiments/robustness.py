@@ -254,7 +254,7 @@ def judge_variants(
         for c in claims:
             for s, st in c.level_status.items():
                 spread.setdefault((c.id, s), []).append(st)
-                rep_of.setdefault((c.id, s), []).append(c.replication.get(("all", s), 1.0))
+                rep_of.setdefault((c.id, s), []).append(c.replication[("all", s)])
     verdicts, cells = [], []
     flips: dict[str, dict[str, list[str]]] = {
         c.id: {UNCHANGED: [], CHANGED: [], FLIPPED: [], UNSETTLED: []}
@@ -285,7 +285,7 @@ def judge_variants(
                 "claim": c.id, "choice": v.choice, "value": v.value, "label": v.label,
                 "part": _part(v), "noise_levels": ", ".join(f"{s:g}" for s in levels),
                 "verdict": c.verdict, "status": ";".join(status),
-                "replication": ";".join(f"{c.replication.get(('all', s), 1.0):.3f}"
+                "replication": ";".join(f"{c.replication[('all', s)]:.3f}"
                                         for s in levels),
                 "settled": ";".join("yes" if ok else "no" for ok in settled),
                 "baseline_spread": ";".join(spread_text(sp) for sp in spreads),
@@ -300,7 +300,7 @@ def judge_variants(
                 how, sp, ok = at[s]
                 cells.append(_cell_row(c.id, v, e, traj_status.get((s, e.get("trajectory",
                                                                              "straight")), ""),
-                                       c.level_status[s], c.replication.get(("all", s), 1.0),
+                                       c.level_status[s], c.replication[("all", s)],
                                        ok, spread_text(sp), how))
     order = [c.name for c in config.choices]
     ranked = sorted(moves.items(), key=lambda kv: (-(2 * kv[1][0] + kv[1][1]),
