@@ -305,3 +305,21 @@ def test_a_choice_of_two_paths_takes_both_in_the_factorial():
     assert last.choice == "half_track x p"
     assert (last.loop.robot.half_track, last.loop.ts, last.loop.noise_rate) == (0.056, 0.005,
                                                                                 200.0)
+
+
+def test_a_factorial_label_names_each_moved_choice_in_its_own_words():
+    # the period keeps the noise rate at its default: the choice still says "noise at
+    # 100 Hz" (the loop's own description would drop it); a choice at its default is not
+    # named
+    rob = RobustnessConfig(choices=(HALF, PERIOD, GAIN), sensitivity=None,
+                           factorial=("half_track", "control_period", "output_gain"),
+                           factorial_levels=(("half_track", ((0.28,),)),
+                                             ("control_period", ((0.001, 100.0),)),
+                                             ("output_gain", ((2.0,),))))
+    fact = [v for v in robustness_variants(rob, LoopConfig()) if " x " in v.choice]
+    assert [(v.value, v.label) for v in fact] == [
+        ("5.6 x ts=0.001 noise_rate=100 x 2", "Ts = 1 ms, noise at 100 Hz, output gain 2"),
+        ("0.28 x ts=0.01 noise_rate=100 x 2", "l = 0.28 m, output gain 2"),
+        ("0.28 x ts=0.001 noise_rate=100 x 1", "l = 0.28 m, Ts = 1 ms, noise at 100 Hz"),
+        ("0.28 x ts=0.001 noise_rate=100 x 2",
+         "l = 0.28 m, Ts = 1 ms, noise at 100 Hz, output gain 2")]
