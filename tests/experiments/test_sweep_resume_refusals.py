@@ -148,3 +148,64 @@ def test_read_results_keeps_every_cell_as_written(
 
     monkeypatch.setattr(store, "open", latin1_default, raising=False)
     assert read_results(path)[1][1] == ["1", "θ"]
+
+
+def test_a_second_sweep_into_the_same_folder_is_refused_to_the_letter(tmp_path: Path) -> None:
+    cfg, out = _start(tmp_path)
+    with pytest.raises(StoreError) as info:
+        run_sweep(load_sweep_config(cfg), out, progress=False)
+    assert str(info.value) == (f"{out} already holds a sweep; pass resume (--resume) to "
+                               "continue it, or choose another directory")
+
+
+def test_unreadable_or_foreign_metadata_is_refused_naming_it(tmp_path: Path) -> None:
+    cfg, out = _start(tmp_path)
+    meta_path = out / "sweep.json"
+    meta = json.loads(meta_path.read_text())
+    meta_path.write_text("{")
+    with pytest.raises(ValueError) as parse:
+        json.loads("{")
+    assert _refusal(cfg, out) == f"{meta_path}: unreadable sweep metadata: {parse.value}"
+    meta["format"] = "it2track-sweep/1"
+    meta_path.write_text(json.dumps(meta))
+    assert _refusal(cfg, out) == f"{meta_path}: format 'it2track-sweep/1' is not it2track-sweep/2"
+    del meta["format"]
+    meta_path.write_text(json.dumps(meta))
+    assert _refusal(cfg, out) == f"{meta_path}: format None is not it2track-sweep/2"
+
+
+def test_sweep_json_is_read_as_utf8_whatever_the_platforms_default(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # a sweep.json holding a raw non-ASCII label (written by hand, not by json's ASCII
+    # escapes) and a changed noise level: only the noise level differs
+    cfg, out = _start(tmp_path)
+    cfg.write_text(textwrap.dedent(CONFIG).replace('kind = "flc"', 'kind = "flc"\nlabel = "θ"'),
+                   encoding="utf-8")
+    plan = load_sweep_config(cfg)
+    meta = json.loads((out / "sweep.json").read_text())
+    meta["config"] = {**plan.normalised(), "noise_std": [0.2]}
+    meta["hash"] = "0" * 64
+    (out / "sweep.json").write_text(json.dumps(meta, ensure_ascii=False), encoding="utf-8")
+    read_text = Path.read_text
+
+    def latin1_default(self, encoding=None, errors=None, **kw):
+        return read_text(self, encoding=encoding or "latin-1", errors=errors, **kw)
+
+    monkeypatch.setattr(Path, "read_text", latin1_default)
+    assert "differs in: noise_std);" in _refusal(cfg, out)
+
+
+def test_a_chunk_changed_during_assembly_stops_it_naming_both_digests(tmp_path: Path) -> None:
+    from it2track.experiments.sweep.store import _assemble, chunk_path
+
+    cfg, out = _start(tmp_path)
+    plan = load_sweep_config(cfg)
+    digests = {c.id: _sha(chunk_path(out, c.id)) for c in plan.chunks()}
+    last = plan.chunks()[-1].id
+    actual, digests[last] = digests[last], "f" * 64
+    with pytest.raises(StoreError) as info:
+        _assemble(plan, out, plan.header_csv(), digests, force=False)
+    assert str(info.value) == (
+        f"{chunk_path(out, last)} changed while the sweep was assembling results.csv (sha256 "
+        f"ffffffffffff expected, {actual[:12]} found); rerun with --resume to recompute it")

@@ -190,7 +190,7 @@ def _check_results(out: Path, *, force: bool) -> None:
         raise StoreError(f"{exc.filename} {exc.strerror}") from None
 
 
-def _prepare_store(plan: SweepPlan, out: Path, *, resume: bool, force: bool = False) -> None:
+def _prepare_store(plan: SweepPlan, out: Path, *, resume: bool, force: bool) -> None:
     _check_results(out, force=force)
     meta_path = out / "sweep.json"
     normalised = plan.normalised()
