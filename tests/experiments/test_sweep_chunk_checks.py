@@ -278,3 +278,29 @@ def test_cells_are_written_as_csv_writer_writes_them():
     assert (_fmt(True), _fmt(False), _fmt(0.1), _fmt(3), _fmt("x")) == (
         "true", "false", "0.1", "3", "x")
     assert _fmt(1e-20) == "1e-20" and _fmt(2.0) == "2.0"
+
+
+@pytest.mark.parametrize(("chunk_size", "batch_size", "chunk"), [(5, 3, 5), (20, 30, 16)])
+def test_the_plan_must_fit_in_memory(monkeypatch, chunk_size, batch_size, chunk):
+    # the docstring's estimate: ~200 bytes per chunk of the layout, ~2 kB per run of the
+    # chunk in flight, one simulation batch (at most a chunk) of the loop
+    from dataclasses import replace
+
+    from it2track import _limits
+    from it2track._limits import ResourceLimitError, format_bytes, loop_bytes
+
+    cfg = PLAN.config
+    n_chunks = 2 * -(-16 // chunk_size)
+    need = 200 * n_chunks + 2048 * chunk + loop_bytes(
+        n_steps=cfg.n_steps, runs=min(batch_size, chunk), trajectories=2,
+        noise_samples=int(cfg.duration * cfg.noise_rate) + 1)
+    monkeypatch.setattr(_limits, "available_memory", lambda: need)
+    replace(PLAN, chunk_size=chunk_size, batch_size=batch_size)  # fits exactly
+    monkeypatch.setattr(_limits, "available_memory", lambda: need - 1)
+    with pytest.raises(ResourceLimitError) as info:
+        replace(PLAN, chunk_size=chunk_size, batch_size=batch_size)
+    assert str(info.value) == (
+        f"the sweep of 32 runs in {n_chunks} chunks of up to {chunk} runs "
+        f"(chunk_size={chunk_size}, batch_size={batch_size}) needs an estimated "
+        f"{format_bytes(need)} of memory, more than the {format_bytes(need - 1)} available; "
+        "use fewer runs, or a chunk_size/batch_size that fits")
