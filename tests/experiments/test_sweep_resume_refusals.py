@@ -209,3 +209,29 @@ def test_a_chunk_changed_during_assembly_stops_it_naming_both_digests(tmp_path: 
     assert str(info.value) == (
         f"{chunk_path(out, last)} changed while the sweep was assembling results.csv (sha256 "
         f"ffffffffffff expected, {actual[:12]} found); rerun with --resume to recompute it")
+
+
+def test_sweep_json_records_the_plan(tmp_path: Path) -> None:
+    from it2track import __version__
+
+    cfg, out = _start(tmp_path)
+    plan = load_sweep_config(cfg)
+    assert json.loads((out / "sweep.json").read_text()) == {
+        "format": "it2track-sweep/2", "hash": plan.config_hash(), "config": plan.normalised(),
+        "n_runs": 4, "n_chunks": 1, "columns": plan.columns,
+        "run_order": ["group", "controller", "trajectory", "noise_std", "seed"],
+        "source": str(cfg), "trajectory_files": {"wp": str(tmp_path / "wp.csv")},
+        "controller_files": {"ctrl.t2fis": str(tmp_path / "ctrl.t2fis")},
+        "it2track_version": __version__}
+
+
+def test_chunks_without_sweep_json_are_refused_naming_the_first(tmp_path: Path) -> None:
+    cfg, out = _start(tmp_path)
+    chunk = out / "chunks" / "chunk-000000.csv"
+    (out / "chunks" / "chunk-000007.csv").write_bytes(chunk.read_bytes())
+    (out / "sweep.json").unlink()
+    with pytest.raises(StoreError) as info:
+        run_sweep(load_sweep_config(cfg), out, resume=True, progress=False)
+    assert str(info.value) == (
+        f"{out}: chunks/ holds 2 chunk file(s) (e.g. chunk-000000.csv) but no sweep.json; "
+        "they belong to an unknown sweep: remove them or use another directory")
