@@ -274,8 +274,17 @@ def _judge(variants, data, **kw):
 
 
 def test_every_variant_needs_its_rows():
-    with pytest.raises(ValueError):
-        _judge(VARIANTS[:3], ROWS[:2])
+    for n_rows in (2, 4):  # fewer rows than variants, or more
+        with pytest.raises(ValueError):
+            _judge(VARIANTS[:3], ROWS[:n_rows])
+
+
+def test_an_empty_spread_is_refused():
+    from it2track.experiments.robustness import level_change
+
+    with pytest.raises(ValueError) as info:
+        level_change("holds", True, [])
+    assert str(info.value) == "level_change: the baseline spread is empty"
 
 
 def test_the_baseline_alone():

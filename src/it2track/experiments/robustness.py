@@ -293,7 +293,7 @@ def judge_variants(
                 "per_trajectory": ";".join(f"{t}: {p['verdict']}"
                                            for t, p in c.per_trajectory.items()),
             })
-            traj_status = _trajectory_status(c, levels)
+            traj_status = _trajectory_status(c)
             at = dict(zip(levels, zip(changes, spreads, settled, strict=True), strict=True))
             for e in c.evidence:
                 s = e["sigma"]
@@ -326,7 +326,7 @@ def judge_variants(
                             seeds_per_batch=config.seeds)
 
 
-def _trajectory_status(c: ClaimResult, levels: Sequence[float]) -> dict[tuple[float, str], str]:
+def _trajectory_status(c: ClaimResult) -> dict[tuple[float, str], str]:
     """Status per (level, trajectory) from the cells' outcomes (the per-trajectory verdicts'
     building blocks)."""
     out: dict[tuple[float, str], str] = {}
@@ -353,7 +353,7 @@ def _cell_row(claim: str, v: Variant, e: Mapping[str, Any], traj_status: str,
         metric, comparison, estimate = e["metric"], e["comparison"], e["diff_mean"]
     else:  # C3
         key = next(k for k in e if k.startswith("mean "))
-        metric = key.split(" ", 1)[1]
+        metric = key.removeprefix("mean ")
         comparison = f"smallest mean ({e['best controller']}) vs band"
         estimate = e[key]
     return {
