@@ -339,3 +339,13 @@ def test_the_bootstrap_defaults():
     rep = verdict(default, "C1", "control_period")["replication"]
     assert rep != verdict(other, "C1", "control_period")["replication"]
     assert rep != verdict(fewer, "C1", "control_period")["replication"]
+
+
+def test_each_cell_carries_its_own_trajectorys_status():
+    # worse on the curved path only: C1 contradicted there, holding on the straight one
+    split = rows(lambda t, s: good(t, s) if t == "straight" else worse(t, s), seed=1)
+    out = _judge(VARIANTS[:2], [ROWS[0], split])
+    cells = [c for c in out.cells if c["claim"] == "C1" and c["choice"] == "half_track"
+             and c["sigma"] == 0.1]
+    assert {(c["trajectory"], c["verdict"], c["level_verdict"]) for c in cells} == {
+        ("straight", "holds", "contradicted"), ("curved", "contradicted", "contradicted")}

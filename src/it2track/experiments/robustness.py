@@ -298,8 +298,8 @@ def judge_variants(
             for e in c.evidence:
                 s = e["sigma"]
                 how, sp, ok = at[s]
-                cells.append(_cell_row(c.id, v, e, traj_status.get((s, e.get("trajectory",
-                                                                             "straight")), ""),
+                path = e.get("trajectory", "straight")  # (C3's cells: the straight line)
+                cells.append(_cell_row(c.id, v, e, traj_status[(s, path)],
                                        c.level_status[s], c.replication[("all", s)],
                                        ok, spread_text(sp), how))
     order = [c.name for c in config.choices]
