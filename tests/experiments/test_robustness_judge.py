@@ -26,7 +26,8 @@ def rows(main, *, levels=(0.0, 0.1, 0.2), n=10, seed=0, noisy=0.001, measured=No
     IT2FLC FoU 0.2 at ``main(trajectory, sigma)``; a shared relative noise per seed (common
     random numbers) and ``noisy`` own noise per controller, none at sigma = 0. With
     ``measured``, the *_meas metrics of the IT2FLC FoU 0.2 are ``measured`` instead;
-    ``extra``: more controllers and their values."""
+    ``extra``: more controllers, or other values, each a number or a function of
+    (trajectory, sigma)."""
     rng = np.random.default_rng(seed)
     values = {**GOOD, **(extra or {})}
     cols = {k: [] for k in ("experiment", "trajectory", "controller", "noise_std", "seed",
@@ -43,7 +44,8 @@ def rows(main, *, levels=(0.0, 0.1, 0.2), n=10, seed=0, noisy=0.001, measured=No
                     cols["noise_std"].append(s)
                     cols["seed"].append(k)
                     jitter = 1.0 if s == 0.0 else 1.0 + shared[k] + own[k]
-                    true = main(t, s) if c == "IT2FLC FoU 0.2" else values[c]
+                    true = (main(t, s) if c == "IT2FLC FoU 0.2" else
+                            values[c](t, s) if callable(values[c]) else values[c])
                     meas = measured if measured is not None and c == "IT2FLC FoU 0.2" else true
                     for m in METRIC_NAMES:
                         cols[m].append((meas if m.endswith("_meas") else true) * jitter)
@@ -349,3 +351,17 @@ def test_each_cell_carries_its_own_trajectorys_status():
              and c["sigma"] == 0.1]
     assert {(c["trajectory"], c["verdict"], c["level_verdict"]) for c in cells} == {
         ("straight", "holds", "contradicted"), ("curved", "contradicted", "contradicted")}
+
+
+def test_a_flip_weighs_twice_a_change():
+    # baseline: the FLC ties the IT2FLC (C1 not shown). control_period restores the FLC:
+    # C1 holds at both levels, 2 changes (score 2); output_gain, later in the choices'
+    # order, makes FoU 0.3 worse at 0.1 only: C2 flips there (score 2 x 1). A tie: the
+    # choices' order decides.
+    tie = {"FLC": GOOD["IT2FLC FoU 0.2"]}
+    wide = {**tie, "IT2FLC FoU 0.3": lambda t, s: 0.02 if s == 0.1 else 0.003}
+    out = _judge([VARIANTS[0], variant("control_period", "x"), variant("output_gain", "y")],
+                 [rows(good, extra=tie), rows(good, seed=1), rows(good, seed=2, extra=wide)])
+    assert out.ranking == [
+        {"choice": "control_period", "flipped": 0, "changed": 2, "score": 2},
+        {"choice": "output_gain", "flipped": 1, "changed": 0, "score": 2}]
