@@ -216,7 +216,9 @@ def test_sweep_json_records_the_plan(tmp_path: Path) -> None:
 
     cfg, out = _start(tmp_path)
     plan = load_sweep_config(cfg)
-    assert json.loads((out / "sweep.json").read_text()) == {
+    text = (out / "sweep.json").read_text()
+    assert text == json.dumps(json.loads(text), indent=1) + "\n"  # one space per level
+    assert json.loads(text) == {
         "format": "it2track-sweep/2", "hash": plan.config_hash(), "config": plan.normalised(),
         "n_runs": 4, "n_chunks": 1, "columns": plan.columns,
         "run_order": ["group", "controller", "trajectory", "noise_std", "seed"],
