@@ -251,3 +251,12 @@ def test_a_plan_with_a_nan_is_refused_before_sweep_json_is_written(tmp_path: Pat
     with pytest.raises(ValueError, match="Out of range float values are not JSON compliant"):
         run_sweep(plan, out, progress=False)
     assert sorted(p.name for p in out.iterdir()) == [".lock", "chunks"]
+
+
+def test_a_chunks_checksum_file_is_named_after_it(tmp_path: Path) -> None:
+    from it2track.experiments.sweep import digest_path
+
+    assert digest_path(Path("d/chunk-000042.csv")) == Path("d/chunk-000042.csv.sha256")
+    _, out = _start(tmp_path)
+    assert sorted(p.name for p in (out / "chunks").iterdir()) == [
+        "chunk-000000.csv", "chunk-000000.csv.sha256"]
