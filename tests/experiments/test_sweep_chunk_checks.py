@@ -304,3 +304,12 @@ def test_the_plan_must_fit_in_memory(monkeypatch, chunk_size, batch_size, chunk)
         f"(chunk_size={chunk_size}, batch_size={batch_size}) needs an estimated "
         f"{format_bytes(need)} of memory, more than the {format_bytes(need - 1)} available; "
         "use fewer runs, or a chunk_size/batch_size that fits")
+
+
+def test_integer_metrics_are_written_as_floats_and_tasks_keep_the_batch_size():
+    from dataclasses import replace
+
+    chunk = PLAN.chunks()[3]
+    text = PLAN.rows_csv(chunk, {m: np.array([4]) for m in METRIC_NAMES})
+    assert text.endswith(",4.0" * len(METRIC_NAMES) + "\n")
+    assert replace(PLAN, batch_size=3).task(chunk).batch_size == 3
