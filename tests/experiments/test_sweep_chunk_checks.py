@@ -212,8 +212,21 @@ def test_a_task_is_the_chunks_runs_under_its_groups_plant():
 def test_plain_specs_are_wrapped_and_trajectories_loaded():
     from it2track.experiments.sweep.refs import ControllerRef
 
-    assert all(isinstance(c, ControllerRef) for c in PLAN.controllers)
-    assert [t.name for t in PLAN.trajectories] == ["straight", "curved"]
+    plan = _plan(trajectory_refs=(TrajectoryRef("straight"), TrajectoryRef("curved")))
+    assert [type(c) for c in plan.controllers] == [ControllerRef]
+    assert plan.controllers[0].spec == ControllerSpec(kind=ControllerKind.FLC)
+    assert [t.name for t in plan.trajectories] == ["straight", "curved"]
+    ref = ControllerRef.from_spec(ControllerSpec(kind=ControllerKind.FLC))
+    assert _plan(controllers=(ref,)).controllers[0] is ref  # a ref is kept as it is
+    given = plan.trajectories
+    assert _plan(trajectories=given).trajectories is given  # loaded targets are kept
+
+
+def test_a_plan_holding_a_nan_has_no_hash():
+    import math
+
+    with pytest.raises(ValueError, match="Out of range float values are not JSON compliant"):
+        _plan(noise_std=(math.nan,)).config_hash()
 
 
 def test_the_identity_is_everything_that_changes_a_number():
