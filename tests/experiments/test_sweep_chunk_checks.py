@@ -326,3 +326,13 @@ def test_integer_metrics_are_written_as_floats_and_tasks_keep_the_batch_size():
     text = PLAN.rows_csv(chunk, {m: np.array([4]) for m in METRIC_NAMES})
     assert text.endswith(",4.0" * len(METRIC_NAMES) + "\n")
     assert replace(PLAN, batch_size=3).task(chunk).batch_size == 3
+
+
+def test_a_plant_set_the_loop_cannot_take_is_named_by_its_group():
+    from dataclasses import replace
+
+    stiff = replace(RobotParams(), motor=replace(RobotParams().motor, inductance=1e-12))
+    with pytest.raises(ValueError) as info:
+        _plan(robots=(RobotParams(), stiff), robot_columns={"motor.inductance": (0.0, 1e-12)})
+    assert str(info.value).startswith(
+        "plant set 1 ([robot] values of run group 1): motor resistance=")
