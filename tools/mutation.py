@@ -59,6 +59,16 @@ ROOT = Path(__file__).resolve().parents[1]
 PAGE = ROOT / "docs" / "guide" / "mutation.md"
 EQUIVALENTS = ROOT / "tools" / "mutation_equivalents.toml"
 
+#: test_sweep_store.py without its kill -9 / Ctrl-C tests (a 400-run sweep in a subprocess per
+#: mutant; they test the atomic writes, :mod:`it2track.atomicfile`'s row, more than the store).
+_SWEEP_STORE = [f"tests/experiments/test_sweep_store.py::test_{name}" for name in (
+    "results_equal_direct_simulation", "store_is_standard_csv",
+    "chunk_size_does_not_change_results", "resume_recomputes_only_missing_or_broken_chunks",
+    "store_refuses_other_configs_and_second_writers", "cli_sweep_run_refuse_resume",
+    "file_controller_is_identified_by_its_content", "file_edited_while_the_sweep_runs_is_refused",
+    "store_of_another_it2track_version_is_refused",
+    "cli_sweep_reports_a_failing_run_without_traceback")]
+
 #: The tests of each module mutation-tested so far: what ``--table`` rows were measured with.
 DEFAULT_TESTS: dict[str, list[str]] = {
     "it2track.atomicfile": ["tests/test_atomicfile.py"],
@@ -67,10 +77,22 @@ DEFAULT_TESTS: dict[str, list[str]] = {
         "tests/cli/test_outdir.py", "tests/cli/test_reproduce_safety.py",
         "tests/cli/test_reproduce.py::test_publish_replaces_a_previous_run_without_leftovers",
         "tests/cli/test_reproduce.py::test_publish_never_removes_directories"],
-    "it2track.experiments.sweep.store": ["tests/experiments/test_sweep_store.py",
-                                         "tests/experiments/test_sweep_checksums.py"],
-    "it2track.experiments.sweep.plan": ["tests/experiments/test_sweep_store.py",
-                                        "tests/experiments/test_sweep_config.py"],
+    "it2track.experiments.sweep.store": [
+        *_SWEEP_STORE, "tests/experiments/test_sweep_checksums.py",
+        "tests/experiments/test_sweep_resume_refusals.py",
+        "tests/experiments/test_sweep_chunk_checks.py"],
+    "it2track.experiments.sweep.plan": [*_SWEEP_STORE, "tests/experiments/test_sweep_config.py",
+                                        "tests/experiments/test_sweep_chunk_checks.py"],
+    "it2track.experiments.analysis": ["tests/experiments/test_analysis.py"],
+    "it2track.experiments.robustness": [
+        "tests/experiments/test_robustness_judge.py",
+        "tests/experiments/test_robustness.py::test_change_is_called_against_the_baselines_spread"],
+    "it2track.experiments.robustness_config": [
+        "tests/experiments/test_robustness_config.py",
+        "tests/experiments/test_robustness.py::test_bad_choices_and_robustness_name_file_section_key_and_value",
+        "tests/experiments/test_robustness.py::test_variants_one_at_a_time_then_factorial",
+        "tests/experiments/test_robustness.py::test_the_default_factorial_crosses_half_track_period_and_output_gain",
+        "tests/experiments/test_robustness.py::test_implied_choices_follow_the_studys_own_settings"],
     "it2track.experiments.stats": ["tests/experiments/test_stats.py",
                                    "tests/experiments/test_analysis.py"],
     "it2track.experiments.choices": [

@@ -445,3 +445,30 @@ def test_intervals_and_tails_equal_scipy_stats_bit_for_bit():
     for k, n in ((1, 40), (7, 40), (39, 40), (3, 5)):
         assert binomial_interval(k, n) == (float(stats.beta.ppf(a / 2, k, n - k + 1)),
                                            float(stats.beta.ppf(1 - a / 2, k + 1, n - k)))
+
+
+def test_a_missing_baseline_is_reported_and_the_later_claims_still_judged():
+    # Without the slope-matched FLC, D1 is "not evaluated" with its own statement and
+    # criterion, over the study's levels, holding nowhere -- and D2, D3 after it are still
+    # judged (a missing claim skips itself, not the rest).
+    from it2track.experiments.claimcells import claim_definitions
+
+    rows = synthetic_rows(lambda c, s: GOOD[c])
+    keep = rows["controller"] != "T1 slope-matched 0.2"
+    rows = {k: v[keep] for k, v in rows.items()}
+    out = evaluate_claims(rows, fous=FOUS, main_fou=0.2, trajectories=TRAJ)
+    assert [c.id for c in out] == ["C1", "C2", "C3", "D1", "D2", "D3"]
+    d1 = out[3]
+    defs = claim_definitions(fous=FOUS, main_fou=0.2, trajectories=TRAJ)
+    assert (d1.statement, d1.criterion) == (defs[3].statement, defs[3].criterion)
+    assert d1.verdict == "not evaluated: the study has no 'T1 slope-matched 0.2' baseline"
+    assert d1.levels == (0.0, 0.1, 0.3) and d1.holds_at == () and d1.evidence == []
+    assert out[4].verdict == "holds" and out[4].holds_at == (0.1, 0.3)
+
+
+def test_no_rows_of_the_experiment_is_an_error_naming_it():
+    rows = synthetic_rows(lambda c, s: GOOD[c], levels=(0.1,), n_seeds=2)
+    with pytest.raises(ValueError) as info:
+        evaluate_claims(rows, fous=FOUS, main_fou=0.2, trajectories=TRAJ,
+                        experiment="robustness")
+    assert str(info.value) == "no rows of experiment 'robustness' to evaluate the claims on"

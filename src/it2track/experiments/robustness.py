@@ -254,7 +254,7 @@ def judge_variants(
         for c in claims:
             for s, st in c.level_status.items():
                 spread.setdefault((c.id, s), []).append(st)
-                rep_of.setdefault((c.id, s), []).append(c.replication.get(("all", s), 1.0))
+                rep_of.setdefault((c.id, s), []).append(c.replication[("all", s)])
     verdicts, cells = [], []
     flips: dict[str, dict[str, list[str]]] = {
         c.id: {UNCHANGED: [], CHANGED: [], FLIPPED: [], UNSETTLED: []}
@@ -285,7 +285,7 @@ def judge_variants(
                 "claim": c.id, "choice": v.choice, "value": v.value, "label": v.label,
                 "part": _part(v), "noise_levels": ", ".join(f"{s:g}" for s in levels),
                 "verdict": c.verdict, "status": ";".join(status),
-                "replication": ";".join(f"{c.replication.get(('all', s), 1.0):.3f}"
+                "replication": ";".join(f"{c.replication[('all', s)]:.3f}"
                                         for s in levels),
                 "settled": ";".join("yes" if ok else "no" for ok in settled),
                 "baseline_spread": ";".join(spread_text(sp) for sp in spreads),
@@ -293,14 +293,14 @@ def judge_variants(
                 "per_trajectory": ";".join(f"{t}: {p['verdict']}"
                                            for t, p in c.per_trajectory.items()),
             })
-            traj_status = _trajectory_status(c, levels)
+            traj_status = _trajectory_status(c)
             at = dict(zip(levels, zip(changes, spreads, settled, strict=True), strict=True))
             for e in c.evidence:
                 s = e["sigma"]
                 how, sp, ok = at[s]
-                cells.append(_cell_row(c.id, v, e, traj_status.get((s, e.get("trajectory",
-                                                                             "straight")), ""),
-                                       c.level_status[s], c.replication.get(("all", s), 1.0),
+                path = e.get("trajectory", "straight")  # (C3's cells: the straight line)
+                cells.append(_cell_row(c.id, v, e, traj_status[(s, path)],
+                                       c.level_status[s], c.replication[("all", s)],
                                        ok, spread_text(sp), how))
     order = [c.name for c in config.choices]
     ranked = sorted(moves.items(), key=lambda kv: (-(2 * kv[1][0] + kv[1][1]),
@@ -326,7 +326,7 @@ def judge_variants(
                             seeds_per_batch=config.seeds)
 
 
-def _trajectory_status(c: ClaimResult, levels: Sequence[float]) -> dict[tuple[float, str], str]:
+def _trajectory_status(c: ClaimResult) -> dict[tuple[float, str], str]:
     """Status per (level, trajectory) from the cells' outcomes (the per-trajectory verdicts'
     building blocks)."""
     out: dict[tuple[float, str], str] = {}
@@ -353,7 +353,7 @@ def _cell_row(claim: str, v: Variant, e: Mapping[str, Any], traj_status: str,
         metric, comparison, estimate = e["metric"], e["comparison"], e["diff_mean"]
     else:  # C3
         key = next(k for k in e if k.startswith("mean "))
-        metric = key.split(" ", 1)[1]
+        metric = key.removeprefix("mean ")
         comparison = f"smallest mean ({e['best controller']}) vs band"
         estimate = e[key]
     return {

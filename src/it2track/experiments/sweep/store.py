@@ -190,7 +190,7 @@ def _check_results(out: Path, *, force: bool) -> None:
         raise StoreError(f"{exc.filename} {exc.strerror}") from None
 
 
-def _prepare_store(plan: SweepPlan, out: Path, *, resume: bool, force: bool = False) -> None:
+def _prepare_store(plan: SweepPlan, out: Path, *, resume: bool, force: bool) -> None:
     _check_results(out, force=force)
     meta_path = out / "sweep.json"
     normalised = plan.normalised()
@@ -248,7 +248,7 @@ def _prepare_store(plan: SweepPlan, out: Path, *, resume: bool, force: bool = Fa
 
 
 def _assemble(plan: SweepPlan, out: Path, header: str, digests: Mapping[int, str], *,
-              force: bool = False) -> None:
+              force: bool) -> None:
     """``results.csv``: the header, then every chunk's rows in run order (streamed), and its
     SHA-256 in ``results.csv.sha256`` (the proof a later resume needs to replace it).
 
