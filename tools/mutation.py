@@ -83,6 +83,9 @@ DEFAULT_TESTS: dict[str, list[str]] = {
         "tests/codegen/test_errorbound.py",
         "tests/codegen/test_codegen_fixed.py::test_rows_term_rounding_and_constants_are_both_needed",
         "tests/codegen/test_codegen_fixed.py::test_products_term_is_needed"],
+    # (--no-jit: the kernels as Python, so tiny batches; tests/engine/test_compiled_fuzzy.py
+    # takes minutes a pass there)
+    "it2track.fuzzy._jit": ["tests/engine/test_kernel_branches.py"],
 }
 
 #: What is copied into the scratch folder (mutmut copies it again into ``mutants/``).
@@ -202,7 +205,10 @@ def prepare(work: Path, module_path: Path, tests: list[str], *, no_jit: bool) ->
         "source_paths": ["src/"],
         "only_mutate": [str(module_path)],
         "pytest_add_cli_args_test_selection": tests,
-        "pytest_add_cli_args": ["-p", "no:cacheprovider", "-q", "-x"],
+        # (--no-jit: numba's error_model="numpy" divides by zero silently; the interpreter's
+        # numpy scalars warn, which the suite's filterwarnings = error would make a failure)
+        "pytest_add_cli_args": ["-p", "no:cacheprovider", "-q", "-x"]
+        + (["-W", "ignore::RuntimeWarning"] if no_jit else []),
         "use_git_change_detection": False,
         # mutmut copies only src/ and tests/ into mutants/; some tests read these too
         "also_copy": [name for name in COPY if name not in ("src", "tests", "pyproject.toml")],

@@ -39,12 +39,6 @@ OK, ZERO_FIRING, WM_ZERO_LOWER, NOT_CONVERGED = 0, 1, 2, 3
 WORK_ROWS = 13  # work rows of the reducers in a block's scratch
 
 
-def scratch_rows(P: np.ndarray) -> int:
-    """Rows of the scratch array :func:`eval_block` needs: memberships (``M + 1``), lower and
-    upper firing (``R`` each) and :data:`WORK_ROWS` work rows."""
-    return int(P[N_ROWS]) + 1 + 2 * int(P[N_RULES]) + WORK_ROWS
-
-
 @_compiled()
 def _memberships(P, X, L, S, ext):
     """Rows ``S[0:M]`` = memberships of the points ``X[:, :L]``; ``S[M]`` = 1. The kinds of
@@ -422,7 +416,9 @@ def _wu_mendel(P, L, S, flb, fub, tb, yl, yr):
 @_compiled()
 def eval_block(P, X, L, S, yl, yr, st, ext=None):
     """``yl[:L]``, ``yr[:L]`` and ``st[:L]`` (status) of the clipped points ``X[:, :L]``;
-    ``S`` is scratch of :func:`scratch_rows` rows and at least ``L`` columns.
+    ``S`` is scratch of at least ``L`` columns and ``M + 1 + 2 R + WORK_ROWS`` rows:
+    memberships (``M = P[N_ROWS]`` rows and the row of ones), lower and upper firing
+    (``R = P[N_RULES]`` each) and :data:`WORK_ROWS` work rows.
 
     ``ext`` (None or True) chooses the specialisation: left out, numba prunes the branches of
     the kinds of :mod:`.curves`/:mod:`.shapes`, MATLAB's lagged lower MFs, the t-norms other
