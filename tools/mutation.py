@@ -86,6 +86,8 @@ DEFAULT_TESTS: dict[str, list[str]] = {
     # (--no-jit: the kernels as Python, so tiny batches; tests/engine/test_compiled_fuzzy.py
     # takes minutes a pass there)
     "it2track.fuzzy._jit": ["tests/engine/test_kernel_branches.py"],
+    "it2track.tracking._jit": ["tests/engine/test_loop_kernel_branches.py",
+                               "tests/engine/test_lanes.py"],
 }
 
 #: What is copied into the scratch folder (mutmut copies it again into ``mutants/``).

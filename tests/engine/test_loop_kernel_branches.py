@@ -1,0 +1,140 @@
+"""Every branch of the compiled closed loop (``it2track.tracking._jit``) on short runs, bit for
+bit against the numpy engine.
+
+``test_compiled_loop.py`` compares seconds-long runs of many controllers; these compare runs of
+a few dozen steps chosen to reach each branch (a PD controller with and without its filter and
+saturation, fuzzy controllers with a zero-firing value, errors that wrap past pi, noise, the
+previous-pose timing, a metric window, blocks of one path and of two, full and short blocks),
+so that they also run in seconds with the kernel as plain Python (``NUMBA_DISABLE_JIT=1``), as
+the mutation testing of the kernel runs them (``tools/mutation.py it2track.tracking._jit
+--no-jit``).
+"""
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from it2track.fuzzy import Input, IT2Set, IT2Sugeno, Rule, Triangle, ZeroFiringError
+from it2track.paper import heading_fls
+from it2track.plant import RobotParams
+from it2track.tracking import (
+    ON_PATH,
+    FuzzyHeadingController,
+    LoopConfig,
+    PDHeadingController,
+    RunTable,
+    WaypointTrajectory,
+    compiled,
+    simulate,
+    simulate_metrics,
+    sinusoidal,
+    straight,
+)
+from it2track.tracking.simulate import _Engine
+
+
+def waypoints():
+    t = np.linspace(0.0, 12.0, 13)
+    return WaypointTrajectory("csv-like", t, np.stack([1.5 * t, np.sin(0.7 * t) * 2.0], 1))
+
+
+TRAJS = [straight(), sinusoidal(), waypoints()]
+
+
+def gap_fls():
+    """Sets that leave |e| < 0.1 uncovered: zero firing there, output 0.5 V."""
+    sets = [IT2Set.from_fou(Triangle(-1, -1, -0.1), 0.05, "N"),
+            IT2Set.from_fou(Triangle(0.1, 1, 1), 0.05, "P")]
+    inputs = [Input("e", (-1, 1), sets), Input("de", (-1, 1), [sets[0], sets[1]])]
+    rules = [Rule(("N", None), -6.0), Rule(("P", None), 6.0)]
+    return IT2Sugeno(inputs=inputs, rules=rules, on_zero_firing=0.5)
+
+
+CONTROLLERS = {
+    "flc": FuzzyHeadingController(fls=heading_fls(0.0)),
+    "it2-gains": FuzzyHeadingController(fls=heading_fls(0.3), ke=0.8, kde=3.0),
+    "zero-firing": FuzzyHeadingController(fls=gap_fls()),
+    "pd": PDHeadingController(kp=25.0, kd=1.5, tf=0.02),
+    "pd-raw": PDHeadingController(kp=8.0, kd=0.3, tf=0.0, u_max=5.0),
+}
+
+
+def assert_bits(got, ref, name):
+    """The same 64 bits (signed zeros told apart), not only equal values."""
+    got, ref = np.asarray(got, dtype=np.float64), np.asarray(ref, dtype=np.float64)
+    assert got.shape == ref.shape, name
+    assert np.array_equal(got.view(np.int64), ref.view(np.int64)), (name, got, ref)
+
+
+def compare(controllers, trajs, runs, config, *, series=True):
+    assert all(compiled.supported(c) is None for c in controllers)
+    engine = _Engine(trajs, config)
+    ref_m, ref_s = engine.run(controllers, runs, record=series)
+    if series:
+        trace = simulate(controllers, trajs, runs, config)
+        got_m, got_s = trace.metrics, trace.series
+        assert set(got_s) == set(ref_s)
+        for name, ref in ref_s.items():
+            assert_bits(got_s[name], ref, name)
+    else:
+        got_m = simulate_metrics(controllers, trajs, runs, config)
+    assert set(got_m) == set(ref_m)
+    for name, ref in ref_m.items():
+        assert_bits(got_m[name], ref, name)
+
+
+def table(controller, trajectory, noise, seed):
+    return RunTable(np.asarray(controller), np.asarray(trajectory), np.asarray(noise, float),
+                    np.asarray(seed))
+
+
+@pytest.mark.parametrize("name", list(CONTROLLERS))
+def test_every_controller(name):
+    """Each path, noise 0 and 0.6 rad (errors past pi, wrapped), a start facing away."""
+    runs = table([0] * 4, [0, 1, 2, 1], [0.0, 0.0, 0.6, 0.05], [0, 1, 2, 3])
+    config = LoopConfig(duration=0.12, start_pose=(0.3, -1.0, 2.9))
+    compare([CONTROLLERS[name]], TRAJS, runs, config)
+
+
+OPTIONS = {
+    "on-path": dict(start_pose=ON_PATH),
+    "previous-pose": dict(desired_heading_pose="previous", start_pose=(0.5, 0.2, -3.0)),
+    "metric-window": dict(metric_start=0.05),
+    "fast-period-noise-rate-2-nodes": dict(ts=0.005, noise_rate=50.0, seed=7, quadrature_nodes=2,
+                                           robot=RobotParams(half_track=0.28)),
+}
+
+
+@pytest.mark.parametrize("option", list(OPTIONS))
+def test_every_loop_option(option):
+    ctrls = [CONTROLLERS["it2-gains"], CONTROLLERS["pd"]]
+    runs = table([0, 0, 1, 1], [1, 2, 1, 0], [0.2, 0.0, 0.2, 0.0], [3, 0, 1, 0])
+    config = LoopConfig(duration=0.1, **OPTIONS[option])
+    compare(ctrls, TRAJS, runs, config)
+    compare(ctrls, TRAJS, runs, config, series=False)
+
+
+def test_full_and_short_blocks_on_one_and_two_paths():
+    """More runs of one controller than a block's lanes: a full block on one path, then a
+    short block straddling two paths (gathered per lane); runs of a second controller."""
+    from it2track.tracking import _jit
+
+    lanes = _jit.LANES
+    n = lanes + 6
+    traj = np.r_[np.zeros(lanes + 2, int), np.full(4, 1)]
+    runs = table(np.r_[np.zeros(n, int), [1, 1]], np.r_[traj, [2, 0]],
+                 np.tile([0.0, 0.3], (n + 2) // 2), np.arange(n + 2) % 5)
+    compare([CONTROLLERS["flc"], CONTROLLERS["pd-raw"]], TRAJS, runs,
+            LoopConfig(duration=0.05, seed=4))
+
+
+def test_zero_firing_without_a_value_is_the_references_error():
+    strict = FuzzyHeadingController(fls=dataclasses.replace(gap_fls(), on_zero_firing=None))
+    runs = table([0, 1, 1], [0, 0, 0], [0.0, 0.0, 0.0], [0, 0, 0])
+    with pytest.raises(ZeroFiringError, match="no rule"):
+        simulate_metrics([CONTROLLERS["pd"], strict], [straight()], runs,
+                         LoopConfig(duration=0.05))
+    # a run that never meets the gap (it starts far off the path) is the reference's
+    compare([strict], [straight()], table([0], [0], [0.0], [0]),
+            LoopConfig(duration=0.05, start_pose=(0.0, 1.0, 0.0)))
