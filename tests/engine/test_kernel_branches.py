@@ -37,6 +37,7 @@ from it2track.fuzzy import (
     ZeroFiringError,
     kernels,
 )
+from it2track.fuzzy import _jit
 from it2track.fuzzy.reducers import ConvergenceError
 from it2track.paper import heading_fls
 
@@ -72,32 +73,66 @@ def grid(n_inputs, values=GRID):
     return np.stack([v, np.roll(v, 3), np.roll(v[::-1], 5)])
 
 
-def check(fls, x, *, scalar=True):
-    """interval, the crisp batch and (two inputs) the scalar call of every point against the
-    reference, bit for bit."""
-    assert kernels._entry(fls) is not None, kernels.supported(fls)
+def expected(fls, x):
+    """The reference's ``yl``, ``yr`` per point (NaN where it raises) and the kernels' status
+    for it: OK, or the code of the error the reference raises there."""
     try:
         rl, rr = reference(fls, *x)
-    except ZeroFiringError as exc:  # (Wu-Mendel with zero lower firing): the same error
-        with pytest.raises(ZeroFiringError, match=str(exc)[:40]):
-            fls.interval(*x)
-        keep = np.ones(x.shape[1], dtype=bool)
-        for j in range(x.shape[1]):
-            try:
-                reference(fls, *x[:, j : j + 1])
-            except ZeroFiringError:
-                keep[j] = False
-        assert keep.any()
-        x = x[:, keep]
-        rl, rr = reference(fls, *x)
-    yl, yr = fls.interval(*x)
-    assert same(yl, rl) and same(yr, rr), (x, yl, rl, yr, rr)
-    assert same(fls(*x), (rl + rr) * 0.5)
+        return rl, rr, np.full(x.shape[1], _jit.OK, dtype=np.int8)
+    except (ZeroFiringError, ConvergenceError):
+        pass
+    n = x.shape[1]
+    rl, rr, st = np.full(n, np.nan), np.full(n, np.nan), np.zeros(n, dtype=np.int8)
+    for j in range(n):
+        try:
+            (rl[j],), (rr[j],) = reference(fls, *x[:, j : j + 1])
+        except ZeroFiringError as exc:
+            lower = "total lower firing" in str(exc)
+            st[j] = _jit.WM_ZERO_LOWER if lower else _jit.ZERO_FIRING
+        except ConvergenceError:
+            st[j] = _jit.NOT_CONVERGED
+    return rl, rr, st
+
+
+def direct(fls, x):
+    """The kernels called directly on the clipped points (the public calls hand a point whose
+    status is not OK to the reference, which would hide a kernel's NaN): ``yl``, ``yr`` and
+    the status of two ranges, and the crisp output of all the points at once."""
+    packed = kernels._entry(fls)
+    assert packed is not None, kernels.supported(fls)
+    ext = (True,) if fls.__dict__["_kernel_ext"] else ()
+    xc, _ = fls._prepare(tuple(x))
+    n = xc.shape[1]
+    yl, yr, u = np.full(n, -7.0), np.full(n, -7.0), np.full(n, -7.0)
+    st, st_u = np.full(n, 9, dtype=np.int8), np.full(n, 9, dtype=np.int8)
+    cut = n // 3
+    for a, b in ((0, cut), (cut, n)):
+        _jit.batch(packed, xc, yl, yr, st, False, a, b, *ext)
+    _jit.batch(packed, xc, u, u, st_u, True, 0, n, *ext)
+    return xc, ext, yl, yr, st, u, st_u
+
+
+def check(fls, x, *, scalar=True):
+    """The kernels' interval, crisp output and status of every point, their scalar call (two
+    inputs) and the public calls against the reference, bit for bit."""
+    rl, rr, want = expected(fls, x)
+    xc, ext, yl, yr, st, u, st_u = direct(fls, x)
+    assert (st == want).all() and (st_u == want).all(), (st, st_u, want)
+    ok = want == _jit.OK
+    assert same(yl[ok], rl[ok]) and same(yr[ok], rr[ok]), (x, yl, rl, yr, rr)
+    assert same(u[ok], (rl[ok] + rr[ok]) * 0.5)
+    if fls.n_inputs == 2:
+        for j in range(x.shape[1]) if scalar else range(0, x.shape[1], 7):
+            got = _jit.scalar2(kernels._entry(fls), float(x[0, j]), float(x[1, j]), *ext)
+            assert same(got, (rl[j] + rr[j]) * 0.5 if ok[j] else math.nan), (x[:, j], got)
+    # the public calls: the kernels where every point is OK, else the reference's error
+    if ok.all():
+        pl, pr = fls.interval(*x)
+        assert same(pl, rl) and same(pr, rr)
+        assert same(fls(*x), (rl + rr) * 0.5)
     if scalar and fls.n_inputs == 2:
-        for j in range(x.shape[1]):
-            got = fls(float(x[0, j]), float(x[1, j]))
-            assert isinstance(got, float)
-            assert same(got, (rl[j] + rr[j]) * 0.5), (x[:, j], got)
+        for j in np.flatnonzero(ok)[:5]:
+            assert same(fls(float(x[0, j]), float(x[1, j])), (rl[j] + rr[j]) * 0.5)
 
 
 def gaussian_system(reducer, tnorm=TNorm.PRODUCT, zero=None):
@@ -181,7 +216,7 @@ def term_system(a, b, *, it2, tnorm=TNorm.PRODUCT, reducer=None):
         sets = [IT2Set.type1(a, "A"), IT2Set.type1(b, "B")]
     inputs = [Input("x", (-1, 1), sets), Input("y", (-1, 1), sets)]
     rules = [Rule(["A", "A"], -1.0), Rule(["A", "B"], 0.5), Rule(["B", "A"], 1.0),
-             Rule(["B", "B"], 2.0), Rule(["A", None], 0.0)]
+             Rule(["B", "B"], 2.0), Rule(["A", None], 0.0), Rule([None, "B"], 1.5)]
     if it2:
         return IT2Sugeno(inputs=inputs, rules=rules, tnorm=tnorm, on_zero_firing=0.25,
                          reducer=reducer or Reducer.EXHAUSTIVE.value)
@@ -231,31 +266,19 @@ def test_every_reducer_with_three_inputs(reducer):
 @pytest.mark.parametrize("reducer", [Reducer.KM, Reducer.EKM, Reducer.EIASC],
                          ids=lambda r: r.value.name)
 def test_no_convergence_is_the_references(reducer):
-    """A cap on the iterations: the points that need more fail as in numpy, the others keep
-    their values (the cap that is just enough passes everywhere)."""
+    """A cap on the iterations: the points that need more are NOT_CONVERGED in the kernels and
+    raise in numpy, the others keep their values, up to the cap that is enough everywhere."""
     x = grid(3)
-    needed = None
     for cap in range(1, 12):
         fls = three_input_system(reducer.value, cap)
-        try:
-            rl, rr = reference(fls, *x)
-        except ConvergenceError as exc:
-            with pytest.raises(ConvergenceError, match=str(exc)):
-                fls.interval(*x)
-            ok = []
-            for j in range(x.shape[1]):
-                try:
-                    reference(fls, *x[:, j:j + 1])
-                    ok.append(j)
-                except ConvergenceError:
-                    with pytest.raises(ConvergenceError, match="did not converge"):
-                        fls(*x[:, j:j + 1])
-            check(fls, x[:, ok])
-            continue
-        needed = cap
+        want = expected(fls, x)[2]
         check(fls, x)
-        break
-    assert needed is not None and needed > 1
+        if (want == _jit.OK).all():
+            break
+        assert set(want) <= {_jit.OK, _jit.NOT_CONVERGED}
+        with pytest.raises(ConvergenceError, match="did not converge"):
+            fls.interval(*x)
+    assert cap > 1 and (want == _jit.OK).all()
 
 
 def test_zero_firing_value_status_and_errors():
@@ -282,6 +305,18 @@ def test_zero_firing_value_status_and_errors():
     with pytest.raises(ZeroFiringError, match="no rule"):
         t1(np.array([-0.5, 0.5]))
     assert t1(np.array([-0.5, -0.25]))[1] == 2.0
+
+
+@pytest.mark.parametrize("reducer", REDUCERS, ids=lambda r: r.name)
+def test_upper_firing_only(reducer):
+    """Points where a rule fires on its upper MF only, alone or with others: zero lower sums,
+    switch points at the ends, ties at the lowest and highest consequent."""
+    sets = [IT2Set(Triangle(-1, -0.5, 0.0), Triangle(-0.9, -0.5, -0.1), "A"),
+            IT2Set(Triangle(-0.2, 0.5, 1), Triangle(0.1, 0.5, 0.9), "B")]  # fmt: skip
+    fls = IT2Sugeno(inputs=[Input("x", (-1, 1), sets)],
+                    rules=[Rule(["A"], -1.0), Rule(["B"], (1.0, 2.0))], reducer=reducer,
+                    on_zero_firing=0.125)
+    check(fls, grid(1, np.array([-1.0, -0.95, -0.5, -0.15, -0.05, 0.0, 0.05, 0.5, 0.95, 1.0])))
 
 
 def test_wu_mendel_zero_lower_firing():
@@ -321,3 +356,16 @@ def test_batches_across_blocks_interval_and_crisp():
     fls = heading_fls(0.2)
     x2 = np.stack([np.linspace(-1, 1, n), np.linspace(1, -1, n) ** 3])
     check(fls, x2, scalar=False)
+
+
+@pytest.mark.parametrize("reducer", [Reducer.KM, Reducer.EKM, Reducer.EIASC],
+                         ids=lambda r: r.value.name)
+@pytest.mark.parametrize("cap", [1, 2, 3])
+def test_iteration_counts_on_two_inputs(reducer, cap):
+    """Each point converges within the same number of iterations as in numpy: the iterative
+    reducers' starting points (KM's midpoint centroid, EKM's switch points) and steps, seen
+    through which points a small cap stops."""
+    for fls in (heading_fls(0.3), gaussian_system(reducer.value), tie_system(reducer.value)):
+        check(dataclasses.replace(fls, reducer=reducer.value.with_max_iter(cap)), grid(2),
+              scalar=False)
+
