@@ -35,9 +35,9 @@ from it2track.fuzzy import (
     Triangle,
     WeightedDefuzzifier,
     ZeroFiringError,
+    _jit,
     kernels,
 )
-from it2track.fuzzy import _jit
 from it2track.fuzzy.reducers import ConvergenceError
 from it2track.paper import heading_fls
 
@@ -116,7 +116,7 @@ def check(fls, x, *, scalar=True):
     """The kernels' interval, crisp output and status of every point, their scalar call (two
     inputs) and the public calls against the reference, bit for bit."""
     rl, rr, want = expected(fls, x)
-    xc, ext, yl, yr, st, u, st_u = direct(fls, x)
+    _, ext, yl, yr, st, u, st_u = direct(fls, x)
     assert (st == want).all() and (st_u == want).all(), (st, st_u, want)
     ok = want == _jit.OK
     assert same(yl[ok], rl[ok]) and same(yr[ok], rr[ok]), (x, yl, rl, yr, rr)
