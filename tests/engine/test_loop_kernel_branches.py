@@ -68,20 +68,27 @@ def assert_bits(got, ref, name):
 
 
 def compare(controllers, trajs, runs, config, *, series=True):
+    """The kernel called directly (every run's status OK: the public calls re-run a run whose
+    status is not with numpy, which would hide a kernel's failure) and the public calls,
+    against the numpy engine."""
     assert all(compiled.supported(c) is None for c in controllers)
     engine = _Engine(trajs, config)
     ref_m, ref_s = engine.run(controllers, runs, record=series)
+    got_m, got_s, status = compiled.run(compiled.load(), engine, controllers, runs,
+                                        record=series)
+    assert (status == 0).all(), status
     if series:
-        trace = simulate(controllers, trajs, runs, config)
-        got_m, got_s = trace.metrics, trace.series
         assert set(got_s) == set(ref_s)
         for name, ref in ref_s.items():
             assert_bits(got_s[name], ref, name)
+        public = simulate(controllers, trajs, runs, config).metrics
     else:
-        got_m = simulate_metrics(controllers, trajs, runs, config)
+        assert got_s is None
+        public = simulate_metrics(controllers, trajs, runs, config)
     assert set(got_m) == set(ref_m)
     for name, ref in ref_m.items():
         assert_bits(got_m[name], ref, name)
+        assert_bits(public[name], ref, name)
 
 
 def table(controller, trajectory, noise, seed):
@@ -130,11 +137,19 @@ def test_full_and_short_blocks_on_one_and_two_paths():
 
 
 def test_zero_firing_without_a_value_is_the_references_error():
+    """The run that meets the gap stops with the kernels' status (ZERO_FIRING), the others
+    run on; the public call raises the reference's error."""
+    from it2track.fuzzy import _jit as fuzzy_jit
+
     strict = FuzzyHeadingController(fls=dataclasses.replace(gap_fls(), on_zero_firing=None))
+    ctrls = [CONTROLLERS["pd"], strict]
     runs = table([0, 1, 1], [0, 0, 0], [0.0, 0.0, 0.0], [0, 0, 0])
+    config = LoopConfig(duration=0.05)
     with pytest.raises(ZeroFiringError, match="no rule"):
-        simulate_metrics([CONTROLLERS["pd"], strict], [straight()], runs,
-                         LoopConfig(duration=0.05))
+        simulate_metrics(ctrls, [straight()], runs, config)
+    _, _, status = compiled.run(compiled.load(), _Engine([straight()], config), ctrls, runs,
+                                record=False)
+    assert list(status) == [0, fuzzy_jit.ZERO_FIRING, fuzzy_jit.ZERO_FIRING]
     # a run that never meets the gap (it starts far off the path) is the reference's
     compare([strict], [straight()], table([0], [0], [0.0], [0]),
             LoopConfig(duration=0.05, start_pose=(0.0, 1.0, 0.0)))
