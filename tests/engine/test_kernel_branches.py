@@ -341,6 +341,13 @@ def test_non_finite_inputs_are_the_references():
         fls(0.0, math.inf)
     assert fls(2.0, -3.0) == fls(1.0, -1.0)  # clipped to the universe
     assert fls(-5.0, 0.25) == fls(-1.0, 0.25)
+    packed = kernels._entry(fls)  # the scalar kernel: NaN (the reference then raises)
+    for a, b in ((math.nan, 0.0), (0.0, math.nan), (math.inf, 0.0), (0.0, -math.inf)):
+        assert math.isnan(_jit.scalar2(packed, a, b))
+    for a, b in ((2.0, -3.0), (-5.0, 0.25), (0.3, 7.0)):
+        clipped = np.array([[min(max(a, -1.0), 1.0)], [min(max(b, -1.0), 1.0)]])
+        rl, rr = reference(fls, *clipped)
+        assert same(_jit.scalar2(packed, a, b), (rl[0] + rr[0]) * 0.5)
 
 
 def test_batches_across_blocks_interval_and_crisp():
@@ -369,3 +376,59 @@ def test_iteration_counts_on_two_inputs(reducer, cap):
         check(dataclasses.replace(fls, reducer=reducer.value.with_max_iter(cap)), grid(2),
               scalar=False)
 
+
+
+@pytest.mark.parametrize("reducer", REDUCERS, ids=lambda r: r.name)
+def test_interval_consequents_in_another_order_at_their_upper_ends(reducer):
+    """The rule with the lowest lower end (-3) has the highest upper end (5): the right side's
+    first rule is not the left side's (the order of y_hi, not the identity)."""
+    sets = [IT2Set.from_fou(Triangle(-1, -1, 0), 0.2, "A"),
+            IT2Set.from_fou(Triangle(-1, 0, 1), 0.3, "B"),
+            IT2Set.from_fou(Triangle(0, 1, 1), 0.2, "C")]
+    fls = IT2Sugeno(inputs=[Input("x", (-1, 1), sets)], reducer=reducer,
+                    rules=[Rule(["A"], (-3.0, 5.0)), Rule(["B"], (-2.0, -1.0)),
+                           Rule(["C"], (0.0, 0.5))])
+    assert list(fls.tables.order_hi_s) != sorted(fls.tables.order_hi_s)
+    check(fls, grid(1))
+
+
+@pytest.mark.parametrize("reducer", REDUCERS, ids=lambda r: r.name)
+def test_equal_consequent_ends(reducer):
+    """All lower ends equal and all upper ends equal: Wu-Mendel's p + q is 0 on both sides
+    (its correction term is then 0, not 0 / 0)."""
+    sets = [IT2Set.from_fou(Triangle(-1, -0.5, 0.5), 0.3, "A"),
+            IT2Set.from_fou(Triangle(-0.5, 0.5, 1), 0.3, "B")]
+    fls = IT2Sugeno(inputs=[Input("x", (-1, 1), sets)], reducer=reducer,
+                    rules=[Rule(["A"], (1.0, 2.0)), Rule(["B"], (1.0, 2.0))])
+    check(fls, grid(1, np.array([-0.5, -0.2, 0.0, 0.1, 0.3, 0.5])))
+    yl, yr = fls.interval(np.array([-0.2, 0.0, 0.3]))
+    if reducer is Reducer.NIE_TAN.value:  # (the midpoints' centroid)
+        assert list(yl) == list(yr) == [1.5] * 3
+    else:
+        assert list(yl) == [1.0] * 3 and list(yr) == [2.0] * 3
+
+
+@pytest.mark.parametrize("reducer", REDUCERS, ids=lambda r: r.name)
+def test_signed_zero_centroids(reducer):
+    """Centroids that are zeros of either sign (subnormal consequents): the exhaustive
+    reducer keeps the first of equal candidates (np.fmin / np.fmax), -0.0 over a later +0.0."""
+    a = IT2Set.type1(Rectangle(-1.0, 1.0), "A")
+    b = IT2Set(Rectangle(-1.0, 1.0), Rectangle(0.5, 1.0), "B")
+    fls = IT2Sugeno(inputs=[Input("x", (-1, 1), [a, b])], reducer=reducer,
+                    rules=[Rule(["A"], -5e-324), Rule(["A"], -0.0), Rule(["B"], 1e-323)])
+    check(fls, grid(1, np.array([0.0, 0.75])))
+    if reducer is Reducer.EXHAUSTIVE.value:
+        yl, yr = fls.interval(np.array([0.0]))
+        assert bits(yl)[0] == bits(-0.0) and bits(yr)[0] == bits(-0.0)
+
+
+@pytest.mark.parametrize("cap", [1, 2])
+def test_one_rule_ekm_starts_at_switch_point_zero(cap):
+    """With one rule EKM's left switch point starts at round(1 / 2.4) = 0, KM's at the
+    midpoint centroid: where the rule fires on its upper MF only, EKM needs two iterations."""
+    sets = [IT2Set(Triangle(-1, 0, 1), Triangle(-0.5, 0, 0.5), "Z")]
+    fls = IT2Sugeno(inputs=[Input("x", (-1, 1), sets)], rules=[Rule(["Z"], (0.5, 1.0))],
+                    reducer=Reducer.EKM.value.with_max_iter(cap), on_zero_firing=0.0)
+    x = grid(1, np.array([0.0, 0.75]))
+    check(fls, x)
+    assert list(expected(fls, x)[2]) == [_jit.OK, _jit.NOT_CONVERGED if cap == 1 else _jit.OK]

@@ -245,7 +245,7 @@ def _switch_lanes(P, L, S, flb, fub, tb, oy, o_idx, left, k0, tol, out, st):
                 S[kk, j] += 1.0 if y <= S[num, j] else 0.0
         for j in range(L):
             c = S[num, j]
-            S[kk, j] = (float(n_rules) if left else all_upper) if c != c else S[kk, j]
+            S[kk, j] = all_upper if c != c else S[kk, j]
     else:
         for j in range(L):
             S[kk, j] = float(k0)
@@ -404,8 +404,10 @@ def _wu_mendel(P, L, S, flb, fub, tb, yl, yr):
         ylm = a1 / su
         yr0 = a2 / sl
         yrm = a3 / su
-        yl_outer_hi = math.nan if yl0 != yl0 or ylm != ylm else (yl0 if yl0 <= ylm else ylm)
-        yr_outer_lo = math.nan if yr0 != yr0 or yrm != yrm else (yr0 if yr0 >= yrm else yrm)
+        # np.minimum / np.maximum: NaN wins, and of equal values (zeros of either sign) the
+        # second
+        yl_outer_hi = math.nan if yl0 != yl0 or ylm != ylm else (yl0 if yl0 < ylm else ylm)
+        yr_outer_lo = math.nan if yr0 != yr0 or yrm != yrm else (yr0 if yr0 > yrm else yrm)
         spread = (su - sl) / (su * sl)
         yl_lo = yl_outer_hi - spread * (pl * ql / (pl + ql) if pl + ql > 0 else 0.0)
         yr_hi = yr_outer_lo + spread * (pr * qr / (pr + qr) if pr + qr > 0 else 0.0)
