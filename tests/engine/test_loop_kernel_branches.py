@@ -11,13 +11,16 @@ the mutation testing of the kernel runs them (``tools/mutation.py it2track.track
 """
 
 import dataclasses
+import math
 
 import numpy as np
 import pytest
+from numba import njit
 
 from it2track.fuzzy import Input, IT2Set, IT2Sugeno, Rule, Triangle, ZeroFiringError
 from it2track.paper import heading_fls
 from it2track.plant import RobotParams
+from it2track.plant._sincos import _KERNEL_LIMIT, _SINCOS_LIMIT, _sincos, _sincos_small
 from it2track.tracking import (
     ON_PATH,
     FuzzyHeadingController,
@@ -25,12 +28,15 @@ from it2track.tracking import (
     PDHeadingController,
     RunTable,
     WaypointTrajectory,
+    _jit,
     compiled,
     simulate,
     simulate_metrics,
     sinusoidal,
     straight,
 )
+from it2track.tracking.heading import _wrap_inplace
+from it2track.tracking.libm import atan2
 from it2track.tracking.simulate import _Engine
 
 
@@ -125,8 +131,6 @@ def test_every_loop_option(option):
 def test_full_and_short_blocks_on_one_and_two_paths():
     """More runs of one controller than a block's lanes: a full block on one path, then a
     short block straddling two paths (gathered per lane); runs of a second controller."""
-    from it2track.tracking import _jit
-
     lanes = _jit.LANES
     n = lanes + 6
     traj = np.r_[np.zeros(lanes + 2, int), np.full(4, 1)]
@@ -142,14 +146,92 @@ def test_zero_firing_without_a_value_is_the_references_error():
     from it2track.fuzzy import _jit as fuzzy_jit
 
     strict = FuzzyHeadingController(fls=dataclasses.replace(gap_fls(), on_zero_firing=None))
-    ctrls = [CONTROLLERS["pd"], strict]
-    runs = table([0, 1, 1], [0, 0, 0], [0.0, 0.0, 0.0], [0, 0, 0])
+    ctrls = [strict, CONTROLLERS["pd"]]  # (the failing block first: the next one still runs)
+    runs = table([0, 0, 1], [0, 0, 0], [0.0, 0.0, 0.0], [0, 0, 0])
     config = LoopConfig(duration=0.05)
     with pytest.raises(ZeroFiringError, match="no rule"):
         simulate_metrics(ctrls, [straight()], runs, config)
-    _, _, status = compiled.run(compiled.load(), _Engine([straight()], config), ctrls, runs,
-                                record=False)
-    assert list(status) == [0, fuzzy_jit.ZERO_FIRING, fuzzy_jit.ZERO_FIRING]
+    engine = _Engine([straight()], config)
+    got, _, status = compiled.run(compiled.load(), engine, ctrls, runs, record=False)
+    assert list(status) == [fuzzy_jit.ZERO_FIRING, fuzzy_jit.ZERO_FIRING, 0]
+    ref, _ = engine.run(ctrls, runs.take([2]), record=False)
+    for name, value in ref.items():
+        assert_bits(got[name][2:], value, name)
     # a run that never meets the gap (it starts far off the path) is the reference's
     compare([strict], [straight()], table([0], [0], [0.0], [0]),
             LoopConfig(duration=0.05, start_pose=(0.0, 1.0, 0.0)))
+
+
+# -- the lane helpers at the bounds of their branches ----------------------------------------
+# (test_lanes.py draws random lanes; these put each bound and its neighbours in a block)
+
+
+@njit(error_model="numpy")
+def _atan2(W, L):
+    _jit._atan2_lanes(W, 1, 0, 2, L)
+
+
+@njit(error_model="numpy")
+def _wrap(W, L):
+    _jit._wrap_lanes(W, 0, L)
+
+
+@njit(error_model="numpy")
+def _sc(W, L, small):
+    if small:
+        _jit._sincos_lanes(W, 0, 1, 2, L, True)
+    else:
+        _jit._sincos_lanes(W, 0, 1, 2, L, False)
+
+
+def bits(a):
+    return np.asarray(a, dtype=np.float64).view(np.int64)
+
+
+def around(v):
+    return [np.nextafter(v, -np.inf), v, np.nextafter(v, np.inf)]
+
+
+def test_atan2_lanes_at_the_interval_bounds():
+    """|y / x| exactly at and next to each reduction interval's bound (7/16, 11/16, 19/16,
+    39/16), at 2^60, zeros of either sign, every quadrant; with and without a non-finite
+    lane in the block."""
+    ratios = [r for b in (0.4375, 0.6875, 1.1875, 2.4375, 2.0**60) for r in around(b)]
+    y = np.array([r * 16.0 for r in ratios] + [0.0, -0.0, 0.0, -0.0, 1.0, -1.0, 3.0])
+    x = np.array([16.0] * len(ratios) + [1.0, 1.0, -0.0, -1.0, 0.0, -0.0, -5.0])
+    for sx, sy in ((1, 1), (-1, 1), (1, -1), (-1, -1)):
+        for odd in (False, True):
+            yy, xx = sy * y, sx * x
+            if odd:
+                yy, xx = np.r_[yy, np.inf], np.r_[xx, np.nan]
+            L = yy.size
+            W = np.zeros((3, 64))
+            W[0, :L], W[1, :L] = xx, yy
+            _atan2(W, L)
+            assert (bits(W[2, :L]) == bits(atan2(yy, xx))).all(), (sx, sy, odd)
+
+
+def test_wrap_lanes_at_the_bounds():
+    a = np.array([*around(math.pi), *around(-math.pi), *around(3 * math.pi),
+                  *around(-3 * math.pi), 0.0, -0.0, 1e9, -7.0])
+    for lanes in (a, a[:3], a[3:6]):
+        L = lanes.size
+        W = np.zeros((1, 64))
+        W[0, :L] = lanes
+        _wrap(W, L)
+        assert (bits(W[0, :L]) == bits(_wrap_inplace(lanes.copy()))).all(), lanes
+
+
+@pytest.mark.parametrize("small", [False, True])
+def test_sincos_lanes_at_the_limits(small):
+    limit = _KERNEL_LIMIT if small else _SINCOS_LIMIT
+    x = np.array([*around(limit), *around(-limit), 0.5, -0.25, 0.0])
+    ref = _sincos_small if small else _sincos
+    for lanes in (x, x[[0, 3, 6]]):
+        L = lanes.size
+        W = np.zeros((3, 64))
+        W[0, :L] = lanes
+        _sc(W, L, small)
+        s, c = np.empty(L), np.empty(L)
+        ref(lanes, s, c, [np.empty(L) for _ in range(7)])
+        assert (bits(W[1, :L]) == bits(s)).all() and (bits(W[2, :L]) == bits(c)).all()
