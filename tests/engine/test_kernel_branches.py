@@ -389,7 +389,11 @@ def test_interval_consequents_in_another_order_at_their_upper_ends(reducer):
                     rules=[Rule(["A"], (-3.0, 5.0)), Rule(["B"], (-2.0, -1.0)),
                            Rule(["C"], (0.0, 0.5))])
     assert list(fls.tables.order_hi_s) != sorted(fls.tables.order_hi_s)
-    check(fls, grid(1))
+    x = np.linspace(-1.0, 1.0, 41)[None, :]  # (upper-only firing near the feet too)
+    check(fls, x)
+    if reducer.name in ("km", "ekm", "eiasc"):  # the start and each step, through the caps
+        for cap in (1, 2, 3):
+            check(dataclasses.replace(fls, reducer=reducer.with_max_iter(cap)), x)
 
 
 @pytest.mark.parametrize("reducer", REDUCERS, ids=lambda r: r.name)
@@ -424,8 +428,8 @@ def test_signed_zero_centroids(reducer):
 
 @pytest.mark.parametrize("cap", [1, 2])
 def test_one_rule_ekm_starts_at_switch_point_zero(cap):
-    """With one rule EKM's left switch point starts at round(1 / 2.4) = 0, KM's at the
-    midpoint centroid: where the rule fires on its upper MF only, EKM needs two iterations."""
+    """With one rule EKM's left switch point starts at round(1 / 2.4) = 0: where the rule
+    fires on its upper MF only, both sides need a second iteration, elsewhere one is enough."""
     sets = [IT2Set(Triangle(-1, 0, 1), Triangle(-0.5, 0, 0.5), "Z")]
     fls = IT2Sugeno(inputs=[Input("x", (-1, 1), sets)], rules=[Rule(["Z"], (0.5, 1.0))],
                     reducer=Reducer.EKM.value.with_max_iter(cap), on_zero_firing=0.0)
