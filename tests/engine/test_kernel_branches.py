@@ -18,16 +18,19 @@ from it2track.fuzzy import (
     Bell,
     Cosine,
     Gaussian,
+    GaussianProduct,
     Input,
     IT2Set,
     IT2Sugeno,
     LinearSShape,
     MFKind,
+    PiShape,
     Ramp,
     Rectangle,
     Reducer,
     Rule,
     Sigmoid,
+    SigmoidDifference,
     SShape,
     T1Sugeno,
     TNorm,
@@ -205,7 +208,9 @@ def test_type1_average_and_sum():
 
 #: One term of each compiled family (the kinds of curves/shapes, through _jit_lib._curve).
 TERMS = [Bell(0.0, 0.5, 2.0), Sigmoid(0.2, 6.0), SShape(-1.0, 0.2), Cosine(0.0, 1.2),
-         Rectangle(-0.4, 0.4), Ramp(-1.0, 1.0), LinearSShape(-0.5, 0.5), Gaussian(0.5, 0.3, h=0.9)]
+         Rectangle(-0.4, 0.4), Ramp(-1.0, 1.0), LinearSShape(-0.5, 0.5), Gaussian(0.5, 0.3, h=0.9),
+         SigmoidDifference(-0.5, 8.0, 8.0, 0.5, h=0.8), PiShape(-1.0, -0.3, 0.3, 1.0, h=0.9),
+         GaussianProduct(-0.3, 0.2, 0.3, 0.25, h=0.7)]  # (the last three: a height parameter)
 
 
 def term_system(a, b, *, it2, tnorm=TNorm.PRODUCT, reducer=None):
