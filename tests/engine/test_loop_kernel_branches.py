@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 from numba import njit
 
-from it2track.fuzzy import Input, IT2Set, IT2Sugeno, Rule, Triangle, ZeroFiringError
+from it2track.fuzzy import Input, IT2Set, IT2Sugeno, Reducer, Rule, Triangle, ZeroFiringError
 from it2track.paper import heading_fls
 from it2track.plant import RobotParams
 from it2track.plant._sincos import _KERNEL_LIMIT, _SINCOS_LIMIT, _sincos, _sincos_small
@@ -63,6 +63,7 @@ CONTROLLERS = {
     "zero-firing": FuzzyHeadingController(fls=gap_fls()),
     "pd": PDHeadingController(kp=25.0, kd=1.5, tf=0.02),
     "pd-raw": PDHeadingController(kp=8.0, kd=0.3, tf=0.0, u_max=5.0),
+    "it2-km": FuzzyHeadingController(fls=heading_fls(0.2, reducer=Reducer.KM.value)),
 }
 
 
@@ -104,10 +105,13 @@ def table(controller, trajectory, noise, seed):
 
 @pytest.mark.parametrize("name", list(CONTROLLERS))
 def test_every_controller(name):
-    """Each path, noise 0 and 0.6 rad (errors past pi, wrapped), a start facing away."""
+    """Each path, noise 0 and 0.6 rad, a start facing away (true and measured errors past pi,
+    wrapped); then runs on one curved path, all noisy (a block on one path, none quiet)."""
     runs = table([0] * 4, [0, 1, 2, 1], [0.0, 0.0, 0.6, 0.05], [0, 1, 2, 3])
-    config = LoopConfig(duration=0.12, start_pose=(0.3, -1.0, 2.9))
+    config = LoopConfig(duration=0.12, start_pose=(0.3, -1.0, -2.9))
     compare([CONTROLLERS[name]], TRAJS, runs, config)
+    compare([CONTROLLERS[name]], TRAJS, table([0, 0], [1, 1], [1.0, 1.0], [0, 1]),
+            LoopConfig(duration=0.05, start_pose=(0.3, -1.0, -2.9)), series=False)
 
 
 OPTIONS = {
@@ -121,8 +125,9 @@ OPTIONS = {
 
 @pytest.mark.parametrize("option", list(OPTIONS))
 def test_every_loop_option(option):
-    ctrls = [CONTROLLERS["it2-gains"], CONTROLLERS["pd"]]
-    runs = table([0, 0, 1, 1], [1, 2, 1, 0], [0.2, 0.0, 0.2, 0.0], [3, 0, 1, 0])
+    # (the fuzzy controller second: its packing starts past the PD's; its block all noisy)
+    ctrls = [CONTROLLERS["pd"], CONTROLLERS["it2-gains"]]
+    runs = table([0, 0, 1, 1, 1], [1, 2, 1, 1, 0], [0.2, 0.0, 0.2, 1.0, 0.3], [3, 0, 1, 2, 0])
     config = LoopConfig(duration=0.1, **OPTIONS[option])
     compare(ctrls, TRAJS, runs, config)
     compare(ctrls, TRAJS, runs, config, series=False)
@@ -235,3 +240,29 @@ def test_sincos_lanes_at_the_limits(small):
         s, c = np.empty(L), np.empty(L)
         ref(lanes, s, c, [np.empty(L) for _ in range(7)])
         assert (bits(W[1, :L]) == bits(s)).all() and (bits(W[2, :L]) == bits(c)).all()
+
+
+def test_a_start_heading_of_minus_zero():
+    """theta = -0.0: the measured heading of a run without noise is theta + 0.0 = +0.0 (the
+    numpy engine adds its zero noise row)."""
+    runs = table([0, 0], [0, 0], [0.0, 0.0], [0, 1])
+    compare([CONTROLLERS["pd"]], [straight()], runs,
+            LoopConfig(duration=0.03, start_pose=(0.0, 0.0, -0.0)))
+
+
+def test_a_failing_run_that_is_not_the_first_of_its_block():
+    """The block's first run (copied into its spare lanes) never meets the gap, the next does
+    at once: only that one stops with ZERO_FIRING."""
+    from it2track.fuzzy import _jit as fuzzy_jit
+
+    strict = FuzzyHeadingController(fls=dataclasses.replace(gap_fls(), on_zero_firing=None))
+    config = LoopConfig(duration=0.02)
+    engine = _Engine([straight()], config)
+    runs = table([0, 0], [0, 0], [0.6, 0.0], [SEED_AWAY, 0])
+    _, _, status = compiled.run(compiled.load(), engine, [strict], runs, record=False)
+    assert list(status) == [0, fuzzy_jit.ZERO_FIRING]
+    compare([strict], [straight()], runs.take([0]), config)
+
+
+#: A seed whose noise keeps the measured error outside the gap (|e| >= 0.1) for three steps.
+SEED_AWAY = 0
