@@ -108,6 +108,11 @@ DEFAULT_TESTS: dict[str, list[str]] = {
     "it2track.codegen.generate": ["tests/codegen/test_generate.py",
                                   "tests/codegen/test_codegen_refuses.py",
                                   "tests/codegen/test_codegen_header.py"],
+    # (--no-jit: the kernels as Python, so tiny batches; tests/engine/test_compiled_fuzzy.py
+    # takes minutes a pass there)
+    "it2track.fuzzy._jit": ["tests/engine/test_kernel_branches.py"],
+    "it2track.tracking._jit": ["tests/engine/test_loop_kernel_branches.py",
+                               "tests/engine/test_lanes.py"],
 }
 
 #: What is copied into the scratch folder (mutmut copies it again into ``mutants/``).
@@ -227,7 +232,10 @@ def prepare(work: Path, module_path: Path, tests: list[str], *, no_jit: bool) ->
         "source_paths": ["src/"],
         "only_mutate": [str(module_path)],
         "pytest_add_cli_args_test_selection": tests,
-        "pytest_add_cli_args": ["-p", "no:cacheprovider", "-q", "-x"],
+        # (--no-jit: numba's error_model="numpy" divides by zero silently; the interpreter's
+        # numpy scalars warn, which the suite's filterwarnings = error would make a failure)
+        "pytest_add_cli_args": ["-p", "no:cacheprovider", "-q", "-x"]
+        + (["-W", "ignore::RuntimeWarning"] if no_jit else []),
         "use_git_change_detection": False,
         # mutmut copies only src/ and tests/ into mutants/; some tests read these too
         "also_copy": [name for name in COPY if name not in ("src", "tests", "pyproject.toml")],

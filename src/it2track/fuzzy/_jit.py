@@ -39,12 +39,6 @@ OK, ZERO_FIRING, WM_ZERO_LOWER, NOT_CONVERGED = 0, 1, 2, 3
 WORK_ROWS = 13  # work rows of the reducers in a block's scratch
 
 
-def scratch_rows(P: np.ndarray) -> int:
-    """Rows of the scratch array :func:`eval_block` needs: memberships (``M + 1``), lower and
-    upper firing (``R`` each) and :data:`WORK_ROWS` work rows."""
-    return int(P[N_ROWS]) + 1 + 2 * int(P[N_RULES]) + WORK_ROWS
-
-
 @_compiled()
 def _memberships(P, X, L, S, ext):
     """Rows ``S[0:M]`` = memberships of the points ``X[:, :L]``; ``S[M]`` = 1. The kinds of
@@ -251,7 +245,7 @@ def _switch_lanes(P, L, S, flb, fub, tb, oy, o_idx, left, k0, tol, out, st):
                 S[kk, j] += 1.0 if y <= S[num, j] else 0.0
         for j in range(L):
             c = S[num, j]
-            S[kk, j] = (float(n_rules) if left else all_upper) if c != c else S[kk, j]
+            S[kk, j] = all_upper if c != c else S[kk, j]
     else:
         for j in range(L):
             S[kk, j] = float(k0)
@@ -410,8 +404,10 @@ def _wu_mendel(P, L, S, flb, fub, tb, yl, yr):
         ylm = a1 / su
         yr0 = a2 / sl
         yrm = a3 / su
-        yl_outer_hi = math.nan if yl0 != yl0 or ylm != ylm else (yl0 if yl0 <= ylm else ylm)
-        yr_outer_lo = math.nan if yr0 != yr0 or yrm != yrm else (yr0 if yr0 >= yrm else yrm)
+        # np.minimum / np.maximum: NaN wins, and of equal values (zeros of either sign) the
+        # second
+        yl_outer_hi = math.nan if yl0 != yl0 or ylm != ylm else (yl0 if yl0 < ylm else ylm)
+        yr_outer_lo = math.nan if yr0 != yr0 or yrm != yrm else (yr0 if yr0 > yrm else yrm)
         spread = (su - sl) / (su * sl)
         yl_lo = yl_outer_hi - spread * (pl * ql / (pl + ql) if pl + ql > 0 else 0.0)
         yr_hi = yr_outer_lo + spread * (pr * qr / (pr + qr) if pr + qr > 0 else 0.0)
@@ -422,7 +418,9 @@ def _wu_mendel(P, L, S, flb, fub, tb, yl, yr):
 @_compiled()
 def eval_block(P, X, L, S, yl, yr, st, ext=None):
     """``yl[:L]``, ``yr[:L]`` and ``st[:L]`` (status) of the clipped points ``X[:, :L]``;
-    ``S`` is scratch of :func:`scratch_rows` rows and at least ``L`` columns.
+    ``S`` is scratch of at least ``L`` columns and ``M + 1 + 2 R + WORK_ROWS`` rows:
+    memberships (``M = P[N_ROWS]`` rows and the row of ones), lower and upper firing
+    (``R = P[N_RULES]`` each) and :data:`WORK_ROWS` work rows.
 
     ``ext`` (None or True) chooses the specialisation: left out, numba prunes the branches of
     the kinds of :mod:`.curves`/:mod:`.shapes`, MATLAB's lagged lower MFs, the t-norms other

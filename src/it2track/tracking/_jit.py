@@ -71,11 +71,9 @@ _C1, _C2, _C3, _C4, _C5, _C6 = _COS_KERNEL
 
 @_compiled(inline=True)
 def _wrap(a):
-    """simulate._wrap_inplace for one angle."""
-    if a <= -_PI or a > _PI:
-        w = _PI - ((_PI - a) % _TWO_PI)  # Python/numba float % is numpy's np.mod
-        return _PI if w <= -_PI else w
-    return a
+    """heading._wrap_inplace for one angle outside (-pi, pi] (the caller picks those)."""
+    w = _PI - ((_PI - a) % _TWO_PI)  # Python/numba float % is numpy's np.mod
+    return _PI if w <= -_PI else w
 
 
 @_compiled(inline=True)
