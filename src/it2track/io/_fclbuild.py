@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import sys
 from collections.abc import Callable
 from typing import Any
 
@@ -108,6 +109,11 @@ class Builder:
                              "increasing x")
         if any(not 0.0 <= m <= 1.0 for m in ms):
             raise self.error(term.line, f"term {term.name!r}: memberships must lie in [0, 1]")
+        for a, b in itertools.pairwise(xs):
+            if 0.0 < b - a < sys.float_info.min:  # 1 / (b - a), the slope's factor, overflows
+                raise self.error(term.line, f"term {term.name!r}: the points at x = {a!r} and "
+                                 f"x = {b!r} are closer than the smallest normal float "
+                                 f"({sys.float_info.min!r}): the slope between them overflows")
         h = max(ms)
         if len(set(xs)) == len(xs) and h > 0:
             pattern = tuple("h" if m == h else "0" if m == 0 else "?" for m in ms)
