@@ -75,3 +75,168 @@ def test_a_polyline_as_narrow_as_the_smallest_normal_float_is_read() -> None:
     err = refusal(text.replace(repr(TINY), repr(below)))
     assert err.line == 9 and err.message.startswith(
         f"term 'a': the points at x = 0.0 and x = {below!r} are closer than")
+
+
+# -- the parser's refusals, each with its line and its whole message ---------------------------
+def _swap(text: str, old: str, new: str) -> str:
+    assert old in text, old
+    return text.replace(old, new, 1)
+
+
+BASE = fcl(IN_A, OUT_B)  # rules at line 16, END_RULEBLOCK 17, END_FUNCTION_BLOCK 18
+IN_RANGE = _swap(IN_A, "END_FUZZIFY", "    RANGE := (0 .. 1);\nEND_FUZZIFY")
+PARSE_REFUSALS = {
+    "(* unterminated": ("(* open\n" + BASE, 1, "unterminated comment (* ... *)"),
+    "/* unterminated": (BASE + "/* open", 19, "unterminated comment /* ... */"),
+    "character": (_swap(BASE, "(0, 1) (1, 0)", "(0, 1) @ (1, 0)"), 9,
+                  "unexpected character '@'"),
+    "end of file": (_swap(BASE, "END_FUNCTION_BLOCK\n", ""), 17,
+                    "unexpected end of file: expected END_FUNCTION_BLOCK"),
+    "end of file in a term": ("FUNCTION_BLOCK f\nVAR_INPUT\nx : REAL;\nEND_VAR\nFUZZIFY x\n"
+                              "TERM a := (0, ", 6,
+                              "unexpected end of file: expected a membership degree"),
+    "no block": ("  (* nothing *) \n// nor here\n", 1, "no FUNCTION_BLOCK"),
+    "no block first": ("VAR_INPUT x : REAL; END_VAR", 1, "expected FUNCTION_BLOCK: 'VAR_INPUT'"),
+    "text after": (BASE + "junk", 19, "text after END_FUNCTION_BLOCK: 'junk'"),
+    "nested": (_swap(BASE, "RULEBLOCK r", "FUNCTION_BLOCK g\nRULEBLOCK r"), 15,
+               "FUNCTION_BLOCK inside FUNCTION_BLOCK f (line 1): missing END_FUNCTION_BLOCK"),
+    "unknown section": (_swap(BASE, "RULEBLOCK r", "THING\nRULEBLOCK r"), 15,
+                        "unexpected 'THING' (expected VAR_INPUT, VAR_OUTPUT, FUZZIFY, "
+                        "DEFUZZIFY, RULEBLOCK or END_FUNCTION_BLOCK)"),
+    "declared twice": (fcl(IN_A, OUT_B, outputs="x : REAL;"), 6,
+                       "variable 'x' declared twice"),
+    "declared twice in one section": (fcl(IN_A, OUT_B, inputs="x : REAL; x : REAL;"), 3,
+                                      "variable 'x' declared twice"),
+    "type": (fcl(IN_A, OUT_B, inputs="x : INT;"), 3,
+             "variable 'x' has type INT: only REAL is supported"),
+    "type not a word": (fcl(IN_A, OUT_B, inputs="x : 3;"), 3, "expected a type, got '3'"),
+    "variable not a word": (fcl(IN_A, OUT_B, inputs="3 : REAL;"), 3,
+                            "expected a variable name, got '3'"),
+    "declaration without ':'": (fcl(IN_A, OUT_B, inputs="x REAL;"), 3,
+                                "expected ':', got 'REAL'"),
+    "range reversed": (fcl(_swap(IN_A, "END_FUZZIFY", "RANGE := (1 .. 0);\nEND_FUZZIFY"),
+                           OUT_B), 10, "RANGE (1 .. 0) must satisfy lo < hi"),
+    "range twice": (fcl(_swap(IN_RANGE, "END_FUZZIFY", "RANGE := (0 .. 2);\nEND_FUZZIFY"),
+                        OUT_B), 11, "a second RANGE for 'x' (first at line 10)"),
+    "range in the declaration and the block": (
+        fcl(_swap(IN_A, "END_FUZZIFY", "RANGE := (0 .. 2);\nEND_FUZZIFY"), OUT_B,
+            inputs="x : REAL;\nRANGE := (0 .. 1);"), 11,
+        "a second RANGE for 'x' (first at line 4)"),
+    "range without '..'": (fcl(_swap(IN_A, "END_FUZZIFY", "RANGE := (0, 1);\nEND_FUZZIFY"),
+                               OUT_B), 10, "expected '..', got ','"),
+    "output not declared": (fcl(IN_A, _swap(OUT_B, "DEFUZZIFY y", "DEFUZZIFY z")), 11,
+                            "DEFUZZIFY z: not declared in VAR_OUTPUT"),
+    "input not declared": (fcl(_swap(IN_A, "FUZZIFY x", "FUZZIFY w"), OUT_B), 8,
+                           "FUZZIFY w: not declared in VAR_INPUT"),
+    "second FUZZIFY": (fcl(IN_A + "\n" + IN_A, OUT_B), 11,
+                       "second FUZZIFY block for 'x' (first at line 8)"),
+    "second DEFUZZIFY": (fcl(IN_A, OUT_B + "\n" + OUT_B), 15,
+                         "second DEFUZZIFY block for 'y' (first at line 11)"),
+    "METHOD of an input": (fcl(_swap(IN_A, "END_FUZZIFY", "METHOD : COG;\nEND_FUZZIFY"), OUT_B),
+                           10, "unexpected 'METHOD' in FUZZIFY x"),
+    "ACCU of an input": (fcl(_swap(IN_A, "END_FUZZIFY", "ACCU : MAX;\nEND_FUZZIFY"), OUT_B),
+                         10, "unexpected 'ACCU' in FUZZIFY x"),
+    "DEFAULT of an input": (fcl(_swap(IN_A, "END_FUZZIFY", "DEFAULT := 0;\nEND_FUZZIFY"),
+                                OUT_B), 10, "unexpected 'DEFAULT' in FUZZIFY x"),
+    "METHOD without ':'": (fcl(IN_A, _swap(OUT_B, "METHOD : COG;", "METHOD COG;")), 13,
+                           "expected ':', got 'COG'"),
+    "ACCU without ':'": (fcl(IN_A, _swap(OUT_B, "METHOD : COG;", "ACCU MAX;")), 13,
+                         "expected ':', got 'MAX'"),
+    "DEFAULT without ':='": (fcl(IN_A, _swap(OUT_B, "METHOD : COG;", "DEFAULT : 1;")), 13,
+                             "expected ':=', got ':'"),
+    "DEFAULT := NC": (fcl(IN_A, _swap(OUT_B, "END_DEFUZZIFY", "DEFAULT := NC;\nEND_DEFUZZIFY")),
+                      14, "DEFAULT := NC (keep the last output) needs state, which it2track "
+                      "systems do not have; give a value"),
+    "DEFAULT := nan | NC": (fcl(IN_A, _swap(OUT_B, "END_DEFUZZIFY",
+                                            "DEFAULT := nan | NC;\nEND_DEFUZZIFY")), 14,
+                            "DEFAULT := ... | NC (keep the last output) needs state, which "
+                            "it2track systems do not have"),
+    "DEFAULT := nan | 3": (fcl(IN_A, _swap(OUT_B, "END_DEFUZZIFY",
+                                           "DEFAULT := nan | 3;\nEND_DEFUZZIFY")), 14,
+                           "expected 'NC', got '3'"),
+    "DEFAULT without ';'": (fcl(IN_A, _swap(OUT_B, "METHOD : COG;", "DEFAULT := 1 METHOD")),
+                            13, "expected ';', got 'METHOD'"),
+    "output without terms": (fcl(IN_A, "DEFUZZIFY y\nMETHOD : COG;\nEND_DEFUZZIFY"), 11,
+                             "DEFUZZIFY y: no TERM"),
+    "term of nothing": (fcl(_swap(IN_A, "(0, 1) (1, 0)", ""), OUT_B), 9,
+                        "term 'a': expected points (x, m), a value or a shape"),
+    "term without ':='": (fcl(_swap(IN_A, "a :=", "a ="), OUT_B), 9,
+                          "unexpected character '='"),
+    "term name": (fcl(_swap(IN_A, "TERM a", "TERM 1"), OUT_B), 9,
+                  "expected a term name, got '1'"),
+    "point without ','": (fcl(_swap(IN_A, "(1, 0)", "(1 0)"), OUT_B), 9,
+                          "expected ',', got '0'"),
+    "point without ')'": (fcl(_swap(IN_A, "(1, 0)", "(1, 0;"), OUT_B), 9,
+                          "expected ')', got ';'"),
+    "term without ';'": (fcl(_swap(IN_A, "(1, 0);", "(1, 0)\nEND_FUZZIFY"), OUT_B), 10,
+                         "expected ';', got 'END_FUZZIFY'"),
+    "number from a variable": (fcl(_swap(IN_A, "(1, 0)", "(q, 0)"), OUT_B), 9,
+                               "expected x (a number), got 'q': values given by variables "
+                               "(jFuzzyLogic) are not supported"),
+    "number from punctuation": (fcl(_swap(IN_A, "(1, 0)", "(;, 0)"), OUT_B), 9,
+                                "expected x (a number), got ';'"),
+    "number of 81 characters": (fcl(_swap(IN_A, "(1, 0)", f"({'1' * 81}, 0)"), OUT_B), 9,
+                                f"expected x (a number), got '{'1' * 81}'"),
+    "number out of range": (fcl(_swap(IN_A, "(1, 0)", "(1e309, 0)"), OUT_B), 9,
+                            "number '1e309' is out of range"),
+    "operators differ": (fcl(IN_A, OUT_B, block="AND : MIN;\nand : prod;\n"), 17,
+                         "AND : prod differs from the earlier AND : MIN (line 16); one "
+                         "setting per system"),
+    "OR differs": (fcl(IN_A, OUT_B, block="OR : MAX;\nOR : ASUM;\n"), 17,
+                   "OR : ASUM differs from the earlier OR : MAX (line 16); one setting per "
+                   "system"),
+    "operator without ':'": (fcl(IN_A, OUT_B, block="ACT MIN;\n"), 16,
+                             "expected ':', got 'MIN'"),
+    "operator without ';'": (fcl(IN_A, OUT_B, block="ACT : MIN\n"), 17,
+                             "expected ';', got 'RULE'"),
+    "unknown rule block entry": (fcl(IN_A, OUT_B, block="FOO : MIN;\n"), 16,
+                                 "unexpected 'FOO' in RULEBLOCK"),
+    "operator not a word": (fcl(IN_A, OUT_B, block="ACCU : 3;\n"), 16,
+                            "expected an ACCU operator, got '3'"),
+    "rule number": (fcl(IN_A, OUT_B, "RULE ( : IF x IS a THEN y IS b;"), 16,
+                    "expected a rule number, got '('"),
+    "rule without ':'": (fcl(IN_A, OUT_B, "RULE 1 IF x IS a THEN y IS b;"), 16,
+                         "expected ':', got 'IF'"),
+    "rule without IF": (fcl(IN_A, OUT_B, "RULE 1 : x IS a THEN y IS b;"), 16,
+                        "expected 'IF', got 'x'"),
+    "rule without THEN": (fcl(IN_A, OUT_B, "RULE 1 : IF x IS a y IS b;"), 16,
+                          "expected 'THEN', got 'y'"),
+    "condition without IS": (fcl(IN_A, OUT_B, "RULE 1 : IF x a THEN y IS b;"), 16,
+                             "expected 'IS', got 'a'"),
+    "conclusion without IS": (fcl(IN_A, OUT_B, "RULE 1 : IF x IS a THEN y b;"), 16,
+                              "expected 'IS', got 'b'"),
+    "unclosed condition": (fcl(IN_A, OUT_B, "RULE 1 : IF (x IS a THEN y IS b;"), 16,
+                           "expected ')', got 'THEN'"),
+    "unclosed conclusion": (fcl(IN_A, OUT_B, "RULE 1 : IF x IS a THEN (y IS b;"), 16,
+                            "expected ')', got ';'"),
+    "input not a word": (fcl(IN_A, OUT_B, "RULE 1 : IF 1 IS a THEN y IS b;"), 16,
+                         "expected an input variable, got '1'"),
+    "output not a word": (fcl(IN_A, OUT_B, "RULE 1 : IF x IS a THEN 1 IS b;"), 16,
+                          "expected an output variable, got '1'"),
+    "condition term not a word": (fcl(IN_A, OUT_B, "RULE 1 : IF x IS 1 THEN y IS b;"), 16,
+                                  "expected a term, got '1'"),
+    "hedge as the term": (fcl(IN_A, OUT_B, "RULE 1 : IF x IS very THEN y IS b;"), 16,
+                          "expected 'THEN', got 'y'"),
+    "weight": (fcl(IN_A, OUT_B, "RULE 1 : IF x IS a THEN y IS b WITH w;"), 16,
+               "expected a weight (a number), got 'w': values given by variables "
+               "(jFuzzyLogic) are not supported"),
+    "rule without ';' at the end of the file": (
+        _swap(fcl(IN_A, OUT_B, "RULE 1 : IF x IS a THEN y IS b WITH 0.5"),
+              "\nEND_RULEBLOCK\nEND_FUNCTION_BLOCK\n", ""), 16,
+        "expected ';' after the rule, got the end of the file"),
+    "rule without ';'": (fcl(IN_A, OUT_B, "RULE 1 : IF x IS a THEN y IS b\n)"), 17,
+                         "expected ';' after the rule, got ')'"),
+    "method not a word": (fcl(IN_A, _swap(OUT_B, "METHOD : COG;", "METHOD : 3;")), 13,
+                          "expected a defuzzification method, got '3'"),
+    "accumulation not a word": (fcl(IN_A, _swap(OUT_B, "METHOD : COG;", "ACCU : 3;")), 13,
+                                "expected an accumulation method, got '3'"),
+}
+
+
+@pytest.mark.parametrize(("text", "line", "message"), PARSE_REFUSALS.values(),
+                         ids=PARSE_REFUSALS.keys())
+def test_each_parser_refusal_names_its_line_and_says_why(text: str, line: int,
+                                                         message: str) -> None:
+    err = refusal(text)
+    assert (err.line, err.message) == (line, message)
+    assert str(err) == f"e.fcl:{line}: {message}"
