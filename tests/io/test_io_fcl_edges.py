@@ -4,13 +4,16 @@ each boundary -- what the mutation run of ``io/fcl.py`` and its parts (``_fclpar
 
 from __future__ import annotations
 
+import math
 import sys
 import warnings
 
 import numpy as np
 import pytest
 
-from it2track.io import FisFormatError, loads
+from it2track.io import FisFormatError, FisFormatWarning, loads
+from it2track.io._fclparse import FunctionBlock, Parser, RuleNode, Tok
+from it2track.io._ruletree import Compound, Negation, Proposition
 
 TINY = sys.float_info.min  # 2.2250738585072014e-308, the smallest normal float
 
@@ -240,3 +243,132 @@ def test_each_parser_refusal_names_its_line_and_says_why(text: str, line: int,
     err = refusal(text)
     assert (err.line, err.message) == (line, message)
     assert str(err) == f"e.fcl:{line}: {message}"
+
+
+# -- what the parser reads: the syntax tree ----------------------------------------------------
+def tree(text: str) -> list[FunctionBlock]:
+    return Parser(text, "t.fcl").function_blocks()
+
+
+def test_tokens_numbers_ranges_and_lines() -> None:
+    p = Parser("a 0..1 1. .5 2e3 -3E-2 (* x\n*) /* \n\n */ b // c\n:= ; ( ) , | * / + -", "t")
+    assert [(t.kind, t.text, t.line) for t in p.toks] == [
+        ("ident", "a", 1), ("num", "0", 1), ("range", "..", 1), ("num", "1", 1),
+        ("num", "1.", 1), ("num", ".5", 1), ("num", "2e3", 1), ("punct", "-", 1),
+        ("num", "3E-2", 1), ("ident", "b", 4), ("assign", ":=", 5), ("punct", ";", 5),
+        ("punct", "(", 5), ("punct", ")", 5), ("punct", ",", 5), ("punct", "|", 5),
+        ("punct", "*", 5), ("punct", "/", 5), ("punct", "+", 5), ("punct", "-", 5)]
+    assert Parser("", "t").last_line() == 1 and Parser("\n\nx", "t").last_line() == 3
+    assert Tok("ident", "Max", 1).upper == "MAX"
+
+
+def test_numbers_with_signs_nan_and_infinity() -> None:
+    def number(text: str) -> float:
+        return Parser(text, "t").number("a value")
+
+    assert number("-2.5") == -2.5 and number("+3") == 3.0 and number("7") == 7.0
+    assert math.isnan(number("nan")) and math.isnan(number("-NaN"))
+    assert number("inf") == math.inf and number("-INF") == -math.inf and number("+Inf") == math.inf
+    assert number("0" * 79 + "2") == 2.0  # 80 characters: read
+    assert number("1e308") == 1e308
+
+
+def test_the_parts_of_a_function_block_and_their_lines() -> None:
+    text = ("FUNCTION_BLOCK\nVAR_INPUT x : REAL; RANGE := (-1 .. +1); END_VAR\n"
+            "VAR_OUTPUT y : REAL; z : REAL; END_VAR\n"
+            "FUZZIFY x TERM a := (-1, 1) (1, 0); TERM s := 0.5; END_FUZZIFY\n"
+            "DEFUZZIFY y TERM b := -2; TERM g := GAUSS 0 1; METHOD : COGS; ACCU : MAX;\n"
+            "DEFAULT := -3; END_DEFUZZIFY\n"
+            "DEFUZZIFY z TERM c := +4; DEFAULT := nan; END_DEFUZZIFY\n"
+            "RULEBLOCK\nRULE 1 : IF x IS a THEN y IS b\nRULE r2 : IF x IS NOT a THEN z IS c\n"
+            "END_RULEBLOCK\nRULEBLOCK two AND : MIN; END_RULEBLOCK\nEND_FUNCTION_BLOCK")
+    (fb,) = tree(text)
+    assert (fb.name, fb.line, list(fb.inputs), list(fb.outputs)) == ("", 1, ["x"], ["y", "z"])
+    x, y, z = fb.inputs["x"], fb.outputs["y"], fb.outputs["z"]
+    assert (x.line, x.range, x.range_line, x.block_line) == (2, (-1.0, 1.0), 2, 4)
+    assert x.terms["a"].kind == "points" and x.terms["a"].points == [(-1.0, 1.0), (1.0, 0.0)]
+    assert (x.terms["s"].kind, x.terms["s"].value, x.terms["s"].line) == ("singleton", 0.5, 4)
+    assert (y.terms["b"].kind, y.terms["b"].value) == ("singleton", -2.0)
+    g = y.terms["g"]
+    assert (g.kind, g.shape, [t.text for t in g.params]) == ("shape", "GAUSS", ["0", "1"])
+    assert y.method is not None and (y.method.text, y.method.line) == ("COGS", 5)
+    assert y.accu is not None and y.accu.text == "MAX"
+    assert (y.default, y.range, y.block_line) == ((-3.0, 6), None, 5)
+    assert z.default is not None and math.isnan(z.default[0]) and z.default[1] == 7
+    assert (z.terms["c"].value, z.method, z.accu) == (4.0, None, None)
+    first, second = fb.blocks
+    assert (first.name, first.line, first.ops) == ("", 8, {})
+    assert [(r.line, r.conclusions, r.weight) for r in first.rules] == [
+        (9, [("y", "b", ())], 1.0), (10, [("z", "c", ())], 1.0)]
+    assert first.rules[1].condition == Proposition("x", "a", True, ())
+    assert (second.name, second.line, list(second.ops)) == ("two", 12, ["AND"])
+
+
+def test_a_block_named_like_a_section_has_no_name() -> None:
+    for word in ("VAR_INPUT", "VAR_OUTPUT", "FUZZIFY", "DEFUZZIFY", "RULEBLOCK"):
+        p = Parser(f"FUNCTION_BLOCK {word}", "t")
+        p.next("FUNCTION_BLOCK")
+        assert p.peek() == Tok("ident", word, 1)
+    (fb,) = tree("FUNCTION_BLOCK END_FUNCTION_BLOCK")
+    assert fb.name == ""
+    text = "FUNCTION_BLOCK f RULEBLOCK {} RULE 1 : IF x IS a THEN y IS b; END_RULEBLOCK " \
+        "END_FUNCTION_BLOCK"
+    for word in ("AND : MIN;", "OR : MAX;", "ACT : MIN;", "ACCU : MAX;", ""):
+        (fb,) = tree(text.format(word))
+        assert fb.blocks[0].name == "" and len(fb.blocks[0].rules) == 1
+    (fb,) = tree("FUNCTION_BLOCK f RULEBLOCK END_RULEBLOCK END_FUNCTION_BLOCK")
+    assert fb.blocks[0].name == "" and fb.blocks[0].rules == []
+
+
+def test_an_operator_repeated_with_the_same_value_is_one_setting() -> None:
+    (fb,) = tree("FUNCTION_BLOCK f RULEBLOCK r AND : MIN; and : min; OR : MAX; ACT : PROD; "
+                 "ACCU : NSUM; END_RULEBLOCK END_FUNCTION_BLOCK")
+    ops = fb.blocks[0].ops
+    assert {k: (t.text, t.line) for k, t in ops.items()} == {
+        "AND": ("MIN", 1), "OR": ("MAX", 1), "ACT": ("PROD", 1), "ACCU": ("NSUM", 1)}
+
+
+def rules_of(rules: str) -> list[RuleNode]:
+    (fb,) = tree(f"FUNCTION_BLOCK f\nRULEBLOCK r\n{rules}\nEND_RULEBLOCK\nEND_FUNCTION_BLOCK")
+    return fb.blocks[0].rules
+
+
+def test_conclusions_hedges_and_weights() -> None:
+    r1, r2, r3, r4 = rules_of(
+        "RULE 1 : IF x IS a THEN y IS b, z IS very c WITH 0.25;\n"
+        "RULE 2 : IF x IS a THEN (y IS somewhat b) AND z IS extremely c AND w IS d\n"
+        "RULE 3 : IF x IS a THEN y IS not b;\n"
+        "RULE 4 : IF x IS a THEN y IS very not seldom b WITH 1")
+    assert (r1.line, r1.conclusions, r1.weight) == (
+        3, [("y", "b", ()), ("z", "c", ("very",))], 0.25)
+    # fuzzylite hands a conclusion's hedges on to the conclusions after it
+    assert r2.conclusions == [("y", "b", ("somewhat",)), ("z", "c", ("extremely", "somewhat")),
+                              ("w", "d", ("extremely", "somewhat"))]
+    assert r3.conclusions == [("y", "b", ("not",))]
+    assert (r4.conclusions, r4.weight) == ([("y", "b", ("very", "not", "seldom"))], 1.0)
+
+
+def test_conditions_with_not_parentheses_and_hedges() -> None:
+    (rule,) = rules_of("RULE 1 : IF NOT (x IS a OR x IS NOT b) AND (w IS very any c) "
+                       "AND NOT NOT v IS SOMEWHAT Extremely d THEN y IS e;")
+    assert rule.condition == Compound("and", (
+        Negation(Compound("or", (Proposition("x", "a"), Proposition("x", "b", True)))),
+        Proposition("w", "c", False, ("very", "any")),
+        Negation(Negation(Proposition("v", "d", False, ("somewhat", "extremely"))))))
+    (rule,) = rules_of("RULE 1 : IF a IS b OR c IS d AND e IS f OR g IS h THEN y IS e;")
+    assert rule.condition == Compound("or", (
+        Proposition("a", "b"), Compound("and", (Proposition("c", "d"), Proposition("e", "f"))),
+        Proposition("g", "h")))
+    (rule,) = rules_of("RULE 1 : IF x IS NOT very a THEN y IS e;")
+    assert rule.condition == Proposition("x", "a", True, ("very",))
+
+
+def test_a_duplicate_term_warns_and_the_last_one_is_read() -> None:
+    text = fcl("FUZZIFY x\n    TERM a := (0, 1) (1, 0);\n    TERM a := (0, 0) (1, 1);\n"
+               "END_FUZZIFY", OUT_B)
+    with pytest.warns(FisFormatWarning) as record:
+        fls = loads(text, "fcl", path="d.fcl")
+    assert [str(w.message) for w in record] == [
+        "d.fcl:10: duplicate term 'a' of 'x' (first at line 9): rules naming it take this one"]
+    assert fls.inputs[0].sets[0].upper(np.array([0.0, 1.0])).tolist() == [0.0, 1.0]
+    assert [s.name for s in fls.inputs[0].sets] == ["a"]
