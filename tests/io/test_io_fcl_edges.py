@@ -372,3 +372,18 @@ def test_a_duplicate_term_warns_and_the_last_one_is_read() -> None:
         "d.fcl:10: duplicate term 'a' of 'x' (first at line 9): rules naming it take this one"]
     assert fls.inputs[0].sets[0].upper(np.array([0.0, 1.0])).tolist() == [0.0, 1.0]
     assert [s.name for s in fls.inputs[0].sets] == ["a"]
+
+
+@pytest.mark.parametrize(("term", "message"), [
+    ("TRIAN 2 1 0", "term 'a': Triangle(2.0, 1.0, 0.0, h=1.0): feet and peak must satisfy "
+     "a <= b <= c, a < c"),
+    ("TRAPE 3 2 2 1", "term 'a': Trapezoid(3.0, 2.0, 2.0, 1.0, h=1.0): feet and shoulders must "
+     "satisfy "
+     "a <= b <= c <= d, a < d"),
+])
+def test_a_term_with_reversed_feet_is_named_not_taken_for_a_point_range(term: str,
+                                                                        message: str) -> None:
+    # without RANGE the universe is the terms' span, here (2, 0): the term is at fault, not
+    # a RANGE the file does not have
+    err = refusal(fcl(_swap(IN_A, "(0, 1) (1, 0)", term), OUT_B))
+    assert (err.line, err.message) == (9, message)
