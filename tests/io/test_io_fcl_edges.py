@@ -387,3 +387,119 @@ def test_a_term_with_reversed_feet_is_named_not_taken_for_a_point_range(term: st
     # a RANGE the file does not have
     err = refusal(fcl(_swap(IN_A, "(0, 1) (1, 0)", term), OUT_B))
     assert (err.line, err.message) == (9, message)
+
+
+# -- the meaning of terms: refusals and what is read -------------------------------------------
+def in_term(spec: str, range_: str = "") -> str:
+    return fcl(_swap(IN_A, "(0, 1) (1, 0);", f"{spec};{range_}"), OUT_B)
+
+
+def out_term(spec: str, method: str = "COGS") -> str:
+    return fcl(IN_A, f"DEFUZZIFY y\n    TERM b := {spec};\n    METHOD : {method};\nEND_DEFUZZIFY")
+
+
+LINEAR = "; it2track reads functions linear in the inputs (sums of numbers and number * input)"
+BUILD_REFUSALS = {
+    "parameter from a variable": (in_term("TRIAN 0 m 1"), 9, "term 'a': parameter 'm' is a "
+                                  "variable (jFuzzyLogic's membership with variables), which is "
+                                  "not supported"),
+    "punctuation in the parameters": (in_term("TRIAN 0 ( 1"), 9,
+                                      "term 'a': unexpected '(' in the parameters"),
+    "a trailing sign": (in_term("TRIAN 0 0.5 1 -"), 9,
+                        "term 'a': unexpected '-' in the parameters"),
+    "decreasing x": (in_term("(0, 1) (1, 0.5) (0.5, 0)"), 9, "term 'a': the points [(0.0, 1.0), "
+                     "(1.0, 0.5), (0.5, 0.0)] must have increasing x"),
+    "membership above 1": (in_term("(0, 1) (1, 1.5)"), 9,
+                           "term 'a': memberships must lie in [0, 1]"),
+    "membership below 0": (in_term("(0, -0.5) (1, 1)"), 9,
+                           "term 'a': memberships must lie in [0, 1]"),
+    "generalized singletons": (in_term("singletons 1 2"), 9, "term 'a': jFuzzyLogic's "
+                               "generalized singletons are not supported"),
+    "parameter count": (in_term("TRIAN 0 1", " RANGE := (0 .. 1);"), 9,
+                        "term 'a': TRIAN needs 3 parameters, got 2"),
+    "parameter count of the span": (in_term("GAUSS 1"), 9,
+                                     "term 'a': GAUSS needs 2 parameters, got 1"),
+    "unknown shape": (in_term("BLOB 1 2", " RANGE := (0 .. 1);"), 9,
+                      "term 'a': unknown shape 'BLOB' (known: TRIAN, TRAPE, GAUSS, GAUSS2, "
+                      "GBELL, SIGM, DSIGM, COSINE, Triangle, Trapezoid, Gaussian, "
+                      "GaussianProduct, Bell, Sigmoid, SigmoidDifference, SigmoidProduct, "
+                      "SShape, ZShape, PiShape, Cosine, Spike, Concave, Ramp, Rectangle, "
+                      "Binary, Arc, SemiEllipse, Discrete)"),
+    "unknown shape without RANGE": (in_term("BLOB 1"), 9, "term 'a': unknown shape 'BLOB' "
+                                    "(known: TRIAN, TRAPE, GAUSS, GAUSS2, GBELL, SIGM, DSIGM, "
+                                    "COSINE, Triangle, Trapezoid, Gaussian, GaussianProduct, "
+                                    "Bell, Sigmoid, SigmoidDifference, SigmoidProduct, SShape, "
+                                    "ZShape, PiShape, Cosine, Spike, Concave, Ramp, Rectangle, "
+                                    "Binary, Arc, SemiEllipse, Discrete)"),
+    "GAUSS2 means reversed": (in_term("GAUSS2 6 1 3 1"), 9, "term 'a': GAUSS2 with mean1 > "
+                              "mean2 (6 > 3) is not MATLAB's gauss2mf in jFuzzyLogic; not "
+                              "supported"),
+    "DSIGM gains differ": (in_term("DSIGM 2 3 3 7"), 9, "term 'a': jFuzzyLogic's DSIGM is "
+                           "max(s1 - s2, 0), MATLAB's dsigmf |s1 - s2|: they agree (and "
+                           "it2track reads it) for equal gains and a plateau only"),
+    "DSIGM centers reversed": (in_term("DSIGM 2 7 2 3"), 9, "term 'a': jFuzzyLogic's DSIGM is "
+                               "max(s1 - s2, 0), MATLAB's dsigmf |s1 - s2|: they agree (and "
+                               "it2track reads it) for equal gains and a plateau only"),
+    "DSIGM negative gains, centers in order": (in_term("DSIGM -2 3 -2 7"), 9, "term 'a': "
+                                               "jFuzzyLogic's DSIGM is max(s1 - s2, 0), "
+                                               "MATLAB's dsigmf |s1 - s2|: they agree (and "
+                                               "it2track reads it) for equal gains and a "
+                                               "plateau only"),
+    "DSIGM zero gains": (in_term("DSIGM 0 3 0 7", " RANGE := (0 .. 10);"), 9, "term 'a': "
+                         "jFuzzyLogic's DSIGM is max(s1 - s2, 0), MATLAB's dsigmf |s1 - s2|: "
+                         "they agree (and it2track reads it) for equal gains and a plateau "
+                         "only"),
+    "COSINE of zero width": (in_term("COSINE 0 5"), 9,
+                             "term 'a': COSINE half width 0 must be > 0"),
+    "fuzzylite shape without RANGE": (in_term("Triangle 0 1 2"), 9, "term 'a': its variable "
+                                      "needs a RANGE (it2track estimates one from "
+                                      "jFuzzyLogic's shapes and points only)"),
+    "FUNCTION of an input without RANGE": (in_term("FUNCTION 1"), 9, "term 'a': its variable "
+                                           "needs a RANGE (it2track estimates one from "
+                                           "jFuzzyLogic's shapes and points only)"),
+    "singleton input": (in_term("3"), 9, "term 'a': a singleton is the value of a COGS output, "
+                        "not a membership function (of an input, or of an output without "
+                        "METHOD : COGS) as here"),
+    "FUNCTION input": (in_term("FUNCTION 1", " RANGE := (0 .. 1);"), 9,
+                       "term 'a': FUNCTION is a COGF output term"),
+    "singleton of a COG output": (out_term("2", "COG"), 12, "term 'b': a singleton is the "
+                                  "value of a COGS output, not a membership function (of an "
+                                  "input, or of an output without METHOD : COGS) as here"),
+    "values and sets mixed": (fcl(IN_A, "DEFUZZIFY y\n    TERM b := 2;\n    TERM c := (0, 0) "
+                                  "(1, 1);\n    METHOD : COGS;\nEND_DEFUZZIFY"), 11,
+                              "the terms of 'y' mix values and membership functions"),
+    "FUNCTION product of inputs": (out_term("FUNCTION x * x"), 12,
+                                   "term 'b': FUNCTION multiplies inputs" + LINEAR),
+    "FUNCTION divided by an input": (out_term("FUNCTION 1 / x"), 12,
+                                     "term 'b': FUNCTION divides by an input or by zero" + LINEAR),
+    "FUNCTION divided by zero": (out_term("FUNCTION x / 0"), 12,
+                                 "term 'b': FUNCTION divides by an input or by zero" + LINEAR),
+    "FUNCTION unclosed": (out_term("FUNCTION (x + 1"), 12,
+                          "term 'b': FUNCTION has an unclosed '('" + LINEAR),
+    "FUNCTION unclosed by another": (out_term("FUNCTION (x + 1 * 2"), 12,
+                                     "term 'b': FUNCTION has an unclosed '('" + LINEAR),
+    "FUNCTION ends early": (out_term("FUNCTION x +"), 12,
+                            "term 'b': FUNCTION ends early" + LINEAR),
+    "FUNCTION empty": (out_term("FUNCTION"), 12, "term 'b': FUNCTION ends early" + LINEAR),
+    "FUNCTION goes on": (out_term("FUNCTION x 1"), 12,
+                         "term 'b': FUNCTION has '1' where it should end" + LINEAR),
+    "FUNCTION of an output": (out_term("FUNCTION y"), 12, "term 'b': FUNCTION uses 'y'" + LINEAR),
+    "FUNCTION of an operator": (out_term("FUNCTION x + * 2"), 12,
+                                "term 'b': FUNCTION uses '*'" + LINEAR),
+    "Linear of the wrong length": (out_term("Linear 1 2 3"), 12, "term 'b': Linear needs 1 "
+                                   "coefficients (one per input) and an optional constant, got "
+                                   "3 [1 2 3]"),
+    "Constant of two values": (out_term("Constant 1 2"), 12,
+                               "term 'b': Constant needs one finite value, got [1 2]"),
+    "a shape as a COGS value": (out_term("GAUSS 0 1") .replace("TERM b", "TERM c := 1;\n    "
+                                                              "TERM b"), 11,
+                                "the terms of 'y' mix values and membership functions"),
+}
+
+
+@pytest.mark.parametrize(("text", "line", "message"), BUILD_REFUSALS.values(),
+                         ids=BUILD_REFUSALS.keys())
+def test_each_term_refusal_names_its_line_and_says_why(text: str, line: int,
+                                                       message: str) -> None:
+    err = refusal(text)
+    assert (err.line, err.message) == (line, message)
