@@ -11,6 +11,7 @@ import warnings
 import numpy as np
 import pytest
 
+from it2track.fuzzy import Linear
 from it2track.io import FisFormatError, FisFormatWarning, loads
 from it2track.io._fclparse import FunctionBlock, Parser, RuleNode, Tok
 from it2track.io._ruletree import Compound, Negation, Proposition
@@ -503,3 +504,53 @@ def test_each_term_refusal_names_its_line_and_says_why(text: str, line: int,
                                                        message: str) -> None:
     err = refusal(text)
     assert (err.line, err.message) == (line, message)
+
+
+@pytest.mark.parametrize(("terms", "universe"), [
+    ("TERM a := GAUSS2 1 0.5 3 0.25;", (1.0 - 2.0, 3.0 + 1.0)),
+    ("TERM a := GBELL 2 1 5;", (5.0 - 999.0 ** 0.5 * 2, 5.0 + 999.0 ** 0.5 * 2)),
+    ("TERM a := GBELL 1 2 0;", (-(999.0 ** 0.25), 999.0 ** 0.25)),
+    ("TERM a := DSIGM 2 3 2 7;", (3.0 - 4.5, 7.0 + 4.5)),
+    ("TERM a := DSIGM -3 7 -3 3;", (3.0 - 3.0, 7.0 + 3.0)),
+    ("TERM a := SIGM -4.5 2;", (0.0, 4.0)),
+    ("TERM a := TRIAN -1 + 0 1;", (-1.0, 1.0)),
+    ("TERM a := TRAPE 1 2 3 4; TERM b := (-2, 0) (0, 1);", (-2.0, 4.0)),
+    ("TERM a := (2, 1);", (1.0, 3.0)),  # one point: widened by 1 either side
+    ("TERM a := (2, 0) (2, 1);", (1.0, 3.0)),
+    ("TERM a := TRIAN 1 1 1.5; TERM b := (0.5, 1) (1, 0);", (0.5, 1.5)),
+])
+def test_more_universes_estimated_as_jfuzzylogic_does(terms: str, universe) -> None:
+    fls = loads(fcl(f"FUZZIFY x\n    {terms}\nEND_FUZZIFY", OUT_B), "fcl")
+    assert fls.inputs[0].universe == universe
+
+
+@pytest.mark.parametrize("term", ["GBELL 1 0 5", "SIGM 0 1", "DSIGM 2 3 0 7",
+                                  "GAUSS 0 1e308"])
+def test_a_universe_that_cannot_be_estimated_asks_for_a_range(term: str) -> None:
+    err = refusal(in_term(term))
+    assert (err.line, err.message) == (8, "'x': give a RANGE")
+
+
+def test_function_terms_are_read_as_linear_forms() -> None:
+    two = "FUZZIFY x\n    TERM a := (0, 1) (1, 0);\nEND_FUZZIFY\nFUZZIFY w\n" \
+        "    TERM a := (0, 1) (1, 0);\nEND_FUZZIFY"
+    terms = {"-(x * 2) / 4 + +3 - 2 * x": ([-2.5, 0.0], 3.0),
+             "w * -1 - (1 - x) * 3": ([3.0, -1.0], -3.0),
+             "(2)": ([0.0, 0.0], 2.0),
+             "x / 2 / 2 + w - w": ([0.25, 0.0], 0.0),
+             "1.5 * (x + w * 2)": ([1.5, 3.0], 0.0)}
+    for function, (coefs, constant) in terms.items():
+        out = f"DEFUZZIFY y\n    TERM b := FUNCTION {function};\n    METHOD : COGF;\n" \
+            "END_DEFUZZIFY"
+        fls = loads(fcl(two, out, "    RULE 1 : IF x IS a THEN y IS b;",
+                        inputs="x : REAL; w : REAL;"), "fcl")
+        assert fls.rules[0].consequent == Linear(coefs, constant), function
+
+
+def test_singleton_and_fuzzylite_values_of_a_cogs_output() -> None:
+    out = "DEFUZZIFY y\n    TERM b := -2;\n    TERM c := Constant 3.5;\n" \
+        "    TERM d := Linear 2 -1;\n    METHOD : COGS;\nEND_DEFUZZIFY"
+    fls = loads(fcl(IN_A, out, "    RULE 1 : IF x IS a THEN y IS b;\n"
+                    "    RULE 2 : IF x IS a THEN y IS c;\n    RULE 3 : IF x IS a THEN y IS d;"),
+                "fcl")
+    assert [r.consequent for r in fls.rules] == [(-2.0, -2.0), (3.5, 3.5), Linear([2.0], -1.0)]

@@ -178,9 +178,7 @@ class Builder:
         return Cosine(p[1], 2.0 * p[0])
 
     def mf(self, term: FclTerm, universe: tuple[float, float] | None) -> MembershipFunction:
-        if term.kind == "points":
-            if not term.points:
-                raise self.error(term.line, f"term {term.name!r} has no points")
+        if term.kind == "points":  # the parser reads at least one point
             return self.points(term)
         if term.kind == "shape":
             return self.shape(term, universe)
@@ -290,8 +288,7 @@ class Builder:
 
     def _term_span(self, term: FclTerm) -> tuple[float, float]:
         if term.kind == "points":
-            xs = [x for x, _ in term.points] or [math.nan]
-            return xs[0], xs[-1]
+            return term.points[0][0], term.points[-1][0]
         if term.kind == "singleton":
             return term.value, term.value
         name = term.shape.upper()
