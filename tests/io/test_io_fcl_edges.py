@@ -11,7 +11,7 @@ import warnings
 import numpy as np
 import pytest
 
-from it2track.fuzzy import Linear
+from it2track.fuzzy import Implication, Linear, SNorm, TNorm
 from it2track.io import FisFormatError, FisFormatWarning, loads
 from it2track.io._fclparse import FunctionBlock, Parser, RuleNode, Tok
 from it2track.io._ruletree import Compound, Negation, Proposition
@@ -554,3 +554,66 @@ def test_singleton_and_fuzzylite_values_of_a_cogs_output() -> None:
                     "    RULE 2 : IF x IS a THEN y IS c;\n    RULE 3 : IF x IS a THEN y IS d;"),
                 "fcl")
     assert [r.consequent for r in fls.rules] == [(-2.0, -2.0), (3.5, 3.5), Linear([2.0], -1.0)]
+
+
+# -- settings the whole system must agree on -----------------------------------------------------
+IN_XW = IN_A + "\nFUZZIFY w\n    TERM a := (0, 1) (1, 0);\nEND_FUZZIFY"  # lines 8-13
+
+
+def two_inputs(out: str, rules: str, block: str = "") -> str:
+    """y's DEFUZZIFY at 14, RULEBLOCK r at 18 (19 with ``block``'s one line)."""
+    return fcl(IN_XW, out, rules, inputs="x : REAL; w : REAL;", block=block)
+
+
+BOTH = "RULE {} : IF x IS a AND w IS a THEN y IS b;"
+SECOND_BLOCK = "\nEND_RULEBLOCK\nRULEBLOCK s\n{}\n"
+
+
+@pytest.mark.parametrize(("text", "line", "message"), [
+    # a block without AND takes the minimum: a second block's PROD differs from it
+    (two_inputs(OUT_B, BOTH.format(1) + SECOND_BLOCK.format("AND : PROD;") + BOTH.format(2)),
+     22, "AND : PROD differs from the earlier AND : the default (line 18); one setting per "
+     "system"),
+    (two_inputs(OUT_B, BOTH.format(1) + SECOND_BLOCK.format("") + BOTH.format(2),
+                "AND : PROD;\n"), 22, "AND : the default differs from the earlier AND : PROD "
+     "(line 19); one setting per system"),
+    (two_inputs(OUT_B, BOTH.format(1) + SECOND_BLOCK.format("AND : MIN;") + BOTH.format(2),
+                "AND : PROD;\n"), 23, "AND : MIN differs from the earlier AND : PROD "
+     "(line 19); one setting per system"),
+    # OR : ASUM implies AND : PROD, its De Morgan partner
+    (two_inputs(OUT_B, BOTH.format(1) + SECOND_BLOCK.format("OR : ASUM;") + BOTH.format(2)),
+     22, "AND : ASUM differs from the earlier AND : the default (line 18); one setting per "
+     "system"),
+    (two_inputs(OUT_B, BOTH.format(1).replace("AND", "OR") + SECOND_BLOCK.format("OR : ASUM;")
+                + BOTH.format(2).replace("AND", "OR")), 22,
+     "OR : ASUM differs from the earlier OR : the default (line 18); one setting per system"),
+    (two_inputs(OUT_B, "RULE 1 : IF x IS a THEN y IS b;" + SECOND_BLOCK.format("ACT : PROD;")
+                + "RULE 2 : IF x IS a THEN y IS b;"), 22,
+     "ACT : PROD differs from the earlier ACT : the default (line 18); one setting per system"),
+    (two_inputs(OUT_B + "\n" + _swap(OUT_B, "DEFUZZIFY y", "DEFUZZIFY z").replace("COG", "COA"),
+                "RULE 1 : IF x IS a THEN y IS b, z IS b;").replace("y : REAL;",
+                                                                   "y : REAL; z : REAL;"), 20,
+     "METHOD : COA differs from the earlier METHOD : COG (line 16); one setting per system"),
+    (two_inputs(_swap(OUT_B, "    METHOD : COG;\n", "") + "\n" +
+                _swap(OUT_B, "DEFUZZIFY y", "DEFUZZIFY z").replace("COG", "COA"),
+                "RULE 1 : IF x IS a THEN y IS b, z IS b;").replace("y : REAL;",
+                                                                   "y : REAL; z : REAL;"), 19,
+     "METHOD : COA differs from the earlier METHOD : the default (line 14); one setting per "
+     "system"),
+])
+def test_settings_of_several_blocks_or_outputs_must_agree(text: str, line: int,
+                                                          message: str) -> None:
+    err = refusal(text)
+    assert (err.line, err.message) == (line, message)
+
+
+def test_settings_that_agree_with_the_default_are_one() -> None:
+    text = two_inputs(OUT_B, BOTH.format(1) + SECOND_BLOCK.format("AND : MIN; ACT : MIN; "
+                                                                  "OR : MAX;") + BOTH.format(2))
+    fls = loads(text, "fcl")
+    assert (fls.tnorm, fls.snorm, fls.implication) == (TNorm.MINIMUM, SNorm.MAXIMUM,
+                                                       Implication.MINIMUM)
+    # a rule on one input joins nothing: its block's default AND sets nothing
+    prod = loads(two_inputs(OUT_B, "RULE 1 : IF x IS a THEN y IS b;" + SECOND_BLOCK.format(
+        "AND : PROD;") + BOTH.format(2)), "fcl")
+    assert prod.tnorm is TNorm.PRODUCT

@@ -38,21 +38,23 @@ _ACT = {k: Implication.from_name(v.value) for k, v in AND.items()}
 
 
 class _Setting:
-    """One operator the whole system must agree on: its value and where it was set."""
+    """One operator the whole system must agree on: its value and where it was set -- by a
+    token, or by default where a block or an output leaves it out."""
 
     def __init__(self, what: str, default: Any) -> None:
         self.what = what
         self.value = default
-        self.token: Tok | None = None
+        self.source: tuple[str, int] | None = None  # (the text, its line) that set it first
 
-    def set(self, b: Builder, value: Any, tok: Tok | None) -> None:
-        if self.token is not None and value is not self.value:
-            where = tok.line if tok is not None else None
-            text = tok.text if tok is not None else "the default"
+    def set(self, b: Builder, value: Any, tok: Tok | None, line: int) -> None:
+        """``value`` as ``tok`` gives it, or the default (``tok`` None) of the block or output
+        at ``line``."""
+        text, where = (tok.text, tok.line) if tok is not None else ("the default", line)
+        if self.source is None:
+            self.value, self.source = value, (text, where)
+        elif value is not self.value:
             raise b.error(where, f"{self.what} : {text} differs from the earlier {self.what} : "
-                          f"{self.token.text} (line {self.token.line}); one setting per system")
-        if self.token is None:
-            self.value, self.token = value, tok
+                          f"{self.source[0]} (line {self.source[1]}); one setting per system")
 
 
 def _op(b: Builder, block: Block, key: str, table: dict[str, Any]) -> Any:
@@ -186,22 +188,24 @@ def _part(b: Builder, fb: FunctionBlock, inputs: list[Input], names: list[str], 
     methods = _Setting("METHOD", None)
     for var in outputs.values():
         method = _method(b, var)
-        methods.set(b, MAMDANI.get(method) or SUGENO[method], var.method)
+        assert var.block_line is not None  # build checked every output has its block
+        methods.set(b, MAMDANI.get(method) or SUGENO[method], var.method, var.block_line)
         if var.accu is not None:
             if var.accu.upper not in ACCU:
                 raise b.error(var.accu.line, f"ACCU : {var.accu.text} is not supported "
                               f"({', '.join(ACCU)})")
-            accu.set(b, ACCU[var.accu.upper], var.accu)
+            accu.set(b, ACCU[var.accu.upper], var.accu, var.accu.line)
     rules = []
     for rule, op, props, block, and_, or_ in parsed:
         if block.ops.get("ACCU") is not None:
-            accu.set(b, _op(b, block, "ACCU", ACCU), block.ops["ACCU"])
+            accu.set(b, _op(b, block, "ACCU", ACCU), block.ops["ACCU"], block.line)
         if len(props) > 1:
             setting, value, key = (tnorm, and_, "AND") if op == "and" else (snorm, or_, "OR")
             setting.set(b, value, block.ops.get(key) or block.ops.get(
-                "OR" if key == "AND" else "AND"))
+                "OR" if key == "AND" else "AND"), block.line)
         if kind == "mamdani":
-            act.set(b, _op(b, block, "ACT", _ACT) or Implication.MINIMUM, block.ops.get("ACT"))
+            act.set(b, _op(b, block, "ACT", _ACT) or Implication.MINIMUM, block.ops.get("ACT"),
+                    block.line)
         conclusions = [c for c in rule.conclusions if c[0] in outputs]
         rules.append((dataclasses.replace(rule, conclusions=conclusions), op, props))
     return _assemble(b, fb, outputs, inputs, rules, kind, methods.value,
@@ -284,7 +288,7 @@ def _assemble(b: Builder, fb: FunctionBlock, outputs: dict[str, FclVar], inputs:
         sets_of.append(_variable(b, Output, var, universe, sets))
     options["outputs"] = tuple(sets_of)
     if kind == "tsukamoto":  # fuzzylite 8 combines the firing of a set with the ACCU
-        options["aggregation"] = accu.value if accu.token is not None else Aggregation.SUM
+        options["aggregation"] = accu.value
         system: AnySystem = b.guarded(None, lambda: T1Tsukamoto(**options))
         return system
     options.update(implication=implication, aggregation=accu.value, resolution=POINTS)
