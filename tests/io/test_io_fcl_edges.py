@@ -617,3 +617,79 @@ def test_settings_that_agree_with_the_default_are_one() -> None:
     prod = loads(two_inputs(OUT_B, "RULE 1 : IF x IS a THEN y IS b;" + SECOND_BLOCK.format(
         "AND : PROD;") + BOTH.format(2)), "fcl")
     assert prod.tnorm is TNorm.PRODUCT
+
+
+SYSTEM_REFUSALS = {
+    "no inputs": ("FUNCTION_BLOCK f\nVAR_OUTPUT y : REAL; END_VAR\n" + OUT_B
+                  + "\nRULEBLOCK r\nEND_RULEBLOCK\nEND_FUNCTION_BLOCK", 1,
+                  "no VAR_INPUT variables"),
+    "no outputs": ("FUNCTION_BLOCK f\nVAR_INPUT x : REAL; END_VAR\n" + IN_A
+                   + "\nEND_FUNCTION_BLOCK", 1, "no VAR_OUTPUT variables (a function block "
+                   "without outputs is not a fuzzy system)"),
+    "no FUZZIFY": (fcl("", OUT_B), 3, "variable 'x' has no FUZZIFY block"),
+    "no DEFUZZIFY": (fcl(IN_A, ""), 6, "variable 'y' has no DEFUZZIFY block"),
+    "input RANGE a point": (fcl(IN_A.replace("END_FUZZIFY", "RANGE := (1 .. 1);\nEND_FUZZIFY"),
+                                OUT_B), 10, "RANGE of 'x' is a point; an input needs lo < hi"),
+    "output RANGE a point": (fcl(IN_A, _swap(OUT_B, "END_DEFUZZIFY",
+                                             "RANGE := (1 .. 1);\nEND_DEFUZZIFY")), 14,
+                             "RANGE of 'y' is a point; an output with sets needs lo < hi"),
+    "no rule": (fcl(IN_A, OUT_B, ""), 1, "FUNCTION_BLOCK f: no RULE"),
+    "a rule on an unknown variable": (fcl(IN_A, OUT_B, "RULE 1 : IF q IS a THEN y IS b;"), 16,
+                                      "rule names 'q', which is not an input"),
+    "a rule concluding an input": (fcl(IN_A, OUT_B, "RULE 1 : IF x IS a THEN x IS a;"), 16,
+                                   "rule concludes 'x', which is not an output"),
+    "a rule concluding an input beside an output": (
+        fcl(IN_A, OUT_B, "RULE 1 : IF x IS a THEN y IS b, x IS a;"), 16,
+        "rule concludes 'x', which is not an output"),
+    "an unknown output term": (fcl(IN_A, OUT_B, "RULE 1 : IF x IS a THEN y IS q;"), 16,
+                               "output 'y' has no term 'q'"),
+    "an unknown input term": (fcl(IN_A, OUT_B, "RULE 1 : IF x IS q THEN y IS b;"), 16,
+                              "input 'x' has no term 'q'"),
+    "a weight above 1": (fcl(IN_A, OUT_B, "RULE 1 : IF x IS a THEN y IS b WITH 1.5;"), 16,
+                         "rule weight 1.5 must be in [0, 1]"),
+    "a negative weight": (fcl(IN_A, OUT_B, "RULE 1 : IF x IS a THEN y IS b WITH -0.5;"), 16,
+                          "rule weight -0.5 must be in [0, 1]"),
+    "OR unknown": (fcl(IN_A, OUT_B, block="OR : FOO;\n"), 16, "OR : FOO is not supported (MAX, "
+                   "ASUM, BSUM, DSUM, ESUM, EINSTEIN, HSUM, HAMACHER, NMAX, NIPMAX, DMAX, SUM)"),
+    "AND unknown": (fcl(IN_A, OUT_B, block="AND : FOO;\n"), 16, "AND : FOO is not supported "
+                    "(MIN, PROD, BDIF, DPROD, EPROD, EINSTEIN, HPROD, HAMACHER, NMIN, NIPMIN, "
+                    "DMIN)"),
+    "ACT unknown": (fcl(IN_A, OUT_B, block="ACT : FOO;\n"), 16, "ACT : FOO is not supported "
+                    "(MIN, PROD, BDIF, DPROD, EPROD, EINSTEIN, HPROD, HAMACHER, NMIN, NIPMIN, "
+                    "DMIN)"),
+    "ACCU unknown": (fcl(IN_A, OUT_B, block="ACCU : FOO;\n"), 16, "ACCU : FOO is not supported "
+                     "(MAX, ASUM, BSUM, DSUM, ESUM, EINSTEIN, HSUM, HAMACHER, NMAX, NIPMAX, "
+                     "DMAX, SUM, NSUM, PROBOR)"),
+    "ACCU of the output unknown": (fcl(IN_A, _swap(OUT_B, "METHOD : COG;",
+                                                   "METHOD : COG; ACCU : FOO;")), 13,
+                                   "ACCU : FOO is not supported (MAX, ASUM, BSUM, DSUM, ESUM, "
+                                   "EINSTEIN, HSUM, HAMACHER, NMAX, NIPMAX, DMAX, SUM, NSUM, "
+                                   "PROBOR)"),
+    "METHOD unknown": (fcl(IN_A, _swap(OUT_B, "COG", "FOO")), 13, "METHOD FOO is not supported "
+                       "(COG, COA, LM, RM, MM, COGS, COGF, COGSS)"),
+    "an output no rule concludes": (
+        fcl(IN_A, OUT_B + "\nDEFUZZIFY z\n    TERM b := 2;\n    METHOD : COGS;\nEND_DEFUZZIFY",
+            outputs="y : REAL; z : REAL;"), 15, "no rule concludes ['z']"),
+    "DEFAULT for some outputs": (
+        fcl(IN_A, OUT_B + "\n" + _swap(OUT_B, "DEFUZZIFY y", "DEFUZZIFY z").replace(
+            "END_DEFUZZIFY", "DEFAULT := 1;\nEND_DEFUZZIFY"),
+            "RULE 1 : IF x IS a THEN y IS b, z IS b;", outputs="y : REAL; z : REAL;"), 11,
+        "give DEFAULT for every output or for none"),
+    "DEFAULT nan for some outputs": (
+        fcl(IN_A, _swap(OUT_B, "END_DEFUZZIFY", "DEFAULT := 2;\nEND_DEFUZZIFY") + "\n" +
+            _swap(OUT_B, "DEFUZZIFY y", "DEFUZZIFY z").replace(
+                "END_DEFUZZIFY", "DEFAULT := NaN;\nEND_DEFUZZIFY"),
+            "RULE 1 : IF x IS a THEN y IS b, z IS b;", outputs="y : REAL; z : REAL;"), 16,
+        "give DEFAULT for every output or for none"),
+    "a condition on an output no rule before concludes": (
+        fcl(IN_A, OUT_B, "RULE 1 : IF y IS b THEN y IS b;"), 16, "the condition reads y is b, "
+        "which no rule before it concludes (its degree is always 0)"),
+}
+
+
+@pytest.mark.parametrize(("text", "line", "message"), SYSTEM_REFUSALS.values(),
+                         ids=SYSTEM_REFUSALS.keys())
+def test_each_system_refusal_names_its_line_and_says_why(text: str, line: int,
+                                                         message: str | None) -> None:
+    err = refusal(text)
+    assert (err.line, err.message) == (line, message)

@@ -139,6 +139,9 @@ def build(parser: Parser, fb: FunctionBlock) -> AnySystem:
         and_ = and_ or PARTNER_OF_OR.get(or_) or TNorm.MINIMUM
         or_ = or_ or DUALS.get(and_) or SNorm.MAXIMUM
         for rule in block.rules:
+            for vname, _, _ in rule.conclusions:
+                if vname not in fb.outputs:
+                    raise b.error(rule.line, f"rule concludes {vname!r}, which is not an output")
             chained = False
             for prop in propositions(rule.condition):
                 if prop.variable in fb.outputs:
@@ -242,8 +245,6 @@ def _assemble(b: Builder, fb: FunctionBlock, outputs: dict[str, FclVar], inputs:
         cons_hedges: list[tuple[Hedge, ...]] = [()] * len(out_names)
         again = []  # a second conclusion on one output: the same rule again (jFuzzyLogic)
         for vname, term, written in rule.conclusions:
-            if vname not in outputs:
-                raise b.error(rule.line, f"rule concludes {vname!r}, which is not an output")
             if term not in outputs[vname].terms:
                 raise b.error(rule.line, f"output {vname!r} has no term {term!r}")
             k = out_names.index(vname)
