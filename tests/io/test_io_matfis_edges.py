@@ -10,17 +10,20 @@ from pathlib import Path
 import pytest
 
 from it2track.fuzzy import (
+    KM,
     Aggregation,
     Defuzzifier,
     Hedge,
     HybridSystem,
     Implication,
+    IT2Mamdani,
     Linear,
     SNorm,
     T1Mamdani,
     T1Sugeno,
     T1Tsukamoto,
     TNorm,
+    Triangle,
     WeightedDefuzzifier,
 )
 from it2track.io import FisFormatError, FisFormatWarning, loads
@@ -234,3 +237,30 @@ def test_a_shoulder_inside_the_range_is_refused_naming_the_mf(old: str, new: str
                                                               message: str) -> None:
     err = refusal(edit(TIPPER, old, new))
     assert (err.line, err.message) == (line, message)
+
+
+def test_a_type2_mamdani_file_is_an_it2_mamdani_system() -> None:
+    system = SYSTEM.replace("hybrid", "mamdani").replace("NumOutputs=3", "NumOutputs=1") + \
+        "TypeReductionMethod='karnikmendel'\n"
+    lower = ",'LowerScale',0.5,'LowerLag',0"
+    text = fis(sets(1, "m"), "1, 1 (1) : 1\n2, 2 (1) : 1\n", system)
+    text = text.replace("[0 0 10]\n", f"[0 0 10]{lower}\n").replace("[0 10 10]\n",
+                                                                   f"[0 10 10]{lower}\n")
+    fls = loads(text, "fis")
+    assert isinstance(fls, IT2Mamdani) and fls.reducer is KM
+    assert fls.outputs[0].sets[0].lower == Triangle(0.0, 0.0, 10.0, 0.5)
+
+
+def test_a_type2_hybrid_or_tsukamoto_file_is_refused() -> None:
+    for kind in ("hybrid", "tsukamoto"):
+        text = fis(sets(1, "m"), "1, 1 (1) : 1\n", SYSTEM.replace("hybrid", kind).replace(
+            "NumOutputs=3", "NumOutputs=1") + "TypeReductionMethod='karnikmendel'\n")
+        err = refusal(text)
+        assert (err.line, err.message) == (3, f"a type-2 system of Type={kind!r}")
+
+
+def test_a_hybrid_whose_parts_share_an_output_name_is_refused_at_the_system() -> None:
+    text = fis(constants(1, "a", [2, 8]) + sets(2, "a"), "1, 1 1 (1) : 1\n",
+               SYSTEM.replace("NumOutputs=3", "NumOutputs=2"))
+    err = refusal(text)
+    assert (err.line, err.message) == (1, "HybridSystem: output names ['a', 'a'] must be distinct")
