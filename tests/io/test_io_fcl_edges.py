@@ -11,7 +11,17 @@ import warnings
 import numpy as np
 import pytest
 
-from it2track.fuzzy import Implication, Linear, SNorm, TNorm
+from it2track.fuzzy import (
+    Aggregation,
+    Defuzzifier,
+    Implication,
+    Linear,
+    SNorm,
+    T1Mamdani,
+    T1Sugeno,
+    TNorm,
+    WeightedDefuzzifier,
+)
 from it2track.io import FisFormatError, FisFormatWarning, loads
 from it2track.io._fclparse import FunctionBlock, Parser, RuleNode, Tok
 from it2track.io._ruletree import Compound, Negation, Proposition
@@ -693,3 +703,92 @@ def test_each_system_refusal_names_its_line_and_says_why(text: str, line: int,
                                                          message: str | None) -> None:
     err = refusal(text)
     assert (err.line, err.message) == (line, message)
+
+
+# -- operators by name, and their De Morgan partners ----------------------------------------------
+AND_OR = "RULE 1 : IF x IS a AND w IS a THEN y IS b;\nRULE 2 : IF x IS a OR w IS a THEN y IS b;"
+
+
+@pytest.mark.parametrize(("ops", "tnorm", "snorm"), [
+    ("", TNorm.MINIMUM, SNorm.MAXIMUM),
+    ("AND : MIN;", TNorm.MINIMUM, SNorm.MAXIMUM), ("AND : PROD;", TNorm.PRODUCT, SNorm.PROBOR),
+    ("AND : BDIF;", TNorm.BOUNDED_DIFFERENCE, SNorm.BOUNDED_SUM),
+    ("AND : DPROD;", TNorm.DRASTIC_PRODUCT, SNorm.DRASTIC_SUM),
+    ("AND : DMIN;", TNorm.DRASTIC_PRODUCT, SNorm.DRASTIC_SUM),
+    ("AND : EPROD;", TNorm.EINSTEIN_PRODUCT, SNorm.EINSTEIN_SUM),
+    ("AND : EINSTEIN;", TNorm.EINSTEIN_PRODUCT, SNorm.EINSTEIN_SUM),
+    ("AND : HPROD;", TNorm.HAMACHER_PRODUCT, SNorm.HAMACHER_SUM),
+    ("AND : HAMACHER;", TNorm.HAMACHER_PRODUCT, SNorm.HAMACHER_SUM),
+    ("AND : NMIN;", TNorm.NILPOTENT_MINIMUM, SNorm.NILPOTENT_MAXIMUM),
+    ("AND : NIPMIN;", TNorm.NILPOTENT_MINIMUM, SNorm.NILPOTENT_MAXIMUM),
+    ("OR : MAX;", TNorm.MINIMUM, SNorm.MAXIMUM), ("OR : ASUM;", TNorm.PRODUCT, SNorm.PROBOR),
+    ("OR : BSUM;", TNorm.BOUNDED_DIFFERENCE, SNorm.BOUNDED_SUM),
+    ("OR : DSUM;", TNorm.DRASTIC_PRODUCT, SNorm.DRASTIC_SUM),
+    ("OR : DMAX;", TNorm.DRASTIC_PRODUCT, SNorm.DRASTIC_SUM),
+    ("OR : ESUM;", TNorm.EINSTEIN_PRODUCT, SNorm.EINSTEIN_SUM),
+    ("OR : EINSTEIN;", TNorm.EINSTEIN_PRODUCT, SNorm.EINSTEIN_SUM),
+    ("OR : HSUM;", TNorm.HAMACHER_PRODUCT, SNorm.HAMACHER_SUM),
+    ("OR : HAMACHER;", TNorm.HAMACHER_PRODUCT, SNorm.HAMACHER_SUM),
+    ("OR : NMAX;", TNorm.NILPOTENT_MINIMUM, SNorm.NILPOTENT_MAXIMUM),
+    ("OR : NIPMAX;", TNorm.NILPOTENT_MINIMUM, SNorm.NILPOTENT_MAXIMUM),
+    ("OR : SUM;", TNorm.MINIMUM, SNorm.UNBOUNDED_SUM),  # no partner: the minimum
+    ("and : prod; or : max;", TNorm.PRODUCT, SNorm.MAXIMUM),
+])
+def test_and_or_by_name_and_the_partner_each_implies(ops: str, tnorm: TNorm,
+                                                     snorm: SNorm) -> None:
+    fls = loads(two_inputs(OUT_B, AND_OR, ops + "\n"), "fcl")
+    assert (fls.tnorm, fls.snorm) == (tnorm, snorm)
+
+
+@pytest.mark.parametrize(("act", "implication"), [
+    ("", Implication.MINIMUM), ("ACT : MIN;", Implication.MINIMUM),
+    ("ACT : PROD;", Implication.PRODUCT), ("act : Prod;", Implication.PRODUCT),
+    ("ACT : BDIF;", Implication.BOUNDED_DIFFERENCE),
+    ("ACT : DPROD;", Implication.DRASTIC_PRODUCT),
+    ("ACT : EPROD;", Implication.EINSTEIN_PRODUCT),
+    ("ACT : HPROD;", Implication.HAMACHER_PRODUCT),
+    ("ACT : NMIN;", Implication.NILPOTENT_MINIMUM),
+])
+def test_act_by_name(act: str, implication: Implication) -> None:
+    assert loads(fcl(IN_A, OUT_B, block=act + "\n"), "fcl").implication is implication
+
+
+@pytest.mark.parametrize(("accu", "aggregation"), [
+    ("", Aggregation.SUM), ("ACCU : MAX;", Aggregation.MAXIMUM),
+    ("ACCU : NSUM;", Aggregation.SUM), ("ACCU : SUM;", Aggregation.SUM),
+    ("ACCU : ASUM;", Aggregation.PROBOR), ("ACCU : PROBOR;", Aggregation.PROBOR),
+    ("ACCU : BSUM;", Aggregation.BOUNDED_SUM), ("ACCU : DSUM;", Aggregation.DRASTIC_SUM),
+    ("ACCU : ESUM;", Aggregation.EINSTEIN_SUM), ("ACCU : HSUM;", Aggregation.HAMACHER_SUM),
+    ("ACCU : NMAX;", Aggregation.NILPOTENT_MAXIMUM),
+])
+def test_accu_by_name_in_the_rule_block_or_the_output(accu: str,
+                                                      aggregation: Aggregation) -> None:
+    assert loads(fcl(IN_A, OUT_B, block=accu + "\n"), "fcl").aggregation is aggregation
+    out = _swap(OUT_B, "METHOD : COG;", f"METHOD : COG; {accu}")
+    assert loads(fcl(IN_A, out), "fcl").aggregation is aggregation
+
+
+@pytest.mark.parametrize(("method", "defuzzifier"), [
+    ("", Defuzzifier.CENTROID), ("METHOD : COG;", Defuzzifier.CENTROID),
+    ("METHOD : COA;", Defuzzifier.BISECTOR), ("METHOD : LM;", Defuzzifier.SOM),
+    ("METHOD : RM;", Defuzzifier.LOM), ("METHOD : mm;", Defuzzifier.MOM),
+])
+def test_mamdani_methods(method: str, defuzzifier: Defuzzifier) -> None:
+    fls = loads(fcl(IN_A, _swap(OUT_B, "METHOD : COG;", method)), "fcl")
+    assert isinstance(fls, T1Mamdani) and fls.defuzzifier is defuzzifier
+    assert fls.resolution == 1001 and fls.outputs[0].universe == (0.0, 1.0)
+
+
+@pytest.mark.parametrize(("method", "defuzzifier"), [
+    ("COGS", WeightedDefuzzifier.AVERAGE), ("COGF", WeightedDefuzzifier.AVERAGE),
+    ("cogss", WeightedDefuzzifier.SUM),
+])
+def test_sugeno_methods(method: str, defuzzifier: WeightedDefuzzifier) -> None:
+    out = f"DEFUZZIFY y\n    TERM b := 2;\n    METHOD : {method};\nEND_DEFUZZIFY"
+    fls = loads(fcl(IN_A, out), "fcl")
+    assert isinstance(fls, T1Sugeno) and fls.defuzzifier is defuzzifier
+    assert fls.outputs == ("y",) and fls.aggregation is None
+    named = loads(fcl(IN_A, out.replace("DEFUZZIFY y", "DEFUZZIFY output1"),
+                      "    RULE 1 : IF x IS a THEN output1 IS b;", outputs="output1 : REAL;"),
+                  "fcl")
+    assert named.outputs == ()  # the plain single output
