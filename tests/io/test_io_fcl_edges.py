@@ -14,15 +14,19 @@ import pytest
 from it2track.fuzzy import (
     Aggregation,
     Defuzzifier,
+    Hedge,
+    HybridSystem,
     Implication,
     Linear,
     SNorm,
     T1Mamdani,
     T1Sugeno,
+    T1Tsukamoto,
     TNorm,
     WeightedDefuzzifier,
 )
 from it2track.io import FisFormatError, FisFormatWarning, loads
+from it2track.io import fcl as fcl_reader
 from it2track.io._fclparse import FunctionBlock, Parser, RuleNode, Tok
 from it2track.io._ruletree import Compound, Negation, Proposition
 
@@ -792,3 +796,95 @@ def test_sugeno_methods(method: str, defuzzifier: WeightedDefuzzifier) -> None:
                       "    RULE 1 : IF x IS a THEN output1 IS b;", outputs="output1 : REAL;"),
                   "fcl")
     assert named.outputs == ()  # the plain single output
+
+
+# -- defaults, shared singletons, several conclusions, several blocks -----------------------------
+SING_Y = "DEFUZZIFY y\n    TERM b := 2;\n    TERM c := 8;\n    METHOD : COGS;\nEND_DEFUZZIFY"
+
+
+def test_default_is_on_zero_firing_one_per_output_and_nan_is_none() -> None:
+    one = loads(fcl(IN_A, _swap(SING_Y, "END_DEFUZZIFY", "DEFAULT := -1.5;\nEND_DEFUZZIFY")),
+                "fcl")
+    assert one.on_zero_firing == -1.5
+    z = SING_Y.replace("DEFUZZIFY y", "DEFUZZIFY z")
+    two = fcl(IN_A, _swap(SING_Y, "END_DEFUZZIFY", "DEFAULT := 1;\nEND_DEFUZZIFY") + "\n"
+              + _swap(z, "END_DEFUZZIFY", "DEFAULT := 2;\nEND_DEFUZZIFY"),
+              "RULE 1 : IF x IS a THEN y IS b, z IS c;", outputs="y : REAL; z : REAL;")
+    both = loads(two, "fcl")
+    assert both.on_zero_firing == (1.0, 2.0) and both.outputs == ("y", "z")
+    assert both.rules[0].consequents == ((2.0, 2.0), (8.0, 8.0))
+    assert loads(two.replace("DEFAULT := 1;", "DEFAULT := nan;").replace(
+        "DEFAULT := 2;", "DEFAULT := NAN;"), "fcl").on_zero_firing is None
+    assert loads(fcl(IN_A, SING_Y), "fcl").on_zero_firing is None
+
+
+def test_a_shared_singleton_takes_the_accumulation_otherwise_the_sum() -> None:
+    shared = "RULE 1 : IF x IS a THEN y IS b;\nRULE 2 : IF x IS NOT a THEN y IS b;\n" \
+        "RULE 3 : IF x IS a THEN y IS c;"
+    assert loads(fcl(IN_A, SING_Y, shared, block="ACCU : MAX;\n"), "fcl").aggregation is (
+        Aggregation.MAXIMUM)
+    assert loads(fcl(IN_A, SING_Y, shared, block="ACCU : NSUM;\n"), "fcl").aggregation is None
+    assert loads(fcl(IN_A, SING_Y, shared), "fcl").aggregation is None
+    apart = "RULE 1 : IF x IS a THEN y IS b;\nRULE 2 : IF x IS NOT a THEN y IS c;"
+    assert loads(fcl(IN_A, SING_Y, apart, block="ACCU : MAX;\n"), "fcl").aggregation is None
+    # equal values are one singleton, whatever the term's name (jFuzzyLogic)
+    same = _swap(SING_Y, "TERM c := 8;", "TERM c := 2.0;")
+    assert loads(fcl(IN_A, same, apart, block="ACCU : MAX;\n"), "fcl").aggregation is (
+        Aggregation.MAXIMUM)
+
+
+def test_a_second_conclusion_on_one_output_is_the_rule_again() -> None:
+    fls = loads(fcl(IN_A, SING_Y, "RULE 1 : IF x IS a THEN y IS b, y IS c, y IS b WITH 0.5;"),
+                "fcl")
+    assert [(r.consequents, r.weight) for r in fls.rules] == [
+        (((2.0, 2.0),), 0.5), (((8.0, 8.0),), 0.5), (((2.0, 2.0),), 0.5)]
+    mamdani = loads(fcl(IN_A, _swap(OUT_B, "TERM b := (0, 0) (1, 1);",
+                                    "TERM b := (0, 0) (1, 1);\n    TERM c := (0, 1) (1, 0);"),
+                        "RULE 1 : IF x IS a THEN y IS very b, y IS c;"), "fcl")
+    assert [(r.consequents, r.consequent_hedges) for r in mamdani.rules] == [
+        (("b",), ((Hedge("very"),),)), (("c",), ((Hedge("very"),),))]
+
+
+def test_tsukamoto_takes_the_accumulation_it_is_given() -> None:
+    ramps = "DEFUZZIFY y\n    RANGE := (0 .. 1);\n    TERM b := Ramp 0 1;\n" \
+        "    TERM c := Ramp 1 0;\n    METHOD : COGS;\nEND_DEFUZZIFY"
+    plain = loads(fcl(IN_A, ramps), "fcl")
+    assert isinstance(plain, T1Tsukamoto) and plain.aggregation is Aggregation.SUM
+    assert loads(fcl(IN_A, ramps, block="ACCU : MAX;\n"), "fcl").aggregation is (
+        Aggregation.MAXIMUM)
+
+
+def test_hybrid_runs_keep_their_rules_and_operators() -> None:
+    text = fcl(IN_A, SING_Y + "\n" + OUT_B.replace("DEFUZZIFY y", "DEFUZZIFY m") + "\n"
+               + SING_Y.replace("DEFUZZIFY y", "DEFUZZIFY z"),
+               "RULE 1 : IF x IS a THEN y IS b, m IS b;\nRULE 2 : IF x IS NOT a THEN z IS c;",
+               outputs="y : REAL; m : REAL; z : REAL;", block="ACT : PROD;\n")
+    fls = loads(text, "fcl")
+    assert isinstance(fls, HybridSystem) and fls.name == "f"
+    y, m, z = fls.systems
+    assert (type(y), type(m), type(z)) == (T1Sugeno, T1Mamdani, T1Sugeno)
+    assert [r.consequents for r in y.rules] == [((2.0, 2.0),)]
+    assert [r.consequents for r in m.rules] == [("b",)]
+    assert [r.consequents for r in z.rules] == [((8.0, 8.0),)]
+    assert m.implication is Implication.PRODUCT and m.aggregation is Aggregation.SUM
+    assert (y.outputs, z.outputs) == (("y",), ("z",))
+
+
+def test_several_blocks_warn_naming_them_and_block_selects_one() -> None:
+    text = fcl(IN_A, OUT_B) + fcl(IN_A, OUT_B).replace("FUNCTION_BLOCK f", "FUNCTION_BLOCK g")
+    with pytest.warns(FisFormatWarning) as record:
+        first = loads(text, "fcl", path="two.fcl")
+    assert [str(w.message) for w in record] == [
+        "two.fcl:1: 2 FUNCTION_BLOCKs ('f', 'g'); read the first, 'f' (block= selects another)"]
+    assert first.name == "f"
+    with pytest.warns(FisFormatWarning) as record:
+        fcl_reader.loads(text, "two.fcl")
+    assert record[0].filename == __file__  # stacklevel: the caller of fcl.loads
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert loads(text, "fcl", block="g").name == "g"
+        assert loads(fcl(IN_A, OUT_B), "fcl").name == "f"
+    with pytest.raises(FisFormatError) as info:
+        loads(text, "fcl", path="two.fcl", block="h")
+    assert (info.value.line, info.value.message) == (
+        None, "no FUNCTION_BLOCK 'h' (the file has 'f', 'g')")
