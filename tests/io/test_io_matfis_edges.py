@@ -264,3 +264,36 @@ def test_a_hybrid_whose_parts_share_an_output_name_is_refused_at_the_system() ->
                SYSTEM.replace("NumOutputs=3", "NumOutputs=2"))
     err = refusal(text)
     assert (err.line, err.message) == (1, "HybridSystem: output names ['a', 'a'] must be distinct")
+
+
+def test_an_unknown_type_is_refused_naming_the_known_ones() -> None:
+    err = refusal(SYSTEM.replace("'hybrid'", "'Fuzzy'") + INPUT)
+    assert (err.line, err.message) == (3, "Type='fuzzy' is not supported ('sugeno', 'mamdani', "
+                                       "and fuzzylite's 'tsukamoto' and 'hybrid')")
+
+
+def test_a_tsukamoto_file_and_its_aggregation() -> None:
+    ramps = sets(1, "y").replace("'trimf',[0 0 10]", "'rampmf',[0 10]").replace(
+        "'trimf',[0 10 10]", "'rampmf',[10 0]")
+    system = SYSTEM.replace("'hybrid'", "'Tsukamoto'").replace("NumOutputs=3", "NumOutputs=1")
+    system = system.replace("centroid", "wtaver")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        fls = loads(fis(ramps, "1, 1 (1) : 1\n2, 2 (1) : 1\n", system), "fis")
+        assert isinstance(fls, T1Tsukamoto) and fls.aggregation is Aggregation.MAXIMUM
+        plain = loads(fis(ramps, "1, 1 (1) : 1\n", system.replace("AggMethod='max'\n", "")),
+                      "fis")
+        assert plain.aggregation is Aggregation.SUM
+
+
+@pytest.mark.parametrize(("kind", "tnorm"), [("sugeno", TNorm.PRODUCT),
+                                             ("mamdani", TNorm.MINIMUM),
+                                             ("hybrid", TNorm.MINIMUM)])
+def test_the_and_method_left_out_is_the_types_default(kind: str, tnorm: TNorm) -> None:
+    system = SYSTEM.replace("'hybrid'", f"'{kind}'").replace("NumOutputs=3", "NumOutputs=1")
+    system = system.replace("AndMethod='min'\n", "").replace("OrMethod='max'\n", "")
+    if kind == "sugeno":
+        system = system.replace("centroid", "wtaver")
+    out = constants(1, "a", [2]) if kind == "sugeno" else sets(1, "m")
+    fls = loads(fis(out, "1, 1 (1) : 1\n", system), "fis")
+    assert (fls.tnorm, fls.snorm) == (tnorm, SNorm.MAXIMUM)
