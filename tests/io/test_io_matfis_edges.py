@@ -297,3 +297,18 @@ def test_the_and_method_left_out_is_the_types_default(kind: str, tnorm: TNorm) -
     out = constants(1, "a", [2]) if kind == "sugeno" else sets(1, "m")
     fls = loads(fis(out, "1, 1 (1) : 1\n", system), "fis")
     assert (fls.tnorm, fls.snorm) == (tnorm, SNorm.MAXIMUM)
+
+
+def test_a_type2_mamdani_file_is_reduced_by_its_centroid_only() -> None:
+    system = SYSTEM.replace("hybrid", "mamdani").replace("NumOutputs=3", "NumOutputs=1") + \
+        "TypeReductionMethod='karnikmendel'\n"
+    text = fis(sets(1, "m"), "1, 1 (1) : 1\n", system.replace("'centroid'", "'bisector'"))
+    lower = ",'LowerScale',0.5,'LowerLag',0"
+    text = text.replace("[0 0 10]\n", f"[0 0 10]{lower}\n").replace("[0 10 10]\n",
+                                                                   f"[0 10 10]{lower}\n")
+    err = refusal(text)
+    assert (err.line, err.message) == (11, "DefuzzMethod='bisector' is not supported "
+                                       "('centroid')")
+    one = fis(sets(1, "m"), "1, 1 (1) : 1\n", SYSTEM.replace("hybrid", "mamdani").replace(
+        "NumOutputs=3", "NumOutputs=1").replace("'centroid'", "'bisector'"))
+    assert loads(one, "fis").defuzzifier is Defuzzifier.BISECTOR
