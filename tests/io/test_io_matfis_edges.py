@@ -312,3 +312,15 @@ def test_a_type2_mamdani_file_is_reduced_by_its_centroid_only() -> None:
     one = fis(sets(1, "m"), "1, 1 (1) : 1\n", SYSTEM.replace("hybrid", "mamdani").replace(
         "NumOutputs=3", "NumOutputs=1").replace("'centroid'", "'bisector'"))
     assert loads(one, "fis").defuzzifier is Defuzzifier.BISECTOR
+
+
+def test_a_mamdani_file_without_defuzz_method_takes_the_centroid() -> None:
+    system = SYSTEM.replace("hybrid", "mamdani").replace("NumOutputs=3", "NumOutputs=1")
+    system = system.replace("DefuzzMethod='centroid'\n", "")
+    assert loads(fis(sets(1, "m"), "1, 1 (1) : 1\n", system), "fis").defuzzifier is (
+        Defuzzifier.CENTROID)
+    lower = ",'LowerScale',0.5,'LowerLag',0"
+    text = fis(sets(1, "m"), "1, 1 (1) : 1\n", system + "TypeReductionMethod='ekm'\n")
+    text = text.replace("[0 0 10]\n", f"[0 0 10]{lower}\n").replace("[0 10 10]\n",
+                                                                   f"[0 10 10]{lower}\n")
+    assert isinstance(loads(text, "fis"), IT2Mamdani)
