@@ -324,3 +324,25 @@ def test_a_mamdani_file_without_defuzz_method_takes_the_centroid() -> None:
     text = text.replace("[0 0 10]\n", f"[0 0 10]{lower}\n").replace("[0 10 10]\n",
                                                                    f"[0 10 10]{lower}\n")
     assert isinstance(loads(text, "fis"), IT2Mamdani)
+
+
+@pytest.mark.parametrize(("old", "new", "line", "message"), [
+    ("ImpMethod='min'", "ImpMethod=7", 9, "ImpMethod must be a quoted string, e.g. 'text'; "
+     "got '7'"),
+    ("AggMethod='max'", "AggMethod=7", 10, "AggMethod must be a quoted string, e.g. 'text'; "
+     "got '7'"),
+])
+def test_a_sugeno_files_imp_and_agg_methods_are_ignored_but_must_be_strings(
+        old: str, new: str, line: int, message: str) -> None:
+    err = refusal(fis(constants(1, "a", [2]), "1, 1 (1) : 1\n", SUGENO.replace(old, new)))
+    assert (err.line, err.message) == (line, message)
+
+
+def test_a_sugeno_file_without_imp_agg_or_defuzz_method_is_read() -> None:
+    bare = SUGENO.replace("ImpMethod='min'\n", "").replace("AggMethod='max'\n", "").replace(
+        "DefuzzMethod='wtaver'\n", "")
+    fls = loads(fis(constants(1, "a", [2, 8]), "1, 1 (1) : 1\n", bare), "fis")
+    assert isinstance(fls, T1Sugeno) and fls.defuzzifier is WeightedDefuzzifier.AVERAGE
+    summed = loads(fis(constants(1, "a", [2, 8]), "1, 1 (1) : 1\n",
+                       SUGENO.replace("'wtaver'", "'wtsum'")), "fis")
+    assert summed.defuzzifier is WeightedDefuzzifier.SUM
