@@ -14,6 +14,7 @@ import pytest
 from it2track.fuzzy import (
     Aggregation,
     Defuzzifier,
+    Discrete,
     Hedge,
     HybridSystem,
     Implication,
@@ -23,6 +24,8 @@ from it2track.fuzzy import (
     T1Sugeno,
     T1Tsukamoto,
     TNorm,
+    Trapezoid,
+    Triangle,
     WeightedDefuzzifier,
 )
 from it2track.io import FisFormatError, FisFormatWarning, loads
@@ -888,3 +891,34 @@ def test_several_blocks_warn_naming_them_and_block_selects_one() -> None:
         loads(text, "fcl", path="two.fcl", block="h")
     assert (info.value.line, info.value.message) == (
         None, "no FUNCTION_BLOCK 'h' (the file has 'f', 'g')")
+
+
+# -- point lists: the shapes they are, with their height ------------------------------------------
+@pytest.mark.parametrize(("points", "mf"), [
+    ("(0, 1) (1, 0)", Triangle(0.0, 0.0, 1.0)),
+    ("(0, 0.5) (1, 0)", Triangle(0.0, 0.0, 1.0, 0.5)),
+    ("(0, 0) (1, 0.5)", Triangle(0.0, 1.0, 1.0, 0.5)),
+    ("(0, 0) (0.25, 0.5) (1, 0)", Triangle(0.0, 0.25, 1.0, 0.5)),
+    ("(0, 0.5) (0.25, 0.5) (1, 0)", Triangle(0.25, 0.25, 1.0, 0.5)),
+    ("(0, 0) (0.25, 0.5) (1, 0.5)", Triangle(0.0, 0.25, 0.25, 0.5)),
+    ("(0, 0) (0.25, 0.5) (0.5, 0.5) (1, 0)", Trapezoid(0.0, 0.25, 0.5, 1.0, 0.5)),
+    ("(0, 0) (0.25, 1) (0.5, 1) (1, 0)", Trapezoid(0.0, 0.25, 0.5, 1.0)),
+])
+def test_a_triangle_or_trapezoid_of_points_is_one(points: str, mf) -> None:
+    fls = loads(in_term(points, " RANGE := (0 .. 1);"), "fcl")
+    assert fls.inputs[0].sets[0].upper == mf
+
+
+@pytest.mark.parametrize("points", [
+    "(0, 1) (0.5, 0.5) (1, 0)",  # a degree between 0 and the height
+    "(0, 0.5) (1, 0.5)",  # flat
+    "(0, 0) (0.5, 0) (1, 0)",  # all zero: no height
+    "(0, 0) (0.5, 1) (0.5, 0.5) (1, 0)",  # a vertical step
+    "(0, 1) (0.25, 0) (0.5, 1) (1, 0)",  # two peaks
+    "(0, 0) (0.25, 1) (0.5, 1) (0.75, 1) (1, 0)",  # a plateau of three points
+    "(0.5, 1)",  # one point
+])
+def test_other_polylines_are_discrete(points: str) -> None:
+    fls = loads(in_term(points, " RANGE := (0 .. 1);"), "fcl")
+    pts = [tuple(float(v) for v in p.strip("() ").split(",")) for p in points.split(") (")]
+    assert fls.inputs[0].sets[0].upper == Discrete(pts)
