@@ -15,6 +15,7 @@ from it2track.fuzzy import (
     Aggregation,
     Defuzzifier,
     Discrete,
+    FootedTrapezoid,
     Hedge,
     HybridSystem,
     Implication,
@@ -922,3 +923,15 @@ def test_other_polylines_are_discrete(points: str) -> None:
     fls = loads(in_term(points, " RANGE := (0 .. 1);"), "fcl")
     pts = [tuple(float(v) for v in p.strip("() ").split(",")) for p in points.split(") (")]
     assert fls.inputs[0].sets[0].upper == Discrete(pts)
+
+
+@pytest.mark.parametrize(("term", "range_", "mf"), [
+    ("TRIAN 2 2 5", " RANGE := (0 .. 10);", FootedTrapezoid(2.0, 2.0, 2.0, 5.0, 1.0)),
+    ("Triangle 2 2 5", " RANGE := (0 .. 10);", FootedTrapezoid(2.0, 2.0, 2.0, 5.0, 1.0)),
+    ("TRAPE 0 1 4 4", " RANGE := (0 .. 10);", FootedTrapezoid(0.0, 1.0, 4.0, 4.0, 1.0)),
+    ("TRIAN 0 0 5", " RANGE := (0 .. 10);", Triangle(0.0, 0.0, 5.0)),  # shoulder at the end
+    ("TRIAN 2 2 5", "", Triangle(2.0, 2.0, 5.0)),  # the estimated universe starts at 2
+])
+def test_a_named_shape_with_a_shoulder_inside_the_range_drops_to_0_beyond_its_foot(
+        term: str, range_: str, mf) -> None:
+    assert loads(in_term(term, range_), "fcl").inputs[0].sets[0].upper == mf
