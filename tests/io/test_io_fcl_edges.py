@@ -935,3 +935,19 @@ def test_other_polylines_are_discrete(points: str) -> None:
 def test_a_named_shape_with_a_shoulder_inside_the_range_drops_to_0_beyond_its_foot(
         term: str, range_: str, mf) -> None:
     assert loads(in_term(term, range_), "fcl").inputs[0].sets[0].upper == mf
+
+
+@pytest.mark.parametrize(("block", "accu", "z"), [
+    ("", "", (1.0 + 0.75 * 5.0) / (1.0 + 0.75)),  # y IS b: 0.75 + 0.25, the sum
+    ("ACCU : MAX;\n", "", (0.75 + 0.75 * 5.0) / (0.75 + 0.75)),  # max(0.75, 0.25)
+    ("", " ACCU : MAX;", (0.75 + 0.75 * 5.0) / (0.75 + 0.75)),  # the output's ACCU
+])
+def test_a_chained_proposition_reads_the_earlier_rules_by_the_outputs_accumulation(
+        block: str, accu: str, z: float) -> None:
+    out_z = "DEFUZZIFY z\n    TERM d := 1;\n    TERM e := 5;\n    METHOD : COGS;\nEND_DEFUZZIFY"
+    rules = "RULE 1 : IF x IS a THEN y IS b;\nRULE 2 : IF x IS NOT a THEN y IS b;\n" \
+        "RULE 3 : IF y IS b THEN z IS d;\nRULE 4 : IF x IS a THEN z IS e;"
+    out_y = SING_Y.replace("METHOD : COGS;", "METHOD : COGS;" + accu)
+    fls = loads(fcl(IN_A, out_y + "\n" + out_z, rules, outputs="y : REAL; z : REAL;",
+                    block=block), "fcl")
+    assert fls(0.25).tolist() == pytest.approx([2.0, z], abs=1e-15)
