@@ -951,3 +951,32 @@ def test_a_chained_proposition_reads_the_earlier_rules_by_the_outputs_accumulati
     fls = loads(fcl(IN_A, out_y + "\n" + out_z, rules, outputs="y : REAL; z : REAL;",
                     block=block), "fcl")
     assert fls(0.25).tolist() == pytest.approx([2.0, z], abs=1e-15)
+
+
+def test_comment_edges() -> None:
+    for text in ("FUNCTION_BLOCK f (*) END_FUNCTION_BLOCK", "FUNCTION_BLOCK f\n/*/"):
+        opener = "(*" if "(*" in text else "/*"
+        closer = "*)" if opener == "(*" else "*/"
+        with pytest.raises(FisFormatError) as info:
+            tree(text)
+        assert (info.value.line, info.value.message) == (
+            text.count("\n", 0, text.index(opener)) + 1,
+            f"unterminated comment {opener} ... {closer}")
+    assert [t.text for t in Parser("a (**) b /**/ c //\nd", "t").toks] == ["a", "b", "c", "d"]
+
+
+def test_a_conclusion_term_may_be_named_like_a_hedge() -> None:
+    (rule,) = rules_of("RULE 1 : IF x IS a THEN y IS very;")
+    assert rule.conclusions == [("y", "very", ())]
+    (rule,) = rules_of("RULE 1 : IF x IS a THEN y IS very somewhat, z IS not b")
+    assert rule.conclusions == [("y", "somewhat", ("very",)), ("z", "b", ("not", "very"))]
+
+
+def test_an_input_without_terms_may_feed_a_function() -> None:
+    inputs = "FUZZIFY x\n    RANGE := (0 .. 4);\nEND_FUZZIFY\nFUZZIFY w\n" \
+        "    TERM a := (0, 1) (1, 0);\nEND_FUZZIFY"
+    out = "DEFUZZIFY y\n    TERM f := FUNCTION 2 * x;\n    METHOD : COGF;\nEND_DEFUZZIFY"
+    fls = loads(fcl(inputs, out, "RULE 1 : IF w IS a THEN y IS f;",
+                    inputs="x : REAL; w : REAL;"), "fcl")
+    assert fls.inputs[0].sets == () and fls.inputs[0].universe == (0.0, 4.0)
+    assert float(fls(3.0, 0.5)) == 6.0
