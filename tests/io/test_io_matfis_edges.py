@@ -105,6 +105,7 @@ def test_a_hybrid_system_is_one_system_per_run_of_outputs_of_a_kind() -> None:
         Defuzzifier.CENTROID, Implication.MINIMUM, Aggregation.MAXIMUM)
     assert (a.on_zero_firing, m.on_zero_firing, c.on_zero_firing) == (5.0, 5.0, 5.0)
     assert (a.name, m.name, c.name) == ("hy", "hy", "hy")
+    assert (a.aggregation, c.aggregation) == (None, None)  # AggMethod is the Mamdani part's
 
 
 def test_a_run_of_several_outputs_is_one_system_with_a_default_each() -> None:
@@ -346,3 +347,10 @@ def test_a_sugeno_file_without_imp_agg_or_defuzz_method_is_read() -> None:
     summed = loads(fis(constants(1, "a", [2, 8]), "1, 1 (1) : 1\n",
                        SUGENO.replace("'wtaver'", "'wtsum'")), "fis")
     assert summed.defuzzifier is WeightedDefuzzifier.SUM
+
+
+def test_a_part_that_cannot_be_built_is_refused_at_the_system() -> None:
+    system = SYSTEM.replace("hybrid", "mamdani").replace("NumOutputs=3", "NumOutputs=2")
+    err = refusal(fis(sets(1, "m") + sets(2, "m"), "1, 1 1 (1) : 1\n", system))
+    assert (err.line, err.message) == (1, "output names ['m', 'm'] must be distinct and "
+                                       "non-empty")
