@@ -13,13 +13,18 @@ import pytest
 
 from it2track.fuzzy import (
     Aggregation,
+    Bell,
+    Cosine,
     Defuzzifier,
     Discrete,
     FootedTrapezoid,
+    GaussianProduct,
     Hedge,
     HybridSystem,
     Implication,
     Linear,
+    Sigmoid,
+    SigmoidDifference,
     SNorm,
     T1Mamdani,
     T1Sugeno,
@@ -980,3 +985,38 @@ def test_an_input_without_terms_may_feed_a_function() -> None:
                     inputs="x : REAL; w : REAL;"), "fcl")
     assert fls.inputs[0].sets == () and fls.inputs[0].universe == (0.0, 4.0)
     assert float(fls(3.0, 0.5)) == 6.0
+
+
+def test_act_is_ignored_by_a_sugeno_system() -> None:
+    fls = loads(fcl(IN_A, SING_Y, "RULE 1 : IF x IS a THEN y IS b;" + SECOND_BLOCK.format(
+        "ACT : PROD;") + "RULE 2 : IF x IS NOT a THEN y IS c;", block="ACT : MIN;\n"), "fcl")
+    assert isinstance(fls, T1Sugeno) and len(fls.rules) == 2
+
+
+def test_a_rules_negations_and_hedges_reach_the_built_rule() -> None:
+    fls = loads(two_inputs(OUT_B, "RULE 1 : IF x IS NOT very a AND w IS somewhat a "
+                           "THEN y IS b WITH 0.5;"), "fcl")
+    (rule,) = fls.rules
+    assert (rule.antecedent, rule.negated, rule.hedges, rule.weight) == (
+        ("a", "a"), (True, False), ((Hedge("very"),), (Hedge("somewhat"),)), 0.5)
+    (rule,) = loads(two_inputs(OUT_B, "RULE 1 : IF w IS a THEN y IS b;"), "fcl").rules
+    assert (rule.antecedent, rule.negated, rule.hedges) == ((None, "a"), (False, False),
+                                                            ((), ()))
+
+
+def test_an_overflow_on_the_universe_is_refused_at_the_block() -> None:
+    err = refusal(in_term("(0, 1) (1e-300, 0)", " RANGE := (0 .. 1e10);"))
+    assert (err.line, err.message) == (8, "numeric overflow (overflow encountered in divide)")
+
+
+@pytest.mark.parametrize(("term", "mf"), [
+    ("GAUSS2 3 1 3 2", GaussianProduct(3.0, 1.0, 3.0, 2.0)),  # equal means
+    ("DSIGM 2 3 2 3", SigmoidDifference(3.0, 2.0, 2.0, 3.0)),  # equal centers
+    ("DSIGM -2 7 -2 3", SigmoidDifference(7.0, -2.0, -2.0, 3.0)),
+    ("DSIGM -2 5 -2 5", SigmoidDifference(5.0, -2.0, -2.0, 5.0)),
+    ("COSINE 1e-3 5", Cosine(5.0, 2e-3)),
+    ("GBELL 2 1 5", Bell(5.0, 2.0, 1.0)),
+    ("SIGM 3 1", Sigmoid(1.0, 3.0)),
+])
+def test_named_shapes_at_their_boundaries(term: str, mf) -> None:
+    assert loads(in_term(term, " RANGE := (0 .. 10);"), "fcl").inputs[0].sets[0].upper == mf

@@ -189,18 +189,17 @@ class Builder:
         raise self.error(term.line, f"term {term.name!r}: FUNCTION is a COGF output term")
 
     def consequent(self, term: FclTerm, inputs: list[str]) -> Consequent:
+        # _fclsystem._kind reads an output as Sugeno only when each of its terms is a value,
+        # fuzzylite's Constant/Linear or a FUNCTION
         if term.kind == "singleton":
             return (term.value, term.value)
-        if term.kind == "shape" and term.shape in ("Constant", "Linear"):
+        if term.kind == "shape":
             p = self.numbers(term)
             value = self.guarded(term.line, lambda: fuzzylite_consequent(term.shape, p,
                                                                          len(inputs)),
                                  f"term {term.name!r}")
             return (value, value) if isinstance(value, float) else value
-        if term.kind == "function":
-            return self.linear(term, inputs)
-        raise self.error(term.line, f"term {term.name!r}: a COGS/COGF output term is a value, "
-                         "fuzzylite's Constant/Linear or a FUNCTION")
+        return self.linear(term, inputs)
 
     def linear(self, term: FclTerm, inputs: list[str]) -> Linear:
         """A jFuzzyLogic FUNCTION that is linear in the inputs."""

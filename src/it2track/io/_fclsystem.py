@@ -273,7 +273,7 @@ def _assemble(b: Builder, fb: FunctionBlock, outputs: dict[str, FclVar], inputs:
             numbers[0] if len(numbers) == 1 else tuple(numbers)),
     }
     if sugeno:
-        if len(out_names) > 1 or out_names != ["output1"]:
+        if out_names != ["output1"]:  # one output, named as MATLAB names it: plain
             options["outputs"] = tuple(out_names)
         if shared and accu.value is not Aggregation.SUM:
             options["aggregation"] = accu.value
