@@ -26,7 +26,7 @@ from it2track.fuzzy import (
     Triangle,
     WeightedDefuzzifier,
 )
-from it2track.io import FisFormatError, FisFormatWarning, loads
+from it2track.io import FisFormatError, FisFormatWarning, loads, matfis
 
 DATA = Path(__file__).parent / "data"
 SYSTEM = """[System]
@@ -354,3 +354,18 @@ def test_a_part_that_cannot_be_built_is_refused_at_the_system() -> None:
     err = refusal(fis(sets(1, "m") + sets(2, "m"), "1, 1 1 (1) : 1\n", system))
     assert (err.line, err.message) == (1, "output names ['m', 'm'] must be distinct and "
                                        "non-empty")
+
+
+def test_an_unknown_type_reduction_method_names_the_known_ones() -> None:
+    text = (DATA / "scale_lag.fis").read_text().replace("'karnikmendel'", "'km9'")
+    err = refusal(text)
+    assert (err.line, err.message) == (17, "unknown TypeReductionMethod 'km9' (known: "
+                                       "karnikmendel, ekm, iasc, eiasc, exhaustive, nietan, "
+                                       "wumendel)")
+
+
+def test_the_reader_names_a_string_without_a_path() -> None:
+    with pytest.raises(FisFormatError) as info:
+        matfis.loads("[System]\nName='x'\nType='fuzzy'\n")
+    assert str(info.value) == "<string>:3: Type='fuzzy' is not supported ('sugeno', 'mamdani', " \
+        "and fuzzylite's 'tsukamoto' and 'hybrid')"
