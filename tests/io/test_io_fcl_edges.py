@@ -35,6 +35,7 @@ from it2track.fuzzy import (
     WeightedDefuzzifier,
 )
 from it2track.io import FisFormatError, FisFormatWarning, loads
+from it2track.io import fcl as fcl_reader
 from it2track.io._fclparse import FunctionBlock, Parser, RuleNode, Tok
 from it2track.io._ruletree import Compound, Negation, Proposition
 
@@ -1016,3 +1017,9 @@ def test_an_overflow_on_the_universe_is_refused_at_the_block() -> None:
 ])
 def test_named_shapes_at_their_boundaries(term: str, mf) -> None:
     assert loads(in_term(term, " RANGE := (0 .. 10);"), "fcl").inputs[0].sets[0].upper == mf
+
+
+def test_the_reader_names_a_string_without_a_path() -> None:
+    with pytest.raises(FisFormatError) as info:
+        fcl_reader.loads("FUNCTION_BLOCK f END_FUNCTION_BLOCK")
+    assert str(info.value) == "<string>:1: no VAR_INPUT variables"
