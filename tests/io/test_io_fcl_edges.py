@@ -1023,3 +1023,10 @@ def test_the_reader_names_a_string_without_a_path() -> None:
     with pytest.raises(FisFormatError) as info:
         fcl_reader.loads("FUNCTION_BLOCK f END_FUNCTION_BLOCK")
     assert str(info.value) == "<string>:1: no VAR_INPUT variables"
+
+
+def test_the_several_blocks_warning_is_not_attributed_to_the_reader() -> None:
+    text = fcl(IN_A, OUT_B) + fcl(IN_A, OUT_B).replace("FUNCTION_BLOCK f", "FUNCTION_BLOCK g")
+    with pytest.warns(FisFormatWarning) as record:
+        fcl_reader.loads(text, "two.fcl")
+    assert not record[0].filename.endswith("fcl.py")  # stacklevel: a caller of loads
