@@ -149,6 +149,13 @@ PARSE_REFUSALS = {
         fcl(_swap(IN_A, "END_FUZZIFY", "RANGE := (0 .. 2);\nEND_FUZZIFY"), OUT_B,
             inputs="x : REAL;\nRANGE := (0 .. 1);"), 11,
         "a second RANGE for 'x' (first at line 4)"),
+    "range start not a number": (
+        fcl(_swap(IN_A, "END_FUZZIFY", "RANGE := (lo .. 1);\nEND_FUZZIFY"), OUT_B), 10,
+        "expected the range start (a number), got 'lo': values given by variables "
+        "(jFuzzyLogic) are not supported"),
+    "range end not a number": (
+        fcl(_swap(IN_A, "END_FUZZIFY", "RANGE := (0 .. ;);\nEND_FUZZIFY"), OUT_B), 10,
+        "expected the range end (a number), got ';'"),
     "range without '..'": (fcl(_swap(IN_A, "END_FUZZIFY", "RANGE := (0, 1);\nEND_FUZZIFY"),
                                OUT_B), 10, "expected '..', got ','"),
     "output not declared": (fcl(IN_A, _swap(OUT_B, "DEFUZZIFY y", "DEFUZZIFY z")), 11,
