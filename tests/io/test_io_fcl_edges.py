@@ -227,6 +227,8 @@ PARSE_REFUSALS = {
                                  "unexpected 'FOO' in RULEBLOCK"),
     "operator not a word": (fcl(IN_A, OUT_B, block="ACCU : 3;\n"), 16,
                             "expected an ACCU operator, got '3'"),
+    "rule number at the end of the file": ("FUNCTION_BLOCK f\nRULEBLOCK r\nRULE", 3,
+                                           "unexpected end of file: expected a rule number"),
     "rule number": (fcl(IN_A, OUT_B, "RULE ( : IF x IS a THEN y IS b;"), 16,
                     "expected a rule number, got '('"),
     "rule without ':'": (fcl(IN_A, OUT_B, "RULE 1 IF x IS a THEN y IS b;"), 16,

@@ -153,6 +153,12 @@ class Parser:
         self.pos += 1
         return tok
 
+    def take(self) -> Tok:
+        """The next token, where the caller has seen that there is one."""
+        tok = self.toks[self.pos]
+        self.pos += 1
+        return tok
+
     def expect(self, text: str) -> Tok:
         tok = self.next(repr(text))
         if tok.upper != text.upper():
@@ -178,7 +184,7 @@ class Parser:
     def number(self, what: str) -> float:
         sign = 1.0
         if self.at("-", "+"):
-            sign = -1.0 if self.next("a sign").text == "-" else 1.0
+            sign = -1.0 if self.take().text == "-" else 1.0
         tok = self.next(what)
         if tok.kind == "ident" and tok.upper in ("NAN", "INF"):
             return math.nan if tok.upper == "NAN" else sign * math.inf
@@ -202,14 +208,14 @@ class Parser:
         return blocks
 
     def function_block(self) -> FunctionBlock:
-        start = self.next("FUNCTION_BLOCK")
+        start = self.take()  # function_blocks saw a token
         if start.upper != "FUNCTION_BLOCK":
             where = "text after END_FUNCTION_BLOCK" if self.pos > 1 else "expected FUNCTION_BLOCK"
             raise self.error(start.line, f"{where}: {start.text!r}")
         name = ""
         tok = self.peek()
         if tok is not None and tok.kind == "ident" and tok.upper not in _BLOCK_WORDS:
-            name = self.next("name").text
+            name = self.take().text
         fb = FunctionBlock(name, start.line)
         while True:
             tok = self.next("END_FUNCTION_BLOCK")
@@ -243,7 +249,7 @@ class Parser:
             self.expect(";")
             target[var.text] = FclVar(var.text, var.line)
             if self.at("RANGE"):  # jFuzzyLogic: RANGE := (lo .. hi); after the declaration
-                self.range(target[var.text], self.next("RANGE"))
+                self.range(target[var.text], self.take())
         self.expect("END_VAR")
 
     def range(self, var: FclVar, key: Tok) -> None:
@@ -289,7 +295,7 @@ class Parser:
             elif key.upper == "DEFAULT" and word == "DEFUZZIFY":
                 self.expect(":=")
                 if self.at("NC"):
-                    raise self.error(self.next("NC").line, "DEFAULT := NC (keep the last output) "
+                    raise self.error(self.take().line, "DEFAULT := NC (keep the last output) "
                                      "needs state, which it2track systems do not have; give a "
                                      "value")
                 value = self.number("a default value")
@@ -327,7 +333,7 @@ class Parser:
                 self.expect(")")
                 term.points.append((x, m))
         elif nxt is not None and nxt.kind == "ident":
-            shape = self.next("a shape")
+            shape = self.take()
             term.kind = "function" if shape.upper == "FUNCTION" else "shape"
             term.shape = shape.text
             while not self.at(";"):
@@ -344,7 +350,7 @@ class Parser:
         tok = self.peek()
         if tok is not None and tok.kind == "ident" and tok.upper not in (
                 "AND", "OR", "ACT", "ACCU", "RULE", "END_RULEBLOCK"):
-            name = self.next("a rule block name").text
+            name = self.take().text
         block = Block(name, start.line)
         while not self.at("END_RULEBLOCK"):
             key = self.next("END_RULEBLOCK")
@@ -383,7 +389,7 @@ class Parser:
             hedges = []
             while self.at(*_HEDGES, "NOT") and (nxt := self.peek(1)) is not None and (
                     nxt.kind == "ident"):
-                hedges.append(self.next("a hedge").text.lower())
+                hedges.append(self.take().text.lower())
             term = self.ident("a term")
             if parens:
                 self.expect(")")
@@ -425,6 +431,6 @@ class Parser:
         negated = self.skip("NOT")
         hedges = []
         while self.at(*_HEDGES) and (nxt := self.peek(1)) is not None and nxt.kind == "ident":
-            hedges.append(self.next("a hedge").text.lower())
+            hedges.append(self.take().text.lower())
         term = self.ident("a term")
         return Proposition(var.text, term.text, negated, tuple(hedges))
