@@ -122,6 +122,18 @@ PARSE_REFUSALS = {
     "end of file in a term": ("FUNCTION_BLOCK f\nVAR_INPUT\nx : REAL;\nEND_VAR\nFUZZIFY x\n"
                               "TERM a := (0, ", 6,
                               "unexpected end of file: expected a membership degree"),
+    "end of file in FUZZIFY": ("FUNCTION_BLOCK f\nVAR_INPUT x : REAL; END_VAR\nFUZZIFY x\n"
+                               "TERM a := (0, 1);", 4,
+                               "unexpected end of file: expected END_FUZZIFY"),
+    "end of file in a shape": ("FUNCTION_BLOCK f\nVAR_INPUT x : REAL; END_VAR\nFUZZIFY x\n"
+                               "TERM a := TRIAN 0 1", 4, "unexpected end of file: expected ';'"),
+    "end of file in RULEBLOCK": ("FUNCTION_BLOCK f\nRULEBLOCK r\nAND : MIN;", 3,
+                                 "unexpected end of file: expected END_RULEBLOCK"),
+    "singleton not a number": (fcl(_swap(IN_A, "(0, 1) (1, 0)", "- ;"), OUT_B), 9,
+                               "expected a singleton value (a number), got ';'"),
+    "default not a number": (fcl(IN_A, _swap(OUT_B, "METHOD : COG;", "DEFAULT := d;")), 13,
+                             "expected a default value (a number), got 'd': values given by "
+                             "variables (jFuzzyLogic) are not supported"),
     "no block": ("  (* nothing *) \n// nor here\n", 1, "no FUNCTION_BLOCK"),
     "no block first": ("VAR_INPUT x : REAL; END_VAR", 1, "expected FUNCTION_BLOCK: 'VAR_INPUT'"),
     "text after": (BASE + "junk", 19, "text after END_FUNCTION_BLOCK: 'junk'"),
