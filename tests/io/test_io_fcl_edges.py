@@ -18,6 +18,7 @@ from it2track.fuzzy import (
     Defuzzifier,
     Discrete,
     FootedTrapezoid,
+    Gaussian,
     GaussianProduct,
     Hedge,
     HybridSystem,
@@ -1051,3 +1052,11 @@ def test_the_several_blocks_warning_is_not_attributed_to_the_reader() -> None:
     with pytest.warns(FisFormatWarning) as record:
         fcl_reader.loads(text, "two.fcl")
     assert not record[0].filename.endswith("fcl.py")  # stacklevel: a caller of loads
+
+
+def test_underflow_is_no_refusal() -> None:
+    # exp(-(10 / 0.01)^2 / 2) underflows to 0 on the universe: that is the value, not an error
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        fls = loads(in_term("GAUSS 0 0.01", " RANGE := (0 .. 10);"), "fcl")
+    assert fls.inputs[0].sets[0].upper == Gaussian(0.0, 0.01)
