@@ -264,6 +264,8 @@ PARSE_REFUSALS = {
                           "expected an output variable, got '1'"),
     "condition term not a word": (fcl(IN_A, OUT_B, "RULE 1 : IF x IS 1 THEN y IS b;"), 16,
                                   "expected a term, got '1'"),
+    "conclusion term not a word": (fcl(IN_A, OUT_B, "RULE 1 : IF x IS a THEN y IS 1;"), 16,
+                                   "expected a term, got '1'"),
     "hedge as the term": (fcl(IN_A, OUT_B, "RULE 1 : IF x IS very THEN y IS b;"), 16,
                           "expected 'THEN', got 'y'"),
     "weight": (fcl(IN_A, OUT_B, "RULE 1 : IF x IS a THEN y IS b WITH w;"), 16,
