@@ -1062,3 +1062,9 @@ def test_underflow_is_no_refusal() -> None:
         warnings.simplefilter("error")
         fls = loads(in_term("GAUSS 0 0.01", " RANGE := (0 .. 10);"), "fcl")
     assert fls.inputs[0].sets[0].upper == Gaussian(0.0, 0.01)
+
+
+def test_weights_0_and_1_are_read() -> None:
+    fls = loads(fcl(IN_A, OUT_B, "RULE 1 : IF x IS a THEN y IS b WITH 0;\n"
+                    "RULE 2 : IF x IS NOT a THEN y IS b WITH 1.0;"), "fcl")
+    assert [r.weight for r in fls.rules] == [0.0, 1.0]

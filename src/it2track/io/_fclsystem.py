@@ -44,9 +44,9 @@ class _Setting:
     def __init__(self, what: str, default: Any) -> None:
         self.what = what
         self.value = default
-        self.source: tuple[str, int] | None = None  # (the text, its line) that set it first
+        self.source: tuple[str, int | None] | None = None  # (the text, its line) set it first
 
-    def set(self, b: Builder, value: Any, tok: Tok | None, line: int) -> None:
+    def set(self, b: Builder, value: Any, tok: Tok | None, line: int | None = None) -> None:
         """``value`` as ``tok`` gives it, or the default (``tok`` None) of the block or output
         at ``line``."""
         text, where = (tok.text, tok.line) if tok is not None else ("the default", line)
@@ -197,11 +197,11 @@ def _part(b: Builder, fb: FunctionBlock, inputs: list[Input], names: list[str], 
             if var.accu.upper not in ACCU:
                 raise b.error(var.accu.line, f"ACCU : {var.accu.text} is not supported "
                               f"({', '.join(ACCU)})")
-            accu.set(b, ACCU[var.accu.upper], var.accu, var.accu.line)
+            accu.set(b, ACCU[var.accu.upper], var.accu)
     rules = []
     for rule, op, props, block, and_, or_ in parsed:
         if block.ops.get("ACCU") is not None:
-            accu.set(b, _op(b, block, "ACCU", ACCU), block.ops["ACCU"], block.line)
+            accu.set(b, _op(b, block, "ACCU", ACCU), block.ops["ACCU"])
         if len(props) > 1:
             setting, value, key = (tnorm, and_, "AND") if op == "and" else (snorm, or_, "OR")
             setting.set(b, value, block.ops.get(key) or block.ops.get(
