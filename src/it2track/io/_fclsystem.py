@@ -227,7 +227,7 @@ def _assemble(b: Builder, fb: FunctionBlock, outputs: dict[str, FclVar], inputs:
         for name, var in outputs.items():
             values[name] = {t.name: b.consequent(t, in_names) for t in var.terms.values()}
     built: list[Rule] = []
-    users: dict[tuple[str, str], tuple[int, str]] = {}
+    concluded: set[tuple[str, str]] = set()  # (output, value) of the rules so far
     shared = False
     queue = list(rules)
     while queue:
@@ -256,8 +256,8 @@ def _assemble(b: Builder, fb: FunctionBlock, outputs: dict[str, FclVar], inputs:
             # jFuzzyLogic accumulates singletons by their value (x): equal values are one
             # term, its degree the ACCU of the rules' (T1Sugeno's aggregation)
             key = (vname, repr(cons[k]))
-            shared = shared or key in users
-            users.setdefault(key, (rule.line, term))
+            shared = shared or key in concluded
+            concluded.add(key)
         if again:
             queue.insert(0, (dataclasses.replace(rule, conclusions=again), op, props))
         built.append(_rule(b, rule, antecedent, cons, op, negated, hedges, cons_hedges))
