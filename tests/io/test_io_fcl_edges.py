@@ -1068,3 +1068,14 @@ def test_weights_0_and_1_are_read() -> None:
     fls = loads(fcl(IN_A, OUT_B, "RULE 1 : IF x IS a THEN y IS b WITH 0;\n"
                     "RULE 2 : IF x IS NOT a THEN y IS b WITH 1.0;"), "fcl")
     assert [r.weight for r in fls.rules] == [0.0, 1.0]
+
+
+def test_an_input_named_twice_is_a_condition_tree() -> None:
+    from it2track.fuzzy.conditions import Is, Join, Not
+
+    (rule,) = loads(fcl(IN_A, OUT_B, "RULE 1 : IF x IS a AND x IS NOT a THEN y IS b;"),
+                    "fcl").rules
+    assert (rule.antecedent, rule.connective.value) == ((None,), "and")
+    assert rule.condition == Join("and", (Is(0, "a"), Not(Is(0, "a"))), norm=TNorm.MINIMUM)
+    (rule,) = loads(fcl(IN_A, OUT_B, "RULE 1 : IF x IS a THEN y IS b;"), "fcl").rules
+    assert (rule.antecedent, rule.condition) == (("a",), None)
