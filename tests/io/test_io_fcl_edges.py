@@ -135,6 +135,12 @@ PARSE_REFUSALS = {
     "default not a number": (fcl(IN_A, _swap(OUT_B, "METHOD : COG;", "DEFAULT := d;")), 13,
                              "expected a default value (a number), got 'd': values given by "
                              "variables (jFuzzyLogic) are not supported"),
+    "end of file at an expected word": ("FUNCTION_BLOCK f\nVAR_INPUT x", 2,
+                                        "unexpected end of file: expected ':'"),
+    "end of file at a name": ("FUNCTION_BLOCK f\nVAR_INPUT", 2,
+                              "unexpected end of file: expected a variable name"),
+    "FUZZIFY of a number": (fcl(_swap(IN_A, "FUZZIFY x", "FUZZIFY 3"), OUT_B), 8,
+                            "expected a variable name, got '3'"),
     "no block": ("  (* nothing *) \n// nor here\n", 1, "no FUNCTION_BLOCK"),
     "no block first": ("VAR_INPUT x : REAL; END_VAR", 1, "expected FUNCTION_BLOCK: 'VAR_INPUT'"),
     "text after": (BASE + "junk", 19, "text after END_FUNCTION_BLOCK: 'junk'"),

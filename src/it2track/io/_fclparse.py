@@ -281,7 +281,7 @@ class Parser:
         while not self.at(end):
             key = self.next(end)
             if key.upper == "TERM":
-                self.term(var, word)
+                self.term(var)
             elif key.upper == "RANGE":
                 self.range(var, key)
             elif key.upper == "METHOD" and word == "DEFUZZIFY":
@@ -311,7 +311,7 @@ class Parser:
         if not var.terms and word == "DEFUZZIFY":  # an input may feed linear FUNCTIONs only
             raise self.error(tok.line, f"{word} {var.name}: no TERM")
 
-    def term(self, var: FclVar, word: str) -> None:
+    def term(self, var: FclVar) -> None:
         name = self.ident("a term name")
         if name.text in var.terms:  # pyfuzzylite 8 binds the last (fuzzylite 6 the first)
             warnings.warn(FisFormatWarning(
