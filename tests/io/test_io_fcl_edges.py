@@ -1085,3 +1085,10 @@ def test_an_input_named_twice_is_a_condition_tree() -> None:
     assert rule.condition == Join("and", (Is(0, "a"), Not(Is(0, "a"))), norm=TNorm.MINIMUM)
     (rule,) = loads(fcl(IN_A, OUT_B, "RULE 1 : IF x IS a THEN y IS b;"), "fcl").rules
     assert (rule.antecedent, rule.condition) == (("a",), None)
+
+
+def test_the_rule_again_comes_right_after_the_rule() -> None:
+    fls = loads(fcl(IN_A, SING_Y, "RULE 1 : IF x IS a THEN y IS b, y IS c;\n"
+                    "RULE 2 : IF x IS NOT a THEN y IS b;"), "fcl")
+    assert [(r.consequents, r.negated) for r in fls.rules] == [
+        (((2.0, 2.0),), (False,)), (((8.0, 8.0),), (False,)), (((2.0, 2.0),), (True,))]
