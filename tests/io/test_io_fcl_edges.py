@@ -1092,3 +1092,32 @@ def test_the_rule_again_comes_right_after_the_rule() -> None:
                     "RULE 2 : IF x IS NOT a THEN y IS b;"), "fcl")
     assert [(r.consequents, r.negated) for r in fls.rules] == [
         (((2.0, 2.0),), (False,)), (((8.0, 8.0),), (False,)), (((2.0, 2.0),), (True,))]
+
+
+@pytest.mark.parametrize(("text", "line", "message"), [
+    (fcl(IN_A, _swap(OUT_B, "METHOD : COG;", "METHOD : COG; ACCU : MAX;"),
+         "RULE 1 : IF x IS a THEN y IS b;", block="ACCU : SUM;\n"), 16,
+     "ACCU : SUM differs from the earlier ACCU : MAX (line 13); one setting per system"),
+    (fcl(IN_A, _swap(OUT_B, "METHOD : COG;", "METHOD : COG; ACCU : MAX;") + "\n"
+         + _swap(OUT_B, "DEFUZZIFY y", "DEFUZZIFY z").replace("METHOD : COG;",
+                                                              "METHOD : COG; ACCU : SUM;"),
+         "RULE 1 : IF x IS a THEN y IS b, z IS b;", outputs="y : REAL; z : REAL;"), 17,
+     "ACCU : SUM differs from the earlier ACCU : MAX (line 13); one setting per system"),
+    (fcl(IN_A, OUT_B, "RULE 1 : IF x IS a THEN y IS b;" + SECOND_BLOCK.format("ACCU : FOO;")
+         + "RULE 2 : IF x IS a THEN y IS b;", block="ACCU : MAX;\n"), 20,
+     "ACCU : FOO is not supported (MAX, ASUM, BSUM, DSUM, ESUM, EINSTEIN, HSUM, HAMACHER, NMAX, "
+     "NIPMAX, DMAX, SUM, NSUM, PROBOR)"),
+    # an OR rule in a block with AND : PROD only: its OR is PROD's partner, set by that line
+    (two_inputs(OUT_B, BOTH.format(1).replace("AND", "OR") + SECOND_BLOCK.format("OR : MAX;")
+                + BOTH.format(2).replace("AND", "OR"), "AND : PROD;\n"), 23,
+     "OR : MAX differs from the earlier OR : PROD (line 19); one setting per system"),
+])
+def test_accumulations_and_partners_must_agree(text: str, line: int, message: str) -> None:
+    err = refusal(text)
+    assert (err.line, err.message) == (line, message)
+
+
+def test_a_mamdani_output_shape_is_footed_on_its_range() -> None:
+    out = _swap(OUT_B, "TERM b := (0, 0) (1, 1);", "TERM b := TRIAN 2 2 5; RANGE := (0 .. 10);")
+    fls = loads(fcl(IN_A, out), "fcl")
+    assert fls.outputs[0].sets[0].upper == FootedTrapezoid(2.0, 2.0, 2.0, 5.0, 1.0)
