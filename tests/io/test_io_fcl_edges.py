@@ -1121,3 +1121,17 @@ def test_a_mamdani_output_shape_is_footed_on_its_range() -> None:
     out = _swap(OUT_B, "TERM b := (0, 0) (1, 1);", "TERM b := TRIAN 2 2 5; RANGE := (0 .. 10);")
     fls = loads(fcl(IN_A, out), "fcl")
     assert fls.outputs[0].sets[0].upper == FootedTrapezoid(2.0, 2.0, 2.0, 5.0, 1.0)
+
+
+def test_de_morgan_flattens_where_the_norms_are_duals_and_the_tree_keeps_the_or() -> None:
+    (rule,) = loads(two_inputs(OUT_B, "RULE 1 : IF NOT (x IS a OR w IS a) THEN y IS b;"),
+                    "fcl").rules
+    assert (rule.antecedent, rule.negated, rule.connective.value, rule.condition) == (
+        ("a", "a"), (True, True), "and", None)
+    (rule,) = loads(two_inputs(OUT_B, "RULE 1 : IF x IS a AND (w IS a OR x IS a) THEN y IS b;",
+                               "OR : ASUM;\n"), "fcl").rules
+    from it2track.fuzzy.conditions import Is, Join
+
+    assert rule.condition == Join("and", (Is(0, "a"), Join("or", (Is(1, "a"), Is(0, "a")),
+                                                            norm=SNorm.PROBOR)),
+                                  norm=TNorm.PRODUCT)
