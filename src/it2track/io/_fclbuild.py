@@ -33,7 +33,7 @@ from ..fuzzy import (
 )
 from ..fuzzy.terms import FUZZYLITE_TERMS, from_fuzzylite, fuzzylite_consequent
 from ._common import footed
-from ._fclparse import FclTerm, FclVar, FunctionBlock, Parser
+from ._fclparse import FclTerm, FclVar, Parser
 from ._ruletree import DUALS
 from .errors import FisFormatError
 
@@ -62,9 +62,7 @@ _JFL = {"TRIAN": 3, "TRAPE": 4, "GAUSS": 2, "GAUSS2": 4, "GBELL": 3, "SIGM": 2, 
 
 
 class Builder:
-    def __init__(self, parser: Parser, fb: FunctionBlock) -> None:
-        self.p = parser
-        self.fb = fb
+    def __init__(self, parser: Parser) -> None:
         self.error = parser.error
         #: rule line -> its condition as a tree, where the flat form cannot hold it (_chain)
         self.trees: dict[int, Any] = {}

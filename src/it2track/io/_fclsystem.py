@@ -111,7 +111,7 @@ def _kind(b: Builder, var: FclVar) -> str:
 def build(parser: Parser, fb: FunctionBlock) -> AnySystem:
     """The system of one parsed function block: one system, or a
     :class:`~it2track.fuzzy.HybridSystem` of one per run of outputs of the same kind."""
-    b = Builder(parser, fb)
+    b = Builder(parser)
     if not fb.inputs:
         raise b.error(fb.line, "no VAR_INPUT variables")
     if not fb.outputs:
