@@ -1135,3 +1135,8 @@ def test_de_morgan_flattens_where_the_norms_are_duals_and_the_tree_keeps_the_or(
     assert rule.condition == Join("and", (Is(0, "a"), Join("or", (Is(1, "a"), Is(0, "a")),
                                                             norm=SNorm.PROBOR)),
                                   norm=TNorm.PRODUCT)
+
+
+def test_a_function_over_two_lines_is_refused_at_the_token_it_stops_at() -> None:
+    err = refusal(out_term("FUNCTION x *\nx"))
+    assert (err.line, err.message) == (13, "term 'b': FUNCTION multiplies inputs" + LINEAR)
