@@ -1140,3 +1140,30 @@ def test_de_morgan_flattens_where_the_norms_are_duals_and_the_tree_keeps_the_or(
 def test_a_function_over_two_lines_is_refused_at_the_token_it_stops_at() -> None:
     err = refusal(out_term("FUNCTION x *\nx"))
     assert (err.line, err.message) == (13, "term 'b': FUNCTION multiplies inputs" + LINEAR)
+
+
+@pytest.mark.parametrize(("text", "line", "message"), [
+    (in_term("Triangle 2 1 0", " RANGE := (0 .. 10);"), 9, "term 'a': Triangle [2 1 0]: "
+     "Triangle(2.0, 1.0, 0.0, h=1.0): feet and peak must satisfy a <= b <= c, a < c"),
+    (in_term("DSIGM 0 7 0 3", " RANGE := (0 .. 10);"), 9, "term 'a': jFuzzyLogic's DSIGM is "
+     "max(s1 - s2, 0), MATLAB's dsigmf |s1 - s2|: they agree (and it2track reads it) for "
+     "equal gains and a plateau only"),
+    (in_term("DSIGM 0.5 7 0.5 3", " RANGE := (0 .. 10);"), 9, "term 'a': jFuzzyLogic's DSIGM "
+     "is max(s1 - s2, 0), MATLAB's dsigmf |s1 - s2|: they agree (and it2track reads it) for "
+     "equal gains and a plateau only"),
+    (out_term("FUNCTION 1e308 * 10 + x"), 12,
+     "term 'b': linear constant c0 (inf, inf) must be finite, lo <= hi"),
+    (out_term("FUNCTION 1e308 * 10 * x"), 12,
+     "term 'b': linear coefficient c1 (inf, inf) must be finite, lo <= hi"),
+])
+def test_what_the_shapes_and_functions_refuse_is_named_with_the_term(text: str, line: int,
+                                                                     message: str) -> None:
+    err = refusal(text)
+    assert (err.line, err.message) == (line, message)
+
+
+def test_plus_signs_and_small_gains() -> None:
+    assert loads(in_term("TRIAN + 1 2 + 3"), "fcl").inputs[0].sets[0].upper == Triangle(
+        1.0, 2.0, 3.0)
+    fls = loads(in_term("DSIGM 0.5 3 0.5 7", " RANGE := (0 .. 10);"), "fcl")
+    assert fls.inputs[0].sets[0].upper == SigmoidDifference(3.0, 0.5, 0.5, 7.0)

@@ -140,7 +140,7 @@ class Builder:
             if len(p) != _JFL[name]:
                 raise self.error(term.line, f"{what}: {name} needs {_JFL[name]} parameters, got "
                                  f"{len(p)}")
-            mf = self.guarded(term.line, lambda: self._jfl(name, p, term), what)
+            mf = self.guarded(term.line, lambda: self._jfl(name, p), what)
         else:
             known = ", ".join([*_JFL, *FUZZYLITE_TERMS])
             raise self.error(term.line, f"{what}: unknown shape {term.shape!r} (known: {known})")
@@ -148,7 +148,7 @@ class Builder:
             mf = footed(mf, universe)  # 0 beyond a foot inside the range, as the tools
         return mf
 
-    def _jfl(self, name: str, p: list[float], term: FclTerm) -> MembershipFunction:
+    def _jfl(self, name: str, p: list[float]) -> MembershipFunction:
         if name == "TRIAN":
             return Triangle(p[0], p[1], p[2])
         if name == "TRAPE":
