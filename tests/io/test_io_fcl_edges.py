@@ -578,7 +578,7 @@ def test_more_universes_estimated_as_jfuzzylogic_does(terms: str, universe) -> N
 
 
 @pytest.mark.parametrize("term", ["GBELL 1 0 5", "SIGM 0 1", "DSIGM 2 3 0 7",
-                                  "GAUSS 0 1e308"])
+                                  "GAUSS 0 1e308", "GAUSS2 0 1 1e308 1e308"])
 def test_a_universe_that_cannot_be_estimated_asks_for_a_range(term: str) -> None:
     err = refusal(in_term(term))
     assert (err.line, err.message) == (8, "'x': give a RANGE")
@@ -1167,3 +1167,11 @@ def test_plus_signs_and_small_gains() -> None:
         1.0, 2.0, 3.0)
     fls = loads(in_term("DSIGM 0.5 3 0.5 7", " RANGE := (0 .. 10);"), "fcl")
     assert fls.inputs[0].sets[0].upper == SigmoidDifference(3.0, 0.5, 0.5, 7.0)
+
+
+def test_a_subnormal_width_below_zero_is_refused_too() -> None:
+    err = refusal(in_term("(-1e-320, 1) (0, 0)"))
+    assert (err.line, err.message) == (9, "term 'a': the points at x = -1e-320 and x = 0.0 are "
+                                       "closer than the smallest normal float "
+                                       "(2.2250738585072014e-308): the slope between them "
+                                       "overflows")
