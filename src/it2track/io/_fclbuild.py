@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import sys
 from collections.abc import Callable, Iterable
 from typing import Any
 
@@ -33,7 +34,7 @@ from ..fuzzy import (
 from ..fuzzy.formula import Formula, FormulaError
 from ..fuzzy.terms import FUZZYLITE_TERMS, from_fuzzylite, fuzzylite_consequent
 from ._common import footed
-from ._fclparse import FclTerm, FclVar, FunctionBlock, Parser
+from ._fclparse import FclTerm, FclVar, Parser
 from ._ruletree import DUALS
 from .errors import FisFormatError
 
@@ -61,10 +62,12 @@ _JFL = {"TRIAN": 3, "TRAPE": 4, "GAUSS": 2, "GAUSS2": 4, "GBELL": 3, "SIGM": 2, 
         "COSINE": 2}
 
 
+class _NotLinear(FisFormatError):
+    """A FUNCTION that is not linear in the inputs (read as a formula instead)."""
+
+
 class Builder:
-    def __init__(self, parser: Parser, fb: FunctionBlock) -> None:
-        self.p = parser
-        self.fb = fb
+    def __init__(self, parser: Parser) -> None:
         self.error = parser.error
         #: rule line -> its condition as a tree, where the flat form cannot hold it (_chain)
         self.trees: dict[int, Any] = {}
@@ -109,6 +112,11 @@ class Builder:
                              "increasing x")
         if any(not 0.0 <= m <= 1.0 for m in ms):
             raise self.error(term.line, f"term {term.name!r}: memberships must lie in [0, 1]")
+        for a, b in itertools.pairwise(xs):
+            if 0.0 < b - a < sys.float_info.min:  # 1 / (b - a), the slope's factor, overflows
+                raise self.error(term.line, f"term {term.name!r}: the points at x = {a!r} and "
+                                 f"x = {b!r} are closer than the smallest normal float "
+                                 f"({sys.float_info.min!r}): the slope between them overflows")
         h = max(ms)
         if len(set(xs)) == len(xs) and h > 0:
             pattern = tuple("h" if m == h else "0" if m == 0 else "?" for m in ms)
@@ -137,7 +145,7 @@ class Builder:
             if len(p) != _JFL[name]:
                 raise self.error(term.line, f"{what}: {name} needs {_JFL[name]} parameters, got "
                                  f"{len(p)}")
-            mf = self.guarded(term.line, lambda: self._jfl(name, p, term), what)
+            mf = self.guarded(term.line, lambda: self._jfl(name, p), what)
         else:
             known = ", ".join([*_JFL, *FUZZYLITE_TERMS])
             raise self.error(term.line, f"{what}: unknown shape {term.shape!r} (known: {known})")
@@ -145,7 +153,7 @@ class Builder:
             mf = footed(mf, universe)  # 0 beyond a foot inside the range, as the tools
         return mf
 
-    def _jfl(self, name: str, p: list[float], term: FclTerm) -> MembershipFunction:
+    def _jfl(self, name: str, p: list[float]) -> MembershipFunction:
         if name == "TRIAN":
             return Triangle(p[0], p[1], p[2])
         if name == "TRAPE":
@@ -173,9 +181,7 @@ class Builder:
         return Cosine(p[1], 2.0 * p[0])
 
     def mf(self, term: FclTerm, universe: tuple[float, float] | None) -> MembershipFunction:
-        if term.kind == "points":
-            if not term.points:
-                raise self.error(term.line, f"term {term.name!r} has no points")
+        if term.kind == "points":  # the parser reads at least one point
             return self.points(term)
         if term.kind == "shape":
             return self.shape(term, universe)
@@ -189,7 +195,7 @@ class Builder:
                    outputs: Iterable[str] = ()) -> Consequent:
         if term.kind == "singleton":
             return (term.value, term.value)
-        if term.kind == "shape" and term.shape in ("Constant", "Linear"):
+        if term.kind == "shape":
             p = self.numbers(term)
             value = self.guarded(term.line, lambda: fuzzylite_consequent(term.shape, p,
                                                                          len(inputs)),
@@ -199,9 +205,9 @@ class Builder:
             # fuzzylite's FCL export spells its Function term so, in its grammar
             dialect = "fuzzylite" if term.shape == "Function" else "jfuzzylogic"
             formula = self.formula(term, inputs, dialect, outputs)
-            try:  # linear in the inputs: a Linear (compiled, written)
+            try:  # linear in the inputs: a Linear (compiled, written), refused if not finite
                 return self.linear(term, inputs)
-            except FisFormatError:
+            except _NotLinear:
                 return formula
         raise self.error(term.line, f"term {term.name!r}: a COGS/COGF output term is a value, "
                          "fuzzylite's Constant/Linear or a FUNCTION")
@@ -235,9 +241,10 @@ class Builder:
 
         def fail(message: str) -> FisFormatError:
             line = tokens[min(pos, len(tokens) - 1)].line if tokens else term.line
-            return self.error(line, f"term {term.name!r}: FUNCTION {message}; it2track reads "
-                              "functions linear in the inputs (sums of numbers and number * "
-                              "input)")
+            err = self.error(line, f"term {term.name!r}: FUNCTION {message}; it2track reads "
+                             "functions linear in the inputs (sums of numbers and number * "
+                             "input)")
+            return _NotLinear(err.path, err.line, err.message)
 
         def atom() -> dict[str, float]:
             nonlocal pos
@@ -307,12 +314,14 @@ class Builder:
             lo, hi = min(lo, a), max(hi, b)
         if not (math.isfinite(lo) and math.isfinite(hi)):
             raise self.error(var.block_line, f"{var.name!r}: give a RANGE")
+        if lo > hi:  # only a malformed term has its feet reversed: its own check names it
+            for term in var.terms.values():
+                self.mf(term, None)
         return (lo, hi) if lo < hi else (lo - 1.0, hi + 1.0)
 
     def _term_span(self, term: FclTerm) -> tuple[float, float]:
         if term.kind == "points":
-            xs = [x for x, _ in term.points] or [math.nan]
-            return xs[0], xs[-1]
+            return term.points[0][0], term.points[-1][0]
         if term.kind == "singleton":
             return term.value, term.value
         name = term.shape.upper()

@@ -155,6 +155,12 @@ class Parser:
         self.pos += 1
         return tok
 
+    def take(self) -> Tok:
+        """The next token, where the caller has seen that there is one."""
+        tok = self.toks[self.pos]
+        self.pos += 1
+        return tok
+
     def expect(self, text: str) -> Tok:
         tok = self.next(repr(text))
         if tok.upper != text.upper():
@@ -180,7 +186,7 @@ class Parser:
     def number(self, what: str) -> float:
         sign = 1.0
         if self.at("-", "+"):
-            sign = -1.0 if self.next("a sign").text == "-" else 1.0
+            sign = -1.0 if self.take().text == "-" else 1.0
         tok = self.next(what)
         if tok.kind == "ident" and tok.upper in ("NAN", "INF"):
             return math.nan if tok.upper == "NAN" else sign * math.inf
@@ -204,14 +210,14 @@ class Parser:
         return blocks
 
     def function_block(self) -> FunctionBlock:
-        start = self.next("FUNCTION_BLOCK")
+        start = self.take()  # function_blocks saw a token
         if start.upper != "FUNCTION_BLOCK":
             where = "text after END_FUNCTION_BLOCK" if self.pos > 1 else "expected FUNCTION_BLOCK"
             raise self.error(start.line, f"{where}: {start.text!r}")
         name = ""
         tok = self.peek()
         if tok is not None and tok.kind == "ident" and tok.upper not in _BLOCK_WORDS:
-            name = self.next("name").text
+            name = self.take().text
         fb = FunctionBlock(name, start.line)
         while True:
             tok = self.next("END_FUNCTION_BLOCK")
@@ -245,7 +251,7 @@ class Parser:
             self.expect(";")
             target[var.text] = FclVar(var.text, var.line)
             if self.at("RANGE"):  # jFuzzyLogic: RANGE := (lo .. hi); after the declaration
-                self.range(target[var.text], self.next("RANGE"))
+                self.range(target[var.text], self.take())
         self.expect("END_VAR")
 
     def range(self, var: FclVar, key: Tok) -> None:
@@ -277,7 +283,7 @@ class Parser:
         while not self.at(end):
             key = self.next(end)
             if key.upper == "TERM":
-                self.term(var, word)
+                self.term(var)
             elif key.upper == "RANGE":
                 self.range(var, key)
             elif key.upper == "METHOD" and word == "DEFUZZIFY":
@@ -297,7 +303,7 @@ class Parser:
                 # NC ("no change", IEC 61131-7): the last output where no rule fires, the
                 # system's lock_previous (evaluate_sequence); fuzzylite: DEFAULT := nan | NC
                 if self.at("NC"):
-                    self.next("NC")
+                    self.take()
                     var.nc = True
                 else:
                     value = self.number("a default value")
@@ -320,7 +326,7 @@ class Parser:
         if not var.terms and word == "DEFUZZIFY":  # an input may feed linear FUNCTIONs only
             raise self.error(tok.line, f"{word} {var.name}: no TERM")
 
-    def term(self, var: FclVar, word: str) -> None:
+    def term(self, var: FclVar) -> None:
         name = self.ident("a term name")
         if name.text in var.terms:  # pyfuzzylite 8 binds the last (fuzzylite 6 the first)
             warnings.warn(FisFormatWarning(
@@ -342,7 +348,7 @@ class Parser:
                 self.expect(")")
                 term.points.append((x, m))
         elif nxt is not None and nxt.kind == "ident":
-            shape = self.next("a shape")
+            shape = self.take()
             term.kind = "function" if shape.upper == "FUNCTION" else "shape"
             term.shape = shape.text
             while not self.at(";"):
@@ -359,7 +365,7 @@ class Parser:
         tok = self.peek()
         if tok is not None and tok.kind == "ident" and tok.upper not in (
                 "AND", "OR", "ACT", "ACCU", "RULE", "END_RULEBLOCK"):
-            name = self.next("a rule block name").text
+            name = self.take().text
         block = Block(name, start.line)
         while not self.at("END_RULEBLOCK"):
             key = self.next("END_RULEBLOCK")
@@ -398,7 +404,7 @@ class Parser:
             hedges = []
             while self.at(*_HEDGES, "NOT") and (nxt := self.peek(1)) is not None and (
                     nxt.kind == "ident"):
-                hedges.append(self.next("a hedge").text.lower())
+                hedges.append(self.take().text.lower())
             term = self.ident("a term")
             if parens:
                 self.expect(")")
@@ -441,9 +447,9 @@ class Parser:
         hedges = []
         while self.at(*_HEDGES) and (nxt := self.peek(1)) is not None and nxt.kind == "ident" and (
                 nxt.upper not in _AFTER_PROPOSITION):
-            hedges.append(self.next("a hedge").text.lower())
+            hedges.append(self.take().text.lower())
         if self.at("ANY"):  # fuzzylite's 'x is any' names no term: the builder takes the first
-            self.next("ANY")
+            self.take()
             return Proposition(var.text, "", negated, (*hedges, "any"))
         term = self.ident("a term")
         return Proposition(var.text, term.text, negated, tuple(hedges))

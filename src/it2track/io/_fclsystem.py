@@ -38,21 +38,23 @@ _ACT = {k: Implication.from_name(v.value) for k, v in AND.items()}
 
 
 class _Setting:
-    """One operator the whole system must agree on: its value and where it was set."""
+    """One operator the whole system must agree on: its value and where it was set -- by a
+    token, or by default where a block or an output leaves it out."""
 
     def __init__(self, what: str, default: Any) -> None:
         self.what = what
         self.value = default
-        self.token: Tok | None = None
+        self.source: tuple[str, int | None] | None = None  # (the text, its line) set it first
 
-    def set(self, b: Builder, value: Any, tok: Tok | None) -> None:
-        if self.token is not None and value is not self.value:
-            where = tok.line if tok is not None else None
-            text = tok.text if tok is not None else "the default"
+    def set(self, b: Builder, value: Any, tok: Tok | None, line: int | None = None) -> None:
+        """``value`` as ``tok`` gives it, or the default (``tok`` None) of the block or output
+        at ``line``."""
+        text, where = (tok.text, tok.line) if tok is not None else ("the default", line)
+        if self.source is None:
+            self.value, self.source = value, (text, where)
+        elif value is not self.value:
             raise b.error(where, f"{self.what} : {text} differs from the earlier {self.what} : "
-                          f"{self.token.text} (line {self.token.line}); one setting per system")
-        if self.token is None:
-            self.value, self.token = value, tok
+                          f"{self.source[0]} (line {self.source[1]}); one setting per system")
 
 
 def _op(b: Builder, block: Block, key: str, table: dict[str, Any]) -> Any:
@@ -109,7 +111,7 @@ def _kind(b: Builder, var: FclVar) -> str:
 def build(parser: Parser, fb: FunctionBlock) -> AnySystem:
     """The system of one parsed function block: one system, or a
     :class:`~it2track.fuzzy.HybridSystem` of one per run of outputs of the same kind."""
-    b = Builder(parser, fb)
+    b = Builder(parser)
     if not fb.inputs:
         raise b.error(fb.line, "no VAR_INPUT variables")
     if not fb.outputs:
@@ -137,6 +139,9 @@ def build(parser: Parser, fb: FunctionBlock) -> AnySystem:
         and_ = and_ or PARTNER_OF_OR.get(or_) or TNorm.MINIMUM
         or_ = or_ or DUALS.get(and_) or SNorm.MAXIMUM
         for rule in block.rules:
+            for vname, _, _ in rule.conclusions:
+                if vname not in fb.outputs:
+                    raise b.error(rule.line, f"rule concludes {vname!r}, which is not an output")
             chained = False
             for prop in propositions(rule.condition):
                 if prop.variable in fb.outputs:
@@ -186,7 +191,8 @@ def _part(b: Builder, fb: FunctionBlock, inputs: list[Input], names: list[str], 
     methods = _Setting("METHOD", None)
     for var in outputs.values():
         method = _method(b, var)
-        methods.set(b, MAMDANI.get(method) or SUGENO[method], var.method)
+        assert var.block_line is not None  # build checked every output has its block
+        methods.set(b, MAMDANI.get(method) or SUGENO[method], var.method, var.block_line)
         if var.accu is not None:
             if var.accu.upper not in ACCU:
                 raise b.error(var.accu.line, f"ACCU : {var.accu.text} is not supported "
@@ -199,9 +205,10 @@ def _part(b: Builder, fb: FunctionBlock, inputs: list[Input], names: list[str], 
         if len(props) > 1:
             setting, value, key = (tnorm, and_, "AND") if op == "and" else (snorm, or_, "OR")
             setting.set(b, value, block.ops.get(key) or block.ops.get(
-                "OR" if key == "AND" else "AND"))
+                "OR" if key == "AND" else "AND"), block.line)
         if kind == "mamdani":
-            act.set(b, _op(b, block, "ACT", _ACT) or Implication.MINIMUM, block.ops.get("ACT"))
+            act.set(b, _op(b, block, "ACT", _ACT) or Implication.MINIMUM, block.ops.get("ACT"),
+                    block.line)
         conclusions = [c for c in rule.conclusions if c[0] in outputs]
         rules.append((dataclasses.replace(rule, conclusions=conclusions), op, props))
     return _assemble(b, fb, outputs, inputs, rules, kind, methods.value,
@@ -221,7 +228,7 @@ def _assemble(b: Builder, fb: FunctionBlock, outputs: dict[str, FclVar], inputs:
             values[name] = {t.name: b.consequent(t, in_names, fb.outputs)
                             for t in var.terms.values()}
     built: list[Rule] = []
-    users: dict[tuple[str, str], tuple[int, str]] = {}
+    concluded: set[tuple[str, str]] = set()  # (output, value) of the rules so far
     shared = False
     queue = list(rules)
     while queue:
@@ -241,8 +248,6 @@ def _assemble(b: Builder, fb: FunctionBlock, outputs: dict[str, FclVar], inputs:
         cons_hedges: list[tuple[Hedge, ...]] = [()] * len(out_names)
         again = []  # a second conclusion on one output: the same rule again (jFuzzyLogic)
         for vname, term, written in rule.conclusions:
-            if vname not in outputs:
-                raise b.error(rule.line, f"rule concludes {vname!r}, which is not an output")
             if term not in outputs[vname].terms:
                 raise b.error(rule.line, f"output {vname!r} has no term {term!r}")
             k = out_names.index(vname)
@@ -254,8 +259,8 @@ def _assemble(b: Builder, fb: FunctionBlock, outputs: dict[str, FclVar], inputs:
             # jFuzzyLogic accumulates singletons by their value (x): equal values are one
             # term, its degree the ACCU of the rules' (T1Sugeno's aggregation)
             key = (vname, repr(cons[k]))
-            shared = shared or key in users
-            users.setdefault(key, (rule.line, term))
+            shared = shared or key in concluded
+            concluded.add(key)
         if again:
             queue.insert(0, (dataclasses.replace(rule, conclusions=again), op, props))
         built.append(_rule(b, rule, antecedent, cons, op, negated, hedges, cons_hedges))
@@ -272,7 +277,7 @@ def _assemble(b: Builder, fb: FunctionBlock, outputs: dict[str, FclVar], inputs:
         "lock_previous": tuple(var.nc for var in outputs.values()),
     }
     if sugeno:
-        if len(out_names) > 1 or out_names != ["output1"]:
+        if out_names != ["output1"]:  # one output, named as MATLAB names it: plain
             options["outputs"] = tuple(out_names)
         if shared and accu.value is not Aggregation.SUM:
             options["aggregation"] = accu.value
@@ -288,7 +293,7 @@ def _assemble(b: Builder, fb: FunctionBlock, outputs: dict[str, FclVar], inputs:
         sets_of.append(_variable(b, Output, var, universe, sets))
     options["outputs"] = tuple(sets_of)
     if kind == "tsukamoto":  # fuzzylite 8 combines the firing of a set with the ACCU
-        options["aggregation"] = accu.value if accu.token is not None else Aggregation.SUM
+        options["aggregation"] = accu.value
         system: AnySystem = b.guarded(None, lambda: T1Tsukamoto(**options))
         return system
     options.update(implication=implication, aggregation=accu.value, resolution=POINTS)
