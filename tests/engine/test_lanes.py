@@ -7,34 +7,11 @@ import math
 
 import numpy as np
 import pytest
-from numba import njit
+from _lane_kernels import _atan2, _sc, _wrap, bits
 
 from it2track.plant._sincos import _sincos, _sincos_small
-from it2track.tracking import _jit
 from it2track.tracking.libm import atan2
 from it2track.tracking.simulate import _wrap_inplace
-
-
-@njit(error_model="numpy")
-def _atan2(W, L):
-    _jit._atan2_lanes(W, 1, 0, 2, L)
-
-
-@njit(error_model="numpy")
-def _wrap(W, L):
-    _jit._wrap_lanes(W, 0, L)
-
-
-@njit(error_model="numpy")
-def _sc(W, L, small):
-    if small:
-        _jit._sincos_lanes(W, 0, 1, 2, L, True)
-    else:
-        _jit._sincos_lanes(W, 0, 1, 2, L, False)
-
-
-def bits(a):
-    return np.asarray(a, dtype=np.float64).view(np.int64)
 
 
 def blocks(values, rng):

@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 import pytest
-from numba import njit
+from _lane_kernels import _atan2, _sc, _wrap, bits
 
 from it2track.fuzzy import Input, IT2Set, IT2Sugeno, Reducer, Rule, Triangle, ZeroFiringError
 from it2track.paper import heading_fls
@@ -171,26 +171,6 @@ def test_zero_firing_without_a_value_is_the_references_error():
 # (test_lanes.py draws random lanes; these put each bound and its neighbours in a block)
 
 
-@njit(error_model="numpy")
-def _atan2(W, L):
-    _jit._atan2_lanes(W, 1, 0, 2, L)
-
-
-@njit(error_model="numpy")
-def _wrap(W, L):
-    _jit._wrap_lanes(W, 0, L)
-
-
-@njit(error_model="numpy")
-def _sc(W, L, small):
-    if small:
-        _jit._sincos_lanes(W, 0, 1, 2, L, True)
-    else:
-        _jit._sincos_lanes(W, 0, 1, 2, L, False)
-
-
-def bits(a):
-    return np.asarray(a, dtype=np.float64).view(np.int64)
 
 
 def around(v):
