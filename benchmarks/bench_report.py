@@ -42,7 +42,7 @@ def main() -> None:
     from it2track.experiments.analysis import evaluate_claims, summarise
     from it2track.experiments.study import StudyConfig, run_study
     from it2track.report.figures import draw_figure, figure_plan, write_figures
-    from it2track.report.figures.style import _RC, FIGURE_DPI, _compact_png
+    from it2track.report.figures.style import _DRAFT_RC, _RC, FIGURE_DPI, _compact_png, _save
     from it2track.report.html import write_html
     from it2track.report.render import FigureRenderer
 
@@ -75,6 +75,25 @@ def main() -> None:
             totals = [a + b for a, b in zip(totals, row, strict=True)]
             print(f"{key:<18} {row[0]:7.2f} {row[1]:7.2f} {row[2]:7.2f}")
     print(f"{'total':<18} {totals[0]:7.2f} {totals[1]:7.2f} {totals[2]:7.2f}")
+
+    print("\n1b. per figure, CPU seconds of its draft (reproduce --quick: DRAFT_DPI, fixed "
+          "spacing, the first trajectory of a figure with a panel per trajectory) against the "
+          "same draft with every trajectory")
+    print(f"{'figure':<18} {'draft':>7} {'all':>7}")
+    draft_totals = [0.0, 0.0]
+    with tempfile.TemporaryDirectory() as tmp, \
+            matplotlib.rc_context({**_RC, **_DRAFT_RC}):  # type: ignore[arg-type]
+        for key in figure_plan(result, summary):
+            row = []
+            for first_only in (True, False):
+                c0 = time.process_time()
+                fig = draw_figure(key, result, summary, draft=first_only)
+                _save(fig, Path(tmp), key, svg=False, draft=True)
+                row.append(time.process_time() - c0)
+            draft_totals = [a + b for a, b in zip(draft_totals, row, strict=True)]
+            print(f"{key:<18} {row[0]:7.2f} {row[1]:7.2f}")
+    print(f"{'total':<18} {draft_totals[0]:7.2f} {draft_totals[1]:7.2f}  "
+          f"(ratio {draft_totals[0] / draft_totals[1]:.2f})")
 
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp)

@@ -16,6 +16,7 @@ from it2track.experiments.analysis import summarise
 from it2track.experiments.specs import ControllerKind, ControllerSpec
 from it2track.experiments.study import PDTuning, StudyConfig, StudyResult, run_study
 from it2track.report.figures import (
+    PER_TRAJECTORY,
     draw_figure,
     figure_keys,
     figure_plan,
@@ -318,13 +319,47 @@ def test_draft_figures_are_smaller_and_the_same_drawing(study, written, tmp_path
     assert dict(matplotlib.rcParams) == rc_before
     assert set(drafts) == set(figures)
     for key, png in drafts.items():
-        fig = draw_figure(key, study, summary)
+        fig = draw_figure(key, study, summary, draft=True)
         width, height = fig.get_size_inches()
+        final_width, final_height = draw_figure(key, study, summary).get_size_inches()
         with PIL.Image.open(png) as draft, PIL.Image.open(figures[key]) as final:
             assert draft.mode in ("RGB", "RGBA") and final.mode == "P", key
             assert draft.size == (round(width * DRAFT_DPI), round(height * DRAFT_DPI)), key
-            assert final.size == (round(width * FIGURE_DPI), round(height * FIGURE_DPI)), key
+            assert final.size == (round(final_width * FIGURE_DPI),
+                                  round(final_height * FIGURE_DPI)), key
     assert sorted(p.suffix for p in tmp_path.iterdir()) == [".png"] * len(figures)
+
+
+def test_a_draft_draws_the_first_trajectory_of_a_per_trajectory_figure(study):
+    """A draft of a figure with panels per trajectory draws the study's first trajectory only
+    (a third of the panels: the smoke run's figures cost about half) and says so in red; the
+    other figures are drawn whole, with no note."""
+    summary = summarise(study.rows)
+    trajs = list(study.config.trajectories)
+    assert len(trajs) == 3
+    note = (f"draft (reproduce --quick): trajectory {trajs[0]} only; 2 more in the full run")
+
+    def titles(fig):
+        return " ".join(a.get_title() for a in fig.axes)
+
+    def texts(fig):
+        return [t.get_text() for t in fig.texts]
+
+    for key in figure_plan(study, summary):
+        full = draw_figure(key, study, summary)
+        draft = draw_figure(key, study, summary, draft=True)
+        if key in PER_TRAJECTORY:
+            assert all(t in titles(full) for t in trajs), key
+            assert trajs[0] in titles(draft), key
+            assert not any(t in titles(draft) for t in trajs[1:]), key
+            assert len(draft.axes) < len(full.axes), key
+            assert note in texts(draft) and note not in texts(full), key
+            assert next(t for t in draft.texts if t.get_text() == note).get_color() == "#b00000"
+        else:
+            assert len(draft.axes) == len(full.axes), key
+            assert texts(draft) == texts(full), key
+    assert PER_TRAJECTORY == {"fou_comparison", "integral_errors", "noise_sweep", "fou_sweep",
+                              "win_rates", "robustness"}
 
 
 def test_a_draft_has_the_fixed_spacing_and_no_constrained_layout(tmp_path):

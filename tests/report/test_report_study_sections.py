@@ -143,6 +143,15 @@ def test_the_heat_map_shows_the_robustness_verdicts(page):
             assert matplotlib.colors.same_color(colour[gid][:3], STATUS_COLORS[status]), gid
             checked += 1
     assert checked == len(colour)
+    # A draft (reproduce --quick) keeps the pooled facet and the first trajectory's only.
+    with matplotlib.rc_context(_RC):
+        draft = draw_figure("robustness", result, summary, draft=True)
+    facets = {(p.get_gid() or "").split("|")[1] for p in draft.findobj(Rectangle)
+              if (p.get_gid() or "").startswith("robustness|")}
+    assert facets == {ALL, result.config.trajectories[0]}
+    full = {(p.get_gid() or "").split("|")[1] for p in fig.findobj(Rectangle)
+            if (p.get_gid() or "").startswith("robustness|")}
+    assert full == {ALL, *result.config.trajectories}
 
 
 def test_per_trajectory_verdicts_and_multiplicity(page):

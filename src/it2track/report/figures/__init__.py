@@ -63,6 +63,7 @@ __all__ = [
     "FIGURE_DPI",
     "INTEGRAL_UNITS",
     "PAPER_FIGURE_NUMBER",
+    "PER_TRAJECTORY",
     "controller_specs",
     "draw_figure",
     "figure_keys",
@@ -77,38 +78,47 @@ __all__ = [
 @dataclass(frozen=True)
 class _Inputs:
     """What every figure function takes: the result, the summary index, the controllers'
-    identities and the palette."""
+    identities, the palette and the trajectories to draw (a draft's first one, else all)."""
 
     result: StudyResult
     summ: _Summary
     ctrls: Mapping[str, _Ctrl]
     pal: _Palette
+    trajs: tuple[str, ...]
 
     @classmethod
-    def of(cls, result: StudyResult, summary: Sequence[Mapping[str, Any]]) -> _Inputs:
+    def of(cls, result: StudyResult, summary: Sequence[Mapping[str, Any]], *,
+           draft: bool = False) -> _Inputs:
         ctrls = _controller_table(result)
-        return cls(result, _Summary(summary), ctrls, _Palette(result.config.fous, ctrls.values()))
+        trajs = tuple(result.config.trajectories)
+        return cls(result, _Summary(summary), ctrls, _Palette(result.config.fous, ctrls.values()),
+                   trajs[:1] if draft else trajs)
 
 
 _DRAW: dict[str, Callable[[_Inputs], Figure]] = {
-    "fou_comparison": lambda i: _fig_fou_comparison(i.result, i.ctrls, i.pal),
-    "integral_errors": lambda i: _fig_integral_errors(i.result, i.summ, i.ctrls, i.pal),
-    "noise_sweep": lambda i: _fig_noise_sweep(i.result, i.summ, i.ctrls, i.pal),
-    "fou_sweep": lambda i: _fig_fou_sweep(i.result, i.summ, i.ctrls, i.pal),
+    "fou_comparison": lambda i: _fig_fou_comparison(i.result, i.ctrls, i.pal, i.trajs),
+    "integral_errors": lambda i: _fig_integral_errors(i.result, i.summ, i.ctrls, i.pal, i.trajs),
+    "noise_sweep": lambda i: _fig_noise_sweep(i.result, i.summ, i.ctrls, i.pal, i.trajs),
+    "fou_sweep": lambda i: _fig_fou_sweep(i.result, i.summ, i.ctrls, i.pal, i.trajs),
     "control_surfaces": lambda i: _fig_control_surfaces(i.result, i.ctrls),
     "dead_zone": lambda i: _fig_dead_zone(i.result, i.ctrls, i.pal),
-    "win_rates": lambda i: _fig_win_rates(i.result, i.summ, i.ctrls),
-    "robustness": lambda i: _fig_robustness(i.result.robustness, i.result.config.trajectories),
+    "win_rates": lambda i: _fig_win_rates(i.result, i.summ, i.ctrls, i.trajs),
+    "robustness": lambda i: _fig_robustness(i.result.robustness, i.trajs),
     "sensitivity": lambda i: _fig_sensitivity(i.result.robustness),
 }
 
+#: The figures with a panel (row or column) per trajectory: a draft draws the first only.
+PER_TRAJECTORY = frozenset({"fou_comparison", "integral_errors", "noise_sweep", "fou_sweep",
+                            "win_rates", "robustness"})
+
 
 def draw_figure(key: str, result: StudyResult,
-                summary: Sequence[Mapping[str, Any]]) -> Figure:
+                summary: Sequence[Mapping[str, Any]], *, draft: bool = False) -> Figure:
     """The figure ``key`` (see :func:`figure_plan`) as a matplotlib figure, not yet drawn.
 
     Call it inside ``matplotlib.rc_context(figures.style._RC)`` for the study's look;
-    :func:`write_figure` does.
+    :func:`write_figure` does. ``draft``: a smoke run's figure, whose panels per trajectory
+    (:data:`PER_TRAJECTORY`) show the study's first trajectory only, and a note says so.
 
     Raises
     ------
@@ -118,11 +128,17 @@ def draw_figure(key: str, result: StudyResult,
     if key not in figure_plan(result, summary):
         raise KeyError(f"no figure {key!r} for this result (have: "
                        f"{', '.join(figure_plan(result, summary)) or 'none'})")
-    inputs = _Inputs.of(result, summary)
+    inputs = _Inputs.of(result, summary, draft=draft)
     traj = paper_figures(result).get(key)
     if traj is not None:
         return _fig_paper(result, traj, inputs.ctrls, inputs.pal)
-    return _DRAW[key](inputs)
+    fig = _DRAW[key](inputs)
+    left_out = len(result.config.trajectories) - len(inputs.trajs)
+    if key in PER_TRAJECTORY and left_out:
+        fig.text(0.995, 0.005, f"draft (reproduce --quick): trajectory {inputs.trajs[0]} only; "
+                 f"{left_out} more in the full run", ha="right", va="bottom", fontsize=8,
+                 color="#b00000")
+    return fig
 
 
 def write_figure(key: str, result: StudyResult, summary: Sequence[Mapping[str, Any]],
@@ -142,7 +158,8 @@ def write_figure(key: str, result: StudyResult, summary: Sequence[Mapping[str, A
     out_dir.mkdir(parents=True, exist_ok=True)
     rc = {**_RC, **_DRAFT_RC} if draft else _RC
     with matplotlib.rc_context(rc):  # type: ignore[arg-type]
-        return _save(draw_figure(key, result, summary), out_dir, key, svg=svg, draft=draft)
+        return _save(draw_figure(key, result, summary, draft=draft), out_dir, key, svg=svg,
+                     draft=draft)
 
 
 def write_figures(

@@ -4,7 +4,7 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 from matplotlib.figure import Figure
@@ -18,9 +18,10 @@ from ..identity import _Ctrl, _info, _num, _order_key, _Summary
 # ---------------------------------------------------------------------------------------------
 
 
-def _fig_win_rates(result: StudyResult, summ: _Summary, ctrls: Mapping[str, _Ctrl]) -> Figure:
+def _fig_win_rates(result: StudyResult, summ: _Summary, ctrls: Mapping[str, _Ctrl],
+                   trajs: Sequence[str] | None = None) -> Figure:
     cfg = result.config
-    trajs = list(cfg.trajectories)
+    trajs = list(cfg.trajectories if trajs is None else trajs)
     sigma = summ.levels("paper")[0] if summ.levels("paper") else cfg.noise_std
     labels = sorted((lb for lb in summ.controllers("paper") if lb != "FLC"),
                     key=lambda lb: _order_key(_info(ctrls, lb)))

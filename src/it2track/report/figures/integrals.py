@@ -73,9 +73,9 @@ def _short_bars(a: Axes, top: float, fraction: float = 0.08) -> list[tuple[float
 
 
 def _fig_integral_errors(result: StudyResult, summ: _Summary, ctrls: Mapping[str, _Ctrl],
-                         pal: _Palette) -> Figure:
+                         pal: _Palette, trajs: Sequence[str] | None = None) -> Figure:
     cfg = result.config
-    trajs = list(cfg.trajectories)
+    trajs = list(cfg.trajectories if trajs is None else trajs)
     sigma = summ.levels("paper")[0] if summ.levels("paper") else cfg.noise_std
     labels = summ.controllers("paper")
     groups = _bar_groups(labels, ctrls)

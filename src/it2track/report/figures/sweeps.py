@@ -62,9 +62,9 @@ def _band(a: Axes, x: Sequence[float], rows: Sequence[Mapping[str, Any] | None],
 
 
 def _fig_noise_sweep(result: StudyResult, summ: _Summary, ctrls: Mapping[str, _Ctrl],
-                     pal: _Palette) -> Figure:
+                     pal: _Palette, trajs: Sequence[str] | None = None) -> Figure:
     cfg = result.config
-    trajs = list(cfg.trajectories)
+    trajs = list(cfg.trajectories if trajs is None else trajs)
     levels = summ.levels("noise")
     labels = sorted(summ.controllers("noise"),
                     key=lambda lb: _order_key(_info(ctrls, lb)))
@@ -99,9 +99,9 @@ def _fig_noise_sweep(result: StudyResult, summ: _Summary, ctrls: Mapping[str, _C
 
 
 def _fig_fou_sweep(result: StudyResult, summ: _Summary, ctrls: Mapping[str, _Ctrl],
-                   pal: _Palette) -> Figure:
+                   pal: _Palette, trajs: Sequence[str] | None = None) -> Figure:
     cfg = result.config
-    trajs = list(cfg.trajectories)
+    trajs = list(cfg.trajectories if trajs is None else trajs)
     sigma = summ.levels("fou")[0] if summ.levels("fou") else cfg.noise_std
     labels = summ.controllers("fou")
     infos = [_info(ctrls, lb) for lb in labels]

@@ -4,7 +4,7 @@ main IT2FLC) and Fig. 10 (every FoU width).
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -101,9 +101,9 @@ def _fig_paper(result: StudyResult, traj: str, ctrls: Mapping[str, _Ctrl],
 
 
 def _fig_fou_comparison(result: StudyResult, ctrls: Mapping[str, _Ctrl],
-                        pal: _Palette) -> Figure:
+                        pal: _Palette, trajs: Sequence[str] | None = None) -> Figure:
     cfg = result.config
-    trajs = list(cfg.trajectories)
+    trajs = list(cfg.trajectories if trajs is None else trajs)
     n = len(trajs)
     fig = Figure(figsize=(max(4.0 * n, 6.0), 6.6), layout="constrained")
     ax = np.asarray(fig.subplots(2, n, squeeze=False))
