@@ -379,8 +379,10 @@ def test_a_draft_has_the_fixed_spacing_and_no_constrained_layout(tmp_path):
         grid = fig.add_gridspec(2, 2)
         axes = [fig.add_subplot(grid[i, j]) for i in range(2) for j in range(2)]
         inner = grid[1, 1].subgridspec(1, 2)  # a nested grid: its outer grid is spaced
+        title = fig.suptitle("a title much wider than the four-inch figure it is the title of")
         _save(fig, tmp_path, f"draft_{draft}", svg=False, draft=draft)
         figs[draft] = (fig, grid, axes, inner)
+        assert title.get_wrap() is draft  # a draft's title wraps at the figure's edges
     fig, grid, _, _ = figs[True]
     assert not isinstance(fig.get_layout_engine(), ConstrainedLayoutEngine)
     params = grid.get_subplot_params(fig)

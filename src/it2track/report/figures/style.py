@@ -131,6 +131,10 @@ def _save(fig: Figure, out_dir: Path, stem: str, *, svg: bool = True,
         # and no constrained layout, which measures every label twice (a fifth of a figure's
         # CPU): the grid's fixed spacing, widened so that titles clear the row above.
         fig.set_layout_engine("none")
+        # (a title wider than the figure wraps rather than running off both edges)
+        title = getattr(fig, "_suptitle", None)
+        if title is not None:
+            title.set_wrap(True)
         grids = set()
         for ax in fig.axes:
             spec = ax.get_subplotspec()
