@@ -79,6 +79,20 @@ def _encode(mf: MembershipFunction) -> Row:
     return MFKind.OTHER, (0.0, 0.0, 0.0, 0.0, 0.0)
 
 
+def _parametric(mf: MembershipFunction) -> bool:
+    """A term whose parameters are inputs (:mod:`.parametric`), hedged or not."""
+    return isinstance(mf, Parametric) or (isinstance(mf, Hedged)
+                                          and isinstance(mf.mf, Parametric))
+
+
+def _parametric_block(mf: Any, x: FloatArray, i: int) -> FloatArray:
+    if isinstance(mf, Hedged):
+        inner: Parametric = mf.mf  # type: ignore[assignment]  # (_parametric)
+        return apply_hedges(mf.hedges, inner.evaluate(x, i))
+    result: FloatArray = mf.evaluate(x, i)
+    return result
+
+
 class SystemTables:
     """A Sugeno system's inputs and rules as arrays, built once (see the module docstring).
 
@@ -268,10 +282,9 @@ class SystemTables:
         self.pl_params = [np.array(v)[:, None] for v in (a, wl, d, wr, h)]
         self.pl_scalar = list(zip(pl, [mf_input[k] for k in pl], a, wl, d, wr, h, strict=True))
         self.other = [(k, mfs[k], mf_input[k]) for k in range(n_rows)
-                      if k not in set(pl) and not isinstance(mfs[k], Parametric)]
+                      if k not in set(pl) and not _parametric(mfs[k])]
         #: rows whose parameters are inputs (:mod:`.parametric`), evaluated on the whole block
-        self.parametric = [(k, mf, mf_input[k]) for k, mf in enumerate(mfs)
-                           if isinstance(mf, Parametric)]
+        self.parametric = [(k, mf, mf_input[k]) for k, mf in enumerate(mfs) if _parametric(mf)]
         self.all_pl = not self.other and not self.parametric
         self.identity_pl = self.all_pl and np.array_equal(self.pl_rows, np.arange(n_rows))
         y_lo = np.empty(len(rules))
@@ -450,7 +463,7 @@ class SystemTables:
         for k, mf, i in self.other:
             out[k] = mf(x[i])
         for k, pmf, i in self.parametric:
-            out[k] = pmf.evaluate(x, i)
+            out[k] = _parametric_block(pmf, x, i)
         return out
 
     def memberships_scalar(self, x: Sequence[float]) -> list[float]:
@@ -463,7 +476,7 @@ class SystemTables:
         if self.parametric:
             column = np.array(x, dtype=np.float64)[:, None]
             for k, pmf, i in self.parametric:
-                out[k] = float(pmf.evaluate(column, i)[0])
+                out[k] = float(_parametric_block(pmf, column, i)[0])
         return out
 
     # -- firing (the antecedent machinery shared by every kind of system) ---------------------
