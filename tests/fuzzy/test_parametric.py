@@ -132,8 +132,14 @@ def test_a_system_evaluates_each_sample_with_its_parameters() -> None:
 
 
 def test_the_compiled_engine_leaves_it_to_numpy_and_fixed_rows_are_unchanged() -> None:
+    from it2track.codegen.generate import check_supported
+    from it2track.io import UnsupportedFeatureError
+
     system, _ = _systems()
     assert "OTHER" in (_kernels.supported(system) or "")
+    with pytest.raises(UnsupportedFeatureError, match=r"input 'v': membership function "
+                       r"Parametric\(family='gauss'.* has no C implementation"):
+        check_supported(system)
     t = system.tables
     assert [k for k, _, _ in t.parametric] == [0] and t.other == []
     assert t.pl_rows.tolist() == [1] and not t.all_pl
