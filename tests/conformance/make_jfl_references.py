@@ -12,8 +12,10 @@ against them and runs it per file (``java`` and ``javac`` 17 or later)::
 Matched resolution: a continuous defuzzifier samples 1001 points over jFuzzyLogic's universe,
 both ends included (it2track's reading of an FCL output: jFuzzyLogic's 1000 intervals, its
 own universe estimate when there is no RANGE); each evaluation starts from no output
-(``DEFAULT`` or NaN, where jFuzzyLogic would keep the previous evaluation's). ``--check``
-compares instead of writing.
+(``DEFAULT`` or NaN, where jFuzzyLogic would keep the previous evaluation's). Inputs are
+sampled over jFuzzyLogic's universes, or :data:`SAMPLED`'s where it has none. ``--check``
+compares instead of writing; without it only new or changed tables are written (and tables of
+files jFuzzyLogic no longer evaluates removed).
 """
 
 from __future__ import annotations
@@ -29,6 +31,19 @@ from catalog import FILES, POINTS, REFERENCES, examples
 from grids import grid
 
 HERE = Path(__file__).parent
+
+#: inputs whose universe jFuzzyLogic cannot estimate (NaN) or estimates as a point, sampled
+#: over these ranges instead (file -> input -> (lo, hi)); jFuzzyLogic evaluates the file as
+#: ever, at those points
+SAMPLED: dict[str, dict[str, tuple[float, float]]] = {
+    # inVar's term good is GAUSS meanGood stdGood, so jFuzzyLogic's estimate of inVar is NaN
+    # (the variables are NaN when it loads the file): inVar over its fixed terms' estimate,
+    # poor GAUSS 1 2 (1 -+ 4 * 2) and excellent GAUSS 9 1 (9 -+ 4 * 1), it2track's universe;
+    # meanGood and stdGood have no terms (jFuzzyLogic: the point 0), sampled where good is a
+    # Gaussian within that universe
+    "jfuzzylogic/fcl/cinthia.fcl": {"inVar": (-7.0, 13.0), "meanGood": (-7.0, 13.0),
+                                    "stdGood": (0.5, 5.0)},
+}
 
 
 def _setup(mirror: str, work: Path) -> str:
@@ -53,6 +68,8 @@ def table(path: str, classpath: str, commit: str) -> str | None:
     ins, outs = lines[0].split()[1:], lines[1].split()[1:]
     names = ins[0::3]
     ranges = [(float(lo), float(hi)) for lo, hi in zip(ins[1::3], ins[2::3], strict=True)]
+    sampled = SAMPLED.get(path, {})
+    ranges = [sampled.get(name, span) for name, span in zip(names, ranges, strict=True)]
     if not names or not outs or any(not lo <= hi for lo, hi in ranges):
         return None
     x = grid(ranges)

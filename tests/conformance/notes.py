@@ -82,14 +82,15 @@ NOTES: dict[str, str] = {
 #: (a fragment of the refusal message, the cause, why it2track leaves it refused)
 REFUSALS: list[tuple[str, str, str]] = [
     ("no VAR_OUTPUT", "not a fuzzy system: a function block without outputs",
-     "jFuzzyLogic's membership-function unit tests (junit_gauss.fcl, ...) and scarledOLD.fcl "
-     "declare inputs only; jFuzzyLogic's tests read the terms' memberships directly. Nothing "
-     "maps inputs to an output, so there is no system to evaluate or compare."),
+     "jFuzzyLogic's membership-function unit tests (junit_gauss.fcl, ..., "
+     "on_line_variable.fcl) and scarledOLD.fcl declare inputs only; jFuzzyLogic's tests read "
+     "the terms' memberships directly. Nothing maps inputs to an output, so there is no "
+     "system to evaluate or compare. (on_line_variable.fcl's terms, whose points are other "
+     "inputs, reproduce the memberships jFuzzyLogic records for it, on_line_variable_4/5/6.txt: "
+     "tests/io/test_io_fcl_variables.py.)"),
     ("has no DEFUZZIFY block", "not a fuzzy system: an output without terms",
      "The file declares an output it never defines (jFuzzyLogic fills it from a Java test). "
      "There is no output set or value to evaluate."),
-    ("has no FUZZIFY block", "term parameters given by other variables",
-     ""),
     ("no TERM", "not a fuzzy system: no rules, no terms",
      "noRules.fcl has an output with no term and no rule, a parser test of jFuzzyLogic."),
     ("no rule has a consequent for output 1", "a first output no rule concludes",
@@ -106,10 +107,18 @@ REFUSALS: list[tuple[str, str, str]] = [
      "to .fis with antecedent index 0 (a .fis cannot name an output in a condition): the "
      ".fis rule says nothing about when it fires, so it cannot be read as its .fll/.fcl twin "
      "(which it2track reads and agrees with)."),
-    ("values given by variables", "term parameters given by other variables",
-     "jFuzzyLogic lets a term's points be other inputs' values (GAUSS meanGood stdGood: "
-     "cinthia.fcl's inputs without terms of their own), so the sets change with every "
-     "evaluation; it2track's sets are fixed when the system is built."),
+    ("an output term with values given by variables", "output terms given by variables",
+     "membershipWithVariables.fcl's output terms have points given by its inputs (TERM "
+     "middle := (low, 0) (mid, 1) (high, 0)). jFuzzyLogic reads such a value at each "
+     "evaluation (Value.getValue), as it2track reads input terms so (cinthia.fcl's GAUSS "
+     "meanGood stdGood, evaluated per sample: it agrees), but samples an output's terms on a "
+     "defuzzification grid it fixes once, at the first evaluation whose values give the "
+     "output a finite universe (Defuzzifier.reset calls init only while the grid is NaN, as "
+     "it is at loading, the variables being NaN then): its outputs depend on the order of "
+     "evaluations. it2track's output sets are fixed when the system is built. The file also "
+     "has no rules, so jFuzzyLogic's output, its reference, is the DEFAULT 4 everywhere "
+     "(jFuzzyLogic's own test of it checks only the universe it re-estimates); it2track "
+     "refuses a file without rules."),
     ("a singleton is the value of a COGS output", "a singleton set in a centroid output",
      "junit1/junit2.fcl conclude singletons (TERM closed := 0) in an output without METHOD : "
      "COGS. jFuzzyLogic itself evaluates neither: a singleton is its discrete membership "

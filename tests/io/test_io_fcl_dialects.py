@@ -354,7 +354,8 @@ END_DEFUZZIFY"""
 @pytest.mark.parametrize(("old", "new", "needle", "problem"), [
     ("IF x IS lo THEN", "IF x IS very nope THEN", "RULE 1", "has no term 'nope'"),
     ("TERM a := 2;", "TERM a := 2;\n    DEFAULT := 1 | XX;", "DEFAULT", "expected 'NC'"),
-    ("TERM lo := (0, 1) (10, 0);", "TERM lo := TRIAN 0 m 10;", "TERM lo", "is a variable"),
+    ("TERM lo := (0, 1) (10, 0);", "TERM lo := TRIAN 0 m 10;", "TERM lo",
+     "parameter 'm' is not a declared variable"),
     ("METHOD : COGS;", "METHOD : COGS;\n    ACCU : NOPE;", "ACCU", "ACCU : NOPE"),
     ("TERM hi := (0, 0) (10, 1);", "TERM hi := GAUSS2 6 1 3 1;", "TERM hi", "mean1 > mean2"),
 ])

@@ -216,9 +216,10 @@ PARSE_REFUSALS = {
                           "expected ')', got ';'"),
     "term without ';'": (fcl(_swap(IN_A, "(1, 0);", "(1, 0)\nEND_FUZZIFY"), OUT_B), 10,
                          "expected ';', got 'END_FUZZIFY'"),
-    "number from a variable": (fcl(_swap(IN_A, "(1, 0)", "(q, 0)"), OUT_B), 9,
-                               "expected x (a number), got 'q': values given by variables "
-                               "(jFuzzyLogic) are not supported"),
+    "number from a variable": (fcl(_swap(IN_A, "END_FUZZIFY", "    RANGE := (q .. 1);\n"
+                                         "END_FUZZIFY"), OUT_B), 10,
+                               "expected the range start (a number), got 'q': values given by "
+                               "variables (jFuzzyLogic) are not supported"),
     "number from punctuation": (fcl(_swap(IN_A, "(1, 0)", "(;, 0)"), OUT_B), 9,
                                 "expected x (a number), got ';'"),
     "number of 81 characters": (fcl(_swap(IN_A, "(1, 0)", f"({'1' * 81}, 0)"), OUT_B), 9,
@@ -446,9 +447,8 @@ def out_term(spec: str, method: str = "COGS") -> str:
 
 
 BUILD_REFUSALS = {
-    "parameter from a variable": (in_term("TRIAN 0 m 1"), 9, "term 'a': parameter 'm' is a "
-                                  "variable (jFuzzyLogic's membership with variables), which is "
-                                  "not supported"),
+    "parameter from a variable": (in_term("TRIAN 0 m 1"), 9, "term 'a' of 'x': parameter 'm' "
+                                  "is not a declared variable"),
     "punctuation in the parameters": (in_term("TRIAN 0 ( 1"), 9,
                                       "term 'a': unexpected '(' in the parameters"),
     "a trailing sign": (in_term("TRIAN 0 0.5 1 -"), 9,

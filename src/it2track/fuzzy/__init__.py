@@ -6,8 +6,8 @@ trapezoids, Gaussians), :mod:`.curves` (bell, two-sided Gaussian, cosine, spike)
 :mod:`.sigmoids`, :mod:`.splines` (S/Z/Pi shapes), :mod:`.shapes` (ramps, rectangle,
 binary, discrete, concave, arc, semi-ellipse), :mod:`.terms` (MATLAB's and fuzzylite's
 names of them), :mod:`.kinds` (their compiled rows), :mod:`.sets`
-(IT2 sets), :mod:`.hedges` (very, somewhat, ...), :mod:`.norms` (t-norms, s-norms,
-implication, aggregation, defuzzifiers),
+(IT2 sets), :mod:`.parametric` (terms whose parameters are inputs), :mod:`.hedges` (very,
+somewhat, ...), :mod:`.norms` (t-norms, s-norms, implication, aggregation, defuzzifiers),
 :mod:`.rules` (variables and rules), :mod:`.tables` (the lowering to arrays and the rule
 firing), :mod:`.reducers` (type reduction), :mod:`.sugeno` (Sugeno/TSK
 systems), :mod:`.mamdani` (Mamdani systems, centroid and centre-of-sets type reduction),
@@ -54,6 +54,7 @@ from .norms import (
     TNorm,
     WeightedDefuzzifier,
 )
+from .parametric import Parametric, Ref
 from .reducers import (
     EIASC,
     EKM,
@@ -139,11 +140,13 @@ __all__ = [
     "MamdaniTables",
     "MembershipFunction",
     "Output",
+    "Parametric",
     "PiShape",
     "PiecewiseLinear",
     "Ramp",
     "Rectangle",
     "Reducer",
+    "Ref",
     "Rule",
     "SNorm",
     "SShape",

@@ -34,6 +34,7 @@ from .membership import (
     UncertainMeanGaussianLower,
     UncertainMeanGaussianUpper,
 )
+from .parametric import Parametric
 
 __all__ = ["IT2Set", "ScaledLagged"]
 
@@ -265,6 +266,8 @@ class IT2Set:
         ValueError
             Naming ``owner`` (e.g. ``"input 'e'"``), the set and the first offending point.
         """
+        if isinstance(self.upper, Parametric) or isinstance(self.lower, Parametric):
+            return  # its parameters are inputs: it checks them per sample (.parametric)
         lo, hi = universe
         points = [np.linspace(lo, hi, CHECK_POINTS)]
         for mf in (self.upper, self.lower):

@@ -38,6 +38,7 @@ from .membership import (
     UncertainMeanGaussianUpper,
 )
 from .norms import Connective, SNorm, TNorm
+from .parametric import Parametric
 from .rules import Input, Linear, Rule
 from .sets import ScaledLagged
 
@@ -76,6 +77,20 @@ def _encode(mf: MembershipFunction) -> Row:
         return MFKind.UM_GAUSSIAN_LOWER, (float(mf.m1), float(mf.m2), float(mf.sigma),
                                          float(mf.h), 0.0)
     return MFKind.OTHER, (0.0, 0.0, 0.0, 0.0, 0.0)
+
+
+def _parametric(mf: MembershipFunction) -> bool:
+    """A term whose parameters are inputs (:mod:`.parametric`), hedged or not."""
+    return isinstance(mf, Parametric) or (isinstance(mf, Hedged)
+                                          and isinstance(mf.mf, Parametric))
+
+
+def _parametric_block(mf: Any, x: FloatArray, i: int) -> FloatArray:
+    if isinstance(mf, Hedged):
+        inner: Parametric = mf.mf  # type: ignore[assignment]  # (_parametric)
+        return apply_hedges(mf.hedges, inner.evaluate(x, i))
+    result: FloatArray = mf.evaluate(x, i)
+    return result
 
 
 class SystemTables:
@@ -266,8 +281,11 @@ class SystemTables:
         a, wl, d, wr, h = (self.mf_params[pl, j].tolist() for j in range(5))
         self.pl_params = [np.array(v)[:, None] for v in (a, wl, d, wr, h)]
         self.pl_scalar = list(zip(pl, [mf_input[k] for k in pl], a, wl, d, wr, h, strict=True))
-        self.other = [(k, mfs[k], mf_input[k]) for k in range(n_rows) if k not in set(pl)]
-        self.all_pl = not self.other
+        self.other = [(k, mfs[k], mf_input[k]) for k in range(n_rows)
+                      if k not in set(pl) and not _parametric(mfs[k])]
+        #: rows whose parameters are inputs (:mod:`.parametric`), evaluated on the whole block
+        self.parametric = [(k, mf, mf_input[k]) for k, mf in enumerate(mfs) if _parametric(mf)]
+        self.all_pl = not self.other and not self.parametric
         self.identity_pl = self.all_pl and np.array_equal(self.pl_rows, np.arange(n_rows))
         y_lo = np.empty(len(rules))
         y_hi = np.empty(len(rules))
@@ -444,6 +462,8 @@ class SystemTables:
                 out[self.pl_rows] = left
         for k, mf, i in self.other:
             out[k] = mf(x[i])
+        for k, pmf, i in self.parametric:
+            out[k] = _parametric_block(pmf, x, i)
         return out
 
     def memberships_scalar(self, x: Sequence[float]) -> list[float]:
@@ -453,6 +473,10 @@ class SystemTables:
             out[k] = h * (0.0 if v < 0.0 else 1.0 if v > 1.0 else v)
         for k, mf, i in self.other:
             out[k] = float(mf(np.float64(x[i])))
+        if self.parametric:
+            column = np.array(x, dtype=np.float64)[:, None]
+            for k, pmf, i in self.parametric:
+                out[k] = float(_parametric_block(pmf, column, i)[0])
         return out
 
     # -- firing (the antecedent machinery shared by every kind of system) ---------------------

@@ -61,6 +61,9 @@ class FclTerm:
     value: float = 0.0
     shape: str = ""
     params: list[Tok] = field(default_factory=list)
+    #: points given by variables (jFuzzyLogic): ``2k`` (point k's x) or ``2k + 1`` (its
+    #: degree) -> the variable's name (the point holds NaN there)
+    refs: dict[int, str] = field(default_factory=dict)
 
 
 @dataclass
@@ -342,9 +345,9 @@ class Parser:
         elif nxt is not None and nxt.text == "(":
             while self.at("("):
                 self.expect("(")
-                x = self.number("x")
+                x = self.point_value(term, 0, "x")
                 self.expect(",")
-                m = self.number("a membership degree")
+                m = self.point_value(term, 1, "a membership degree")
                 self.expect(")")
                 term.points.append((x, m))
         elif nxt is not None and nxt.kind == "ident":
@@ -358,6 +361,14 @@ class Parser:
                              "a shape")
         self.expect(";")
         var.terms[name.text] = term
+
+    def point_value(self, term: FclTerm, which: int, what: str) -> float:
+        """A point's number, or NaN for a variable's name, recorded in ``term.refs``."""
+        tok = self.peek()
+        if tok is not None and tok.kind == "ident" and tok.upper not in ("NAN", "INF"):
+            term.refs[2 * len(term.points) + which] = self.take().text
+            return math.nan
+        return self.number(what)
 
     # -- rules --------------------------------------------------------------------------------
     def ruleblock(self, start: Tok) -> Block:

@@ -24,6 +24,7 @@ from ..fuzzy import (
     T1Tsukamoto,
     TNorm,
 )
+from . import _fclvars
 from ._chain import Chain
 from ._fclbuild import ACCU, AND, MAMDANI, OR, PARTNER_OF_OR, SUGENO, Builder
 from ._fclparse import Block, FclVar, FunctionBlock, Parser, RuleNode, Tok
@@ -117,17 +118,18 @@ def build(parser: Parser, fb: FunctionBlock) -> AnySystem:
     if not fb.outputs:
         raise b.error(fb.line, "no VAR_OUTPUT variables (a function block without outputs is "
                       "not a fuzzy system)")
+    read = _fclvars.check(b, fb)  # terms whose parameters are variables (jFuzzyLogic)
     for var in (*fb.inputs.values(), *fb.outputs.values()):
-        if var.block_line is None:
+        if var.block_line is None and var.name not in read:
             kind = "FUZZIFY" if var.name in fb.inputs else "DEFUZZIFY"
             raise b.error(var.line, f"variable {var.name!r} has no {kind} block")
     inputs = []
     for var in fb.inputs.values():
-        universe = b.universe(var)
+        universe = _fclvars.universe(b, fb, var)
         if universe[0] == universe[1]:
             raise b.error(var.range_line, f"RANGE of {var.name!r} is a point; an input needs "
                           "lo < hi")
-        sets = [(t.name, b.mf(t, universe)) for t in var.terms.values()]
+        sets = _fclvars.sets(b, fb, var, universe)
         inputs.append(_variable(b, Input, var, universe, sets))
     parsed: list[tuple[RuleNode, str, list, Block, TNorm, SNorm]] = []
     accus = {name: ACCU.get(var.accu.upper) if var.accu is not None else next(

@@ -45,7 +45,11 @@ What is read
   ``FUNCTION``: linear in the inputs (``(a * 0.6) + 1.2``) a ``Linear``, else a formula of
   the inputs parsed (never run as code) by :mod:`it2track.fuzzy.formula` in jFuzzyLogic's
   grammar (``SIN``, ``EXP``, ``^``, ...); fuzzylite's ``Function`` (so spelt) in fuzzylite's.
-  Parameters given by variables and input singletons are refused.
+  jFuzzyLogic's parameters given by variables (``GAUSS meanGood stdGood``, ``(lo, 0)
+  (mid, 1)``) are read on input terms, point lists and ``GAUSS``: each evaluation takes the
+  inputs' values there (a :class:`~it2track.fuzzy.Parametric` term; an input read so needs
+  no FUZZIFY block; see :mod:`._fclvars`); on output terms they are refused, as are input
+  singletons.
 - ``RANGE := (lo .. hi)`` in a FUZZIFY/DEFUZZIFY block or after a VAR_INPUT declaration
   (jFuzzyLogic) gives the universe; without it, jFuzzyLogic's estimate from the terms (the
   points' span, triangle and trapezoid feet, ``mean +- 4 sigma``, a bell's 0.001 level,
