@@ -9,7 +9,9 @@ pyfuzzylite. A ``.fll`` is its own twin. fuzzylite's exported ``.fis``/``.fcl`` 
 ``.fll`` exported beside them (the same rounded numbers); the MATLAB and Octave originals have
 the ``.fll`` fuzzylite wrote for them under ``examples/original/`` (fuzzylite's examples/
 README: "to include scalar values with at least the same number of decimal places").
-jFuzzyLogic's ``.fcl`` files have no twin.
+jFuzzyLogic's ``.fcl`` files have no twin; nor has the Octave toolkit's
+``mamdani_tip_calculator.fis`` (below). Their references are the publishers' engines:
+``make_jfl_references.py`` (``@jfl.csv``) and ``make_octave_references.py`` (``@octave.csv``).
 """
 
 from __future__ import annotations
@@ -81,8 +83,10 @@ class Example:
         ``.fis`` or ``.fcl`` at it2track's for the format (:data:`POINTS`, ``@101`` in the
         name), where it matters: a twin without a Mamdani output has one table.
         """
-        if self.source == "jfuzzylogic":  # jFuzzyLogic's own outputs
-            table = REFERENCES / (self.path.replace("/", "__") + "@jfl.csv")
+        if self.source == "jfuzzylogic" or (self.source == "octave" and self.twin is None):
+            # the publisher's engine: jFuzzyLogic's outputs; Octave's evalfis (no twin .fll)
+            own = "jfl" if self.source == "jfuzzylogic" else "octave"
+            table = REFERENCES / (self.path.replace("/", "__") + f"@{own}.csv")
             return table if table.exists() else None
         if self.twin is None:
             return None

@@ -215,7 +215,8 @@ def main(argv: list[str]) -> int:
             wanted[base.replace(".csv", f"@{correction}.csv")] = table(
                 twin, resolution, correction=(correction, examples[0]))
     stale = sorted(p.name for p in REFERENCES.glob("*.csv")
-                   if p.name not in wanted and not p.name.endswith("@jfl.csv"))
+                   if p.name not in wanted
+                   and not p.name.endswith(("@jfl.csv", "@octave.csv")))
     changed = [n for n, text in wanted.items()
                if not (REFERENCES / n).exists() or (REFERENCES / n).read_text() != text]
     if args.check:

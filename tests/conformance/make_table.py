@@ -20,7 +20,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).parent))
 from catalog import FILES
 from harness import TOLERANCE, Result, results
-from notes import CORRECTIONS, NOTES, refusal_cause
+from notes import CORRECTIONS, NOTES, PUBLISHER, refusal_cause
 
 from it2track.io import load
 
@@ -72,6 +72,26 @@ def publisher_values() -> list[str]:
     return lines
 
 
+def trapezoid_gap(r: Result) -> float:
+    """The largest difference, relative to the output's range, between ``r``'s reference and
+    it2track's aggregated sets defuzzified by the Octave toolkit's centroid before 0.6.2:
+    ``trapz(x, x.*y) / trapz(x, y)`` over the same points."""
+    system = load(FILES / r.example.path)
+    table = r.example.reference
+    assert table is not None
+    lines = table.read_text().splitlines()
+    rows = np.array([[float(v) for v in line.split(",")]
+                     for line in [line for line in lines if not line.startswith("#")][1:]])
+    n_in, worst = system.n_inputs, 0.0
+    for k in range(system.n_outputs):
+        part = system.select_output(k)
+        _, mu = part.aggregated(*rows[:, :n_in].T)
+        y = part.tables.grids[0]
+        older = np.trapezoid(mu * y, y, axis=-1) / np.trapezoid(mu, y, axis=-1)
+        worst = max(worst, float(np.max(np.abs(older - rows[:, n_in + k]))) / float(y[-1] - y[0]))
+    return worst
+
+
 #: refusal causes (notes.REFUSALS) of files that are not fuzzy systems
 NOT_A_SYSTEM = "not a fuzzy system"
 
@@ -111,11 +131,13 @@ def render(found: list[Result]) -> str:
         "documented middle of the range at a point where none of its rules fires. The "
         "references are independent engines: pyfuzzylite 8.0.6 evaluating the file's twin "
         "`.fll` (a `.fll` itself; the `.fll` fuzzylite exported beside its `.fis`/`.fcl`; the "
-        "`.fll` fuzzylite wrote for each MATLAB and Octave original), and jFuzzyLogic itself "
-        "for its own files. Mamdani outputs are compared at matched sampling: MATLAB's 101 "
-        "points for `.fis`, jFuzzyLogic's 1000 intervals for `.fcl`, fuzzylite's own midpoints "
-        "for `.fll` (`tests/conformance/make_references.py` and `make_jfl_references.py` "
-        "regenerate the tables and explain how).",
+        "`.fll` fuzzylite wrote for each MATLAB and Octave original), and the publishers' "
+        "engines where there is no twin: jFuzzyLogic itself for its own files, Octave's "
+        "`evalfis` for the Octave toolkit's example without one. Mamdani outputs are compared "
+        "at matched sampling: MATLAB's (and Octave's) 101 points for `.fis`, jFuzzyLogic's "
+        "1000 intervals for `.fcl`, fuzzylite's own midpoints for `.fll` "
+        "(`tests/conformance/make_references.py`, `make_jfl_references.py` and "
+        "`make_octave_references.py` regenerate the tables and explain how).",
         "",
         "A file that keeps an output's previous value where no rule fires (fuzzylite's "
         "`lock-previous: true`, `LockPrevious=1`, FCL's `DEFAULT := ... NC`) is evaluated as "
@@ -159,6 +181,18 @@ def render(found: list[Result]) -> str:
         lines += [f"- `{r.example.path}`: {result} with the corrected reference "
                   f"`{name}` ({_magnitude(r.error)}); against the original reference: "
                   f"{r.original or r.status}. {CORRECTIONS.get(r.example.path, '')}"]
+    lines += ["", "## Compared with the publisher's own engine", "",
+              "These files have no independent twin: their reference is the engine of the "
+              "tool they came with, named with its version in the table's first line (as "
+              "jFuzzyLogic's own outputs are the reference of its files):", ""]
+    for r in found:
+        if r.example.path in PUBLISHER and r.example.reference is not None:
+            table = r.example.reference
+            engine = table.read_text().split("\n", 1)[0].removeprefix("# ").split(": ")[0]
+            result = "agrees" if r.status == "agrees" else r.detail
+            note = PUBLISHER[r.example.path].format(older=f"{trapezoid_gap(r):.2g}")
+            lines += [f"- `{r.example.path}`: {result} with `{table.name}`, {engine} "
+                      f"({_magnitude(r.error)}). {note}"]
     lines += ["", "## Where it2track differs from the reference", ""]
     for r in found:
         if r.status == "differs":

@@ -43,6 +43,29 @@ _ROBOT = (
     "range end itself, as the term and the range say."
 )
 
+_OCTAVE_CENTROID = (
+    "fuzzylite's .fll of this example is of the toolkit's 2012 file (AndMethod 'prod', "
+    "AggMethod 'sum'), not of this one ('min', 'max'), so the reference is the publisher's "
+    "engine: Octave's evalfis with the toolkit at the commit the file was copied from, at its "
+    "default 101 points (tests/conformance/make_octave_references.py). The toolkit's version "
+    "matters for this file. From 0.6.2 (May 2025; the file says 2011-2025) "
+    "DefuzzMethod='centroid' is defuzz.m's weighted average of the 101 points (wtaver: "
+    "MATLAB's centroid, it2track's). Up to 0.6.1 (September 2024), Debian's 0.4.6 "
+    "included, it was trapz(x, x.*y) / trapz(x, y), the trapezoid rule, which weights the "
+    "two end points by half (0.6.2 keeps it as 'centroid_integral'); this file's Gaussian "
+    "output sets are not 0 at the range ends, so with 0.4.6 the reference would move by "
+    "{older} of the range (it2track's aggregated set defuzzified so; "
+    "make_octave_references.py --installed --check measures the same with Debian's toolkit). "
+    "The file is 0.6.2's, and agrees with 0.6.2."
+)
+
+#: the files whose reference is the publisher's own engine (no independent twin): where the
+#: reference comes from and what a reader re-running it should know; ``{older}`` is filled in
+#: by ``make_table.py`` (the difference of the toolkit's older centroid)
+PUBLISHER: dict[str, str] = {
+    "octave/inst/mamdani_tip_calculator.fis": _OCTAVE_CENTROID,
+}
+
 #: the files compared with a corrected reference (``catalog.CORRECTED``): the original
 #: reference's defect and what the correction changes (the table's header says it too)
 CORRECTIONS: dict[str, str] = {
@@ -126,8 +149,11 @@ REFUSALS: list[tuple[str, str, str]] = [
      "'neither both discrete nor both continuous'), so there is no reference to agree with. "
      "it2track takes singletons as COGS values."),
     ("centroid_integral", "Octave's centroid_integral defuzzifier",
-     "Octave's own integral of the aggregated set; it2track's centroids are on the output "
-     "grid (MATLAB's 101 points), so this would be a different number."),
+     "The toolkit's (0.6.2) trapz(x, x.*y) / trapz(x, y) over the same 101 points: the "
+     "trapezoid rule, the two end points weighted by half, not MATLAB's centroid (the "
+     "weighted average, it2track's). It is exact arithmetic, no adaptive quadrature, but "
+     "it2track has no such defuzzifier: reading it as the centroid would be a different "
+     "number."),
     ("feet and peak must satisfy", "a zero-width triangle",
      "junit_shashankrao.fcl's TRIAN 0 0 0 is 1 at 0 and 0 elsewhere (jFuzzyLogic's "
      "MembershipFunctionTriangular). On a centroid's grid it counts only at a grid point "

@@ -17,7 +17,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 from catalog import CORRECTED, FILES, REFERENCES, examples, twins
 from harness import check, results
 from make_table import PAGE, render
-from notes import CORRECTIONS, NOTES, refusal_cause
+from notes import CORRECTIONS, NOTES, PUBLISHER, refusal_cause
 
 from it2track.fuzzy import Aggregation
 from it2track.io import FisFormatWarning, load
@@ -53,7 +53,42 @@ def test_every_twin_has_its_reference_table_and_no_table_is_stale() -> None:
         assert all(r is None or any(f"@{r}" in n for n in found) or f"{stem}.csv" in found
                    for r in resolutions)
     names.update(p.name for p in REFERENCES.glob("*@jfl.csv"))
+    names.update(p.name for p in REFERENCES.glob("*@octave.csv"))
     assert names == {p.name for p in REFERENCES.glob("*.csv")}
+
+
+def test_octave_files_without_a_twin_have_the_toolkits_own_evalfis_of_the_files_commit() -> None:
+    # make_octave_references.py: the toolkit at the commit SOURCES.md names (0.6.2, whose
+    # 'centroid' is MATLAB's), one table per Octave file without a twin, and no other
+    from make_octave_references import SUFFIX, files_commit, wanted
+
+    own = wanted()
+    assert [e.path for e in own] == ["octave/inst/mamdani_tip_calculator.fis"]
+    assert set(PUBLISHER) == {e.path for e in own}
+    assert {p.name for p in REFERENCES.glob(f"*{SUFFIX}")} == {
+        e.path.replace("/", "__") + SUFFIX for e in own}
+    for example in own:
+        assert example.reference == REFERENCES / (example.path.replace("/", "__") + SUFFIX)
+        first = example.reference.read_text().split("\n", 1)[0]
+        assert f"fuzzy-logic-toolkit 0.6.2 (commit {files_commit()[:12]}): evalfis of " \
+               f"{example.path}" in first, first
+        assert check(example).status == "agrees"
+
+
+def test_the_toolkits_older_centroid_is_beyond_the_tolerance_for_the_tip_calculator() -> None:
+    # the note on the Octave reference: before 0.6.2 the toolkit's centroid was
+    # trapz(x, x.*y) / trapz(x, y); it2track's aggregated set defuzzified so is off the 0.6.2
+    # table by more than the tolerance (Debian's 0.4.6 itself, run by
+    # make_octave_references.py --installed --check, is off by 5.14e-08 of the range), while
+    # it2track's centroid (the weighted average) agrees
+    from harness import TOLERANCE
+    from make_table import trapezoid_gap
+
+    (example,) = [e for e in EXAMPLES if e.path == "octave/inst/mamdani_tip_calculator.fis"]
+    result = check(example)
+    assert result.error is not None and result.error <= TOLERANCE
+    assert trapezoid_gap(result) == pytest.approx(5.14e-8, rel=1e-2)
+    assert "{older}" in PUBLISHER[example.path]
 
 
 def test_every_correction_has_its_note_and_its_table_says_what_it_changed() -> None:
