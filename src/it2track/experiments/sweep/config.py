@@ -308,8 +308,7 @@ def _parse_robots(
     for values in expand_axes(flat, t.where):
         top = {k: v for k, v in values.items() if not k.startswith("motor.")}
         mot = {k[6:]: v for k, v in values.items() if k.startswith("motor.")}
-        table = Table({**top, **({"motor": mot} if mot or "motor" in t else {})}, t.file,
-                      section="robot")
+        table = Table({**top, "motor": mot}, t.file, section="robot")
         robots.append(robot_from_table(table))
         for k in axis_keys:
             columns[k].append(values[k])
