@@ -77,9 +77,10 @@ def test_chunks_keep_the_grid_and_number_from_first_id() -> None:
     for c in out:
         assert c.config is CONFIG and c.trajectories == TRAJ and c.batch_size == 3
         assert c.n_controllers == 3
-        assert c.noise_std == (0.0, 1.0) and [type(v) for v in c.noise_std] == [float, float]
-        assert c.seeds == (7, 3) and [type(v) for v in c.seeds] == [int, int]
-        assert isinstance(c.controllers, tuple) and isinstance(c.trajectories, tuple)
+        assert c.noise_std == (0, 1) and c.seeds == (7, 3)  # as given (RunTable converts)
+        assert all(isinstance(x, tuple) for x in (c.controllers, c.trajectories, c.noise_std,
+                                                  c.seeds))
+        assert c.runs().noise_std.dtype == np.float64 and c.runs().seed.dtype == np.int64
         pickle.loads(pickle.dumps(c))  # plain data: what worker processes receive
     assert [c.chunk_id for c in chunks_of([(0, 1), (1, 2)])] == [0, 1]
     assert chunks_of([]) == []
@@ -136,7 +137,7 @@ def test_the_worker_runs_the_chunk_as_one_simulate_metrics_call(monkeypatch) -> 
     ("noise_std", "seeds", "message"),
     [
         ((0.1,), (1.5,), "RunTable.seed must hold integers >= 0, got float64 values (e.g. 1.5)"),
-        ((0.1,), (True,), "RunTable.seed must hold integers >= 0, got True"),
+        ((0.1,), (True,), "RunTable.seed must hold integers >= 0, got bool values (e.g. True)"),
         ((0.1,), (2**63,),
          "RunTable.seed value 9223372036854775808 is outside the allowed range [0, 2**63 - 1]"),
         ((0.1,), (-1,), "RunTable.seed must hold integers >= 0, got -1"),
