@@ -286,9 +286,10 @@ def test_csv_files_of_one_name_are_told_apart_by_their_folders(tmp_path: Path) -
 
 
 def test_a_file_at_the_root_is_named_root() -> None:
-    refs = [TrajectoryRef("p", "/p.csv", "1" * 64), TrajectoryRef("p", "/a/p.csv", "2" * 64)]
+    # (the names come from the paths alone: the files need not exist)
+    refs = [TrajectoryRef("p", "/p.csv", "1" * 64), TrajectoryRef("p", "/X/p.csv", "2" * 64)]
     assert _unique_trajectory_names(refs, "w") == [
-        TrajectoryRef("root-p", "/p.csv", "1" * 64), TrajectoryRef("a-p", "/a/p.csv", "2" * 64)]
+        TrajectoryRef("root-p", "/p.csv", "1" * 64), TrajectoryRef("X-p", "/X/p.csv", "2" * 64)]
     assert _unique_trajectory_names(refs[:1], "w") == refs[:1]
 
 
