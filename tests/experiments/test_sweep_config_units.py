@@ -293,6 +293,29 @@ def test_a_file_at_the_root_is_named_root() -> None:
     assert _unique_trajectory_names(refs[:1], "w") == refs[:1]
 
 
+def test_names_take_up_to_63_folders() -> None:
+    """(A clash first resolved by the 63rd folder used to be refused all the same.)"""
+    def refs(depth: int) -> list[TrajectoryRef]:
+        # files that differ only in the folder `depth` levels above them
+        return [TrajectoryRef("p", f"/{top}/" + "a/" * (depth - 1) + "p.csv", "1" * 64)
+                for top in ("x", "y")]
+
+    named = _unique_trajectory_names(refs(63), "w")
+    assert [r.name for r in named] == ["-".join([top, *["a"] * 62, "p"]) for top in "xy"]
+    names = ["-".join([*["a"] * 63, "p"])] * 2
+    assert error(_unique_trajectory_names, refs(64), "f.toml [sweep]: trajectories") == (
+        f"f.toml [sweep]: trajectories: cannot give the trajectories distinct names: {names}")
+
+
+def test_one_stem_in_one_folder_cannot_be_told_apart(tmp_path: Path) -> None:
+    _csv(tmp_path / "p.csv")
+    _csv(tmp_path / "p.CSV")
+    name = "-".join(["root", *tmp_path.parts[1:], "p"])
+    assert error(parse_trajectories, sweep_table(trajectories=["p.csv", "p.CSV"]),
+                 "trajectories", tmp_path) == (
+        f"{W}: trajectories: cannot give the trajectories distinct names: {[name, name]}")
+
+
 STEPS = [{"kind": "step", "amplitude": 2.0, "at": 0.5, "name": "up"},
          {"kind": "step", "name": "unit"}]
 
