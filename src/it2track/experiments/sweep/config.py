@@ -217,7 +217,7 @@ def _unique_trajectory_names(refs: list[TrajectoryRef], where: str) -> list[Traj
                 "not repeat)"
             )
     names = [r.name for r in refs]
-    for depth in range(1, 64):
+    for depth in range(1, 64):  # up to 63 folders (one stem twice in one folder: never)
         clash = {n for n in names if names.count(n) > 1}
         if not clash:
             break
@@ -225,7 +225,7 @@ def _unique_trajectory_names(refs: list[TrajectoryRef], where: str) -> list[Traj
             if names[i] in clash and r.path:
                 parts = Path(keys[i]).parent.parts[-depth:]
                 names[i] = "-".join([*(p.strip("/") or "root" for p in parts), r.name])
-    else:
+    if len(set(names)) < len(names):
         raise ConfigError(f"{where}: cannot give the trajectories distinct names: {names}")
     return [replace(r, name=n) for r, n in zip(refs, names, strict=True)]
 
