@@ -4,6 +4,7 @@ what each default is. Fast (no simulation): the mutation run of ``sweep.config``
 
 from __future__ import annotations
 
+import hashlib
 import json
 import math
 import textwrap
@@ -205,11 +206,10 @@ def test_built_in_trajectories_by_name() -> None:
 
 def test_csv_trajectories_relative_to_the_config(tmp_path: Path, monkeypatch) -> None:
     wp = _csv(tmp_path / "cfg" / "wp.csv")
-    digest = TrajectoryRef("wp", str(wp), "").to_dict()  # (sha256 empty: compare below)
     refs, loaded = parse_trajectories(
         sweep_table(trajectories=["wp.csv", "straight"]), "trajectories", tmp_path / "cfg")
-    assert refs[0].name == "wp" and refs[0].path == str(wp) and digest["source"] == "csv"
-    assert len(refs[0].sha256) == 64 and refs[1] == TrajectoryRef("straight")
+    assert refs == (TrajectoryRef("wp", str(wp), hashlib.sha256(wp.read_bytes()).hexdigest()),
+                    TrajectoryRef("straight"))
     assert loaded[0] == get_trajectory(str(wp))
     # an absolute path is not moved under the config's folder, an upper-case suffix is a file
     upper = _csv(tmp_path / "UP.CSV")
@@ -236,9 +236,6 @@ def test_trajectory_errors_name_the_key_and_value(tmp_path: Path) -> None:
     assert message("dir.csv") == (
         f"{W}: trajectories: {tmp_path}/dir.csv: is a directory, not a regular file; give a "
         "regular input file")
-    (tmp_path / "bad.csv").write_text("t,x,y\n0,0,0\n", encoding="utf-8")
-    assert message("bad.csv").startswith(f"{W}: trajectories: ")
-    assert message("bad.csv") != f"{W}: trajectories: "
     assert message([]) == f"{W}: trajectories=[] is an empty axis (give at least one trajectory)"
     assert message(["straight", 3]) == f"{W}: trajectories[1]=3 must be a string"
     assert message(3) == f"{W}: trajectories=3 must be a string"
