@@ -241,12 +241,13 @@ def test_chunks_without_sweep_json_are_refused_naming_the_first(tmp_path: Path) 
 
 def test_a_plan_with_a_nan_is_refused_before_sweep_json_is_written(tmp_path: Path) -> None:
     # (a TOML file cannot give one -- every float is checked finite -- but SweepPlan built in
-    # Python can: sweep.json stays strict JSON and nothing is written)
+    # Python can, in a plant column: sweep.json stays strict JSON and nothing is written)
     import math
     from dataclasses import replace
 
     cfg, _ = _start(tmp_path)
-    plan = replace(load_sweep_config(cfg), noise_std=(math.nan,))
+    plan = load_sweep_config(cfg)
+    plan = replace(plan, robot_columns={"half_track": (math.nan,) * len(plan.robots)})
     out = tmp_path / "nan"
     with pytest.raises(ValueError, match="Out of range float values are not JSON compliant"):
         run_sweep(plan, out, progress=False)

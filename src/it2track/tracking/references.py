@@ -144,7 +144,7 @@ class FunctionReference(Reference):
         return np.asarray(self.fn(np.asarray(t, dtype=np.float64)), dtype=np.float64)
 
 
-def reference_from_dict(table: object, where: str = "reference") -> Reference:
+def reference_from_dict(table: object, where: str = "reference") -> StepReference:
     """A built-in reference from a TOML/JSON table (``kind = "step"``; unknown keys refused).
 
     Parameters
@@ -157,7 +157,8 @@ def reference_from_dict(table: object, where: str = "reference") -> Reference:
 
     Returns
     -------
-    Reference
+    StepReference
+        (the one built-in reference; others are given from Python)
 
     Raises
     ------

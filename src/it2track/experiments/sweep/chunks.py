@@ -71,14 +71,16 @@ class GridChunk:
         return self.stop - self.start
 
     def runs(self) -> RunTable:
-        """The chunk's runs, controller indices relative to ``controllers``."""
+        """The chunk's runs, controller indices relative to ``controllers``; the noise levels
+        and seeds as given (:class:`~it2track.tracking.RunTable` checks and converts them: a
+        seed 1.5 is refused, not run as seed 1)."""
         shape = (self.n_controllers, len(self.trajectories), len(self.noise_std), len(self.seeds))
         c, t, n, s = np.unravel_index(np.arange(self.start, self.stop), shape)
         return RunTable(
             c - self.controller_offset,
             t,
-            np.asarray(self.noise_std, dtype=np.float64)[n],
-            np.asarray(self.seeds, dtype=np.int64)[s],
+            np.asarray(self.noise_std)[n],
+            np.asarray(self.seeds)[s],
         )
 
 
@@ -135,8 +137,8 @@ def grid_chunks(
                 controller_offset=c0,
                 n_controllers=len(controllers),
                 trajectories=tuple(trajectories),
-                noise_std=tuple(float(v) for v in noise_std),
-                seeds=tuple(int(s) for s in seeds),
+                noise_std=tuple(noise_std),
+                seeds=tuple(seeds),
                 start=start,
                 stop=stop,
                 batch_size=batch_size,

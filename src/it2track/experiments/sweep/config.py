@@ -14,7 +14,7 @@ from typing import Any
 from ..._limits import ResourceLimitError, check_memory
 from ...plant import RobotParams
 from ...plant.noise import MAX_NOISE_STD
-from ...tracking import LoopConfig, StepReference, Target, check_task, reference_from_dict
+from ...tracking import LoopConfig, Target, check_task, reference_from_dict
 from ...tracking.simulate import MAX_INDEX
 from ...tracking.trajectories import PAPER_TRAJECTORIES
 from ..specs import (
@@ -57,9 +57,8 @@ def expand_axes(data: Mapping[str, Any], where: str) -> list[dict[str, Any]]:
     for key, values in axes.items():
         if not values:
             raise ConfigError(f"{where}: {key}=[] is an empty axis (give at least one value)")
-    combos = itertools.product(*axes.values()) if axes else [()]
     out = []
-    for combo in combos:
+    for combo in itertools.product(*axes.values()):  # (no axes: one empty combination)
         chosen = dict(zip(axes, combo, strict=True))
         out.append({k: chosen.get(k, v) for k, v in data.items()})
     return out
@@ -123,7 +122,7 @@ def _check_seed_count(count: int, what: str) -> None:
 
 def parse_noise_levels(t: Table, key: str) -> tuple[float, ...]:
     """Heading-noise standard deviations (rad): a number or a non-empty list, each >= 0."""
-    raw = t.data.get(key, ...)
+    raw = t.data.get(key)
     values = t.get_list(key, float) if isinstance(raw, list) else [t.get(key, float)]
     if not values:
         raise ConfigError(f"{t.where}: {key}=[] is an empty axis (give at least one value)")
@@ -148,7 +147,7 @@ def parse_trajectories(
     (``{kind = "step", amplitude = ..., at = ..., initial = ..., name = ...}``, for a
     single-input ``[plant]``); returns refs and the loaded targets. Unknown names, unreadable
     files, repeats and a mix of trajectories and references are :class:`ConfigError`."""
-    raw = t.data.get(key, ...)
+    raw = t.data.get(key)
     if isinstance(raw, list) and raw and all(isinstance(v, Mapping) for v in raw):
         return _parse_references(t, key, raw)
     if isinstance(raw, list) and any(isinstance(v, Mapping) for v in raw):
@@ -163,9 +162,7 @@ def parse_trajectories(
         if name in PAPER_TRAJECTORIES:
             ref = TrajectoryRef(name)
         elif name.lower().endswith(".csv"):
-            p = Path(name)
-            if not p.is_absolute() and base_dir is not None:
-                p = base_dir / p
+            p = Path(name) if base_dir is None else base_dir / name  # (absolute: kept)
             try:
                 digest = _file_sha256(p)
             except OSError as exc:
@@ -200,8 +197,6 @@ def _parse_references(
             ref = reference_from_dict(dict(table), f"{t.where}: {key}[{i}]")
         except ValueError as exc:
             raise ConfigError(str(exc)) from None
-        if not isinstance(ref, StepReference):  # pragma: no cover - only steps are tables
-            raise ConfigError(f"{t.where}: {key}[{i}] is not a step reference")
         if any(r.name == ref.name for r in refs):
             raise ConfigError(f"{t.where}: {key}[{i}]: name={ref.name!r} repeats; every "
                               "reference needs a distinct name")
@@ -222,7 +217,7 @@ def _unique_trajectory_names(refs: list[TrajectoryRef], where: str) -> list[Traj
                 "not repeat)"
             )
     names = [r.name for r in refs]
-    for depth in range(1, 64):
+    for depth in range(1, 64):  # up to 63 folders (one stem twice in one folder: never)
         clash = {n for n in names if names.count(n) > 1}
         if not clash:
             break
@@ -230,7 +225,7 @@ def _unique_trajectory_names(refs: list[TrajectoryRef], where: str) -> list[Traj
             if names[i] in clash and r.path:
                 parts = Path(keys[i]).parent.parts[-depth:]
                 names[i] = "-".join([*(p.strip("/") or "root" for p in parts), r.name])
-    else:  # pragma: no cover - needs 64 nested folders of identical names
+    if len(set(names)) < len(names):
         raise ConfigError(f"{where}: cannot give the trajectories distinct names: {names}")
     return [replace(r, name=n) for r, n in zip(refs, names, strict=True)]
 
@@ -271,8 +266,7 @@ def _parse_controllers(
             )
         for values in expanded:
             if isinstance(values.get("path"), str) and base_dir is not None:
-                p = Path(values["path"])
-                values["path"] = str(p if p.is_absolute() else base_dir / p)
+                values["path"] = str(base_dir / values["path"])  # (absolute: kept)
             spec = ControllerSpec.from_table(values, where=where)
             if spec.label in origin:
                 raise ConfigError(
@@ -308,8 +302,7 @@ def _parse_robots(
     for values in expand_axes(flat, t.where):
         top = {k: v for k, v in values.items() if not k.startswith("motor.")}
         mot = {k[6:]: v for k, v in values.items() if k.startswith("motor.")}
-        table = Table({**top, **({"motor": mot} if mot or "motor" in t else {})}, t.file,
-                      section="robot")
+        table = Table({**top, "motor": mot}, t.file, section="robot")
         robots.append(robot_from_table(table))
         for k in axis_keys:
             columns[k].append(values[k])
@@ -333,7 +326,7 @@ def load_sweep_config(path: str | Path) -> SweepPlan:
     path = Path(path)
     file = str(path)
     data = read_toml(path)
-    root = Table(data, file, path.parent)
+    root = Table(data, file)
     st = root.sub("sweep")
     seed = st.get("seed", int, 0)
     if seed < 0:

@@ -10,6 +10,7 @@ import io
 import json
 from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field, replace
+from numbers import Integral, Real
 from typing import Any
 
 import numpy as np
@@ -18,7 +19,9 @@ from numpy.typing import NDArray
 from ... import __version__
 from ..._limits import check_memory, loop_bytes
 from ...plant import RobotParams
+from ...plant.noise import MAX_NOISE_STD
 from ...tracking import METRIC_NAMES, LoopConfig, Target
+from ...tracking.simulate import MAX_INDEX
 from ..specs import ControllerSpec
 from .chunks import DEFAULT_BATCH_SIZE, GridChunk, grid_chunks
 from .refs import ControllerRef, TrajectoryRef
@@ -96,6 +99,7 @@ class SweepPlan:
         ):  # fmt: skip
             if not seq:
                 raise ValueError(f"SweepPlan.{name} must not be empty")
+        self._check_axes()
         for key, values in self.robot_columns.items():
             if len(values) != len(self.robots):
                 raise ValueError(f"SweepPlan.robot_columns[{key!r}] needs one value per robot")
@@ -110,6 +114,23 @@ class SweepPlan:
                 raise ValueError(f"plant set {group} ([robot] values of run group {group}): "
                                  f"{exc}") from None
         self._check_memory()
+
+    def _check_axes(self) -> None:
+        """Noise levels in ``[0, MAX_NOISE_STD]`` and seed indices in ``[0, 2**63 - 1]``, each
+        once (as :func:`.load_sweep_config` checks a file's); stored as plain floats and ints."""
+        for v in self.noise_std:
+            if isinstance(v, bool) or not isinstance(v, Real) or not 0 <= v <= MAX_NOISE_STD:
+                raise ValueError(f"SweepPlan.noise_std value {v!r} must be a number in "
+                                 f"[0, {MAX_NOISE_STD:g}] rad (a heading-noise standard deviation)")
+        for s in self.seeds:
+            if isinstance(s, bool) or not isinstance(s, Integral) or not 0 <= s <= MAX_INDEX:
+                raise ValueError(f"SweepPlan.seeds value {s!r} must be an integer in "
+                                 "[0, 2**63 - 1] (a seed index)")
+        for name, seq in (("noise_std", self.noise_std), ("seeds", self.seeds)):
+            if len(set(seq)) != len(seq):
+                raise ValueError(f"SweepPlan.{name}={seq!r} must not repeat a value")
+        object.__setattr__(self, "noise_std", tuple(float(v) for v in self.noise_std))
+        object.__setattr__(self, "seeds", tuple(int(s) for s in self.seeds))
 
     def _check_memory(self) -> None:
         """The chunk layout (~200 bytes per chunk) and one chunk in flight (its rows as text and
