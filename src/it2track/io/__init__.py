@@ -143,7 +143,7 @@ def loads(text: str, fmt: str, *, path: str = "<string>", block: str | None = No
     _, loader, _ = _format(fmt)
     if dialect is not None:
         if loader is not matfis.loads:
-            raise ValueError(f"dialect= names a reading of a .fis; format {fmt!r} has one")
+            raise ValueError(f"dialect= names a reading of a .fis; format {fmt!r} has none")
         return matfis.loads(text, path, dialect=dialect)
     if block is None:
         return loader(text, path)

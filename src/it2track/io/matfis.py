@@ -242,7 +242,7 @@ class _Reader(FisReader):
                     and doc.string(entry).lower() == Defuzzifier.CENTROID_INTEGRAL.value):
                 raise doc.error(entry.line, "DefuzzMethod='centroid_integral' is the Octave "
                                 "toolkit's trapezoid-rule centroid; MATLAB has none (read "
-                                "the file with dialect='octave')")
+                                "the file with dialect='octave', CLI --dialect octave)")
             defuzz, _ = doc.method(system, "DefuzzMethod", allowed, "centroid")
             if not self.type2:
                 options["defuzzifier"] = Defuzzifier.from_name(defuzz)
