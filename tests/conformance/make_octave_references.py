@@ -31,8 +31,9 @@ difference relative to each output's range (exit 1 above the conformance toleran
 It does not agree everywhere: the toolkit's Sugeno systems merge the rules that conclude the
 same value with the file's ``AggMethod`` (``aggregate_output_sugeno``: ``'max'`` in
 ``heart_disease_risk.fis`` and ``linear_tip_calculator.fis``), where MATLAB, fuzzylite and
-it2track's ``.fis`` reader count every rule; and ``investment_portfolio.fis`` says
-``'centroid_integral'``, which its pyfuzzylite reference (a centroid) is not.
+it2track's default ``.fis`` reading count every rule; and ``investment_portfolio.fis`` says
+``'centroid_integral'``, which its pyfuzzylite reference (a centroid) is not. it2track's
+``load(path, dialect="octave")`` reads both as the toolkit does, and agrees with these tables.
 """
 
 from __future__ import annotations
