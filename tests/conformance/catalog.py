@@ -95,6 +95,16 @@ class Example:
         names = [f"{stem}.csv"] if points is None else [f"{stem}@{points}.csv", f"{stem}.csv"]
         return next((REFERENCES / n for n in names if (REFERENCES / n).exists()), None)
 
+    @property
+    def publisher(self) -> Path | None:
+        """The Octave toolkit's own ``evalfis`` table of an ``octave/`` file
+        (``make_octave_references.py``), or None: the reference of the file read with
+        ``dialect="octave"`` (for a file with no twin, also :attr:`reference`)."""
+        if self.source != "octave":
+            return None
+        table = REFERENCES / (self.path.replace("/", "__") + "@octave.csv")
+        return table if table.exists() else None
+
     def variant(self, tag: str) -> Path | None:
         """The reference table ``tag`` of :attr:`reference` (``@tag`` before ``.csv``), or
         None: ``sequence`` (the twin evaluated in order with its ``lock-previous``) or a

@@ -51,7 +51,9 @@ SOURCES = (
     Source("octave", "lmarkowsky/fuzzy-logic-toolkit", r"^inst/.*\.fis$", ("COPYING",),
            "The Octave Fuzzy Logic Toolkit's example .fis files. The toolkit at this commit "
            "is version 0.6.2; the file without a fuzzylite twin (mamdani_tip_calculator.fis) "
-           "is compared with the toolkit itself, run by Octave (make_octave_references.py)."),
+           "is compared with the toolkit itself, run by Octave (make_octave_references.py), "
+           "and every file, read with dialect='octave', with the toolkit's own evalfis table "
+           "of it."),
     Source("jfuzzylogic", "pcingola/jFuzzyLogic", r"\.fcl$|^tests/[^/]*\.txt$", ("LICENSE",),
            "jFuzzyLogic's .fcl files, and under tests/ the outputs its unit tests record "
            "(.txt)."),

@@ -215,6 +215,24 @@ def _compare(example: Example, system, table: Path, noted: tuple[str, ...], *, i
     return Result(example, status, detail, worst, len(x), fallback, noted, tag)
 
 
+@functools.cache
+def check_reading(example: Example, dialect: str | None) -> Result:
+    """``example`` read with ``load(..., dialect=dialect)`` (``None``: the default, MATLAB's
+    reading of a ``.fis``) against the Octave toolkit's own ``evalfis`` table of it
+    (``example.publisher``; status ``loads`` without one)."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            system = load(FILES / example.path, dialect=dialect)
+        except FisFormatError as err:
+            where = f"line {err.line}: " if err.line is not None else ""
+            return Result(example, "refused", where + err.message)
+    noted = tuple(str(w.message).split(": ", 1)[-1] for w in caught)
+    if example.publisher is None:
+        return Result(example, "loads", "no table of Octave's evalfis", warnings=noted)
+    return _compare(example, system, example.publisher, noted, in_order=False)
+
+
 def results() -> list[Result]:
     """Every example's result, by path."""
     return [check(example) for example in examples()]

@@ -19,8 +19,8 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).parent))
 from catalog import FILES
-from harness import TOLERANCE, Result, results
-from notes import CORRECTIONS, NOTES, PUBLISHER, refusal_cause
+from harness import TOLERANCE, Result, check_reading, results
+from notes import CORRECTIONS, NOTES, OCTAVE_READINGS, PUBLISHER, refusal_cause
 
 from it2track.io import load
 
@@ -90,6 +90,58 @@ def trapezoid_gap(r: Result) -> float:
         older = np.trapezoid(mu * y, y, axis=-1) / np.trapezoid(mu, y, axis=-1)
         worst = max(worst, float(np.max(np.abs(older - rows[:, n_in + k]))) / float(y[-1] - y[0]))
     return worst
+
+
+def _versus(r: Result) -> str:
+    if r.status == "agrees":
+        return f"agrees ({_magnitude(r.error)})"
+    if r.status == "differs":
+        return f"differs by {_magnitude(r.error)} of the range"
+    return r.status
+
+
+def octave_readings(found: list[Result]) -> list[str]:
+    """The section comparing each Octave toolkit file, under each reading, with Octave's own
+    evalfis table (``make_octave_references.py``)."""
+    mine = [r.example for r in found if r.example.publisher is not None]
+    if not mine:
+        return []
+    engine = mine[0].publisher.read_text().split("\n", 1)[0].removeprefix("# ").split(": ")[0]
+    rows, octave, default = [], Counter(), Counter()
+    for example in mine:
+        matlab, own = check_reading(example, None), check_reading(example, "octave")
+        default[matlab.status] += 1
+        octave[own.status] += 1
+        system = load(FILES / example.path, dialect="octave")
+        agg = getattr(getattr(system, "aggregation", None), "value", "")
+        why = ("centroid_integral" if matlab.status == "refused" else
+               "merge" if matlab.status == "differs" else
+               "same-mamdani" if hasattr(system, "implication") else
+               "same-sum" if agg == "sum" else "same-apart")
+        rows.append(f"| `{example.path}` | {_versus(matlab)} | {_versus(own)} | "
+                    f"{OCTAVE_READINGS[why].format(agg=agg)} |")
+    only = [r.example.path for r in found if r.example.publisher is not None
+            and r.status == "refused" and check_reading(r.example, "octave").status == "agrees"]
+    return ["", "## The Octave toolkit's files under each reading", "",
+            f"Every file of the Octave toolkit also has Octave's own `evalfis` table "
+            f"(`...@octave.csv`, {engine}; `make_octave_references.py`), a second reference "
+            "beside its twin's. it2track reads a `.fis` as MATLAB evaluates it "
+            "(`load(path)`, the reading every count on this page is of), or, on request, as "
+            "the toolkit evaluates it (`load(path, dialect=\"octave\")`, CLI "
+            f"`--dialect octave`). With `dialect=\"octave\"` {octave['agrees']} of "
+            f"{len(mine)} files agree with Octave's engine; with the default reading "
+            f"{default['agrees']} agree, {default['differs']} differ and "
+            f"{default['refused']} {'is' if default['refused'] == 1 else 'are'} refused.",
+            "",
+            "| file | default (MATLAB's) reading vs Octave | `dialect=\"octave\"` vs Octave | "
+            "why the readings differ |", "|---|---|---|---|", *rows, "",
+            f"{', '.join(f'`{p}`' for p in only) or 'No file'} loads and agrees only with "
+            "`dialect=\"octave\"`; it is counted as refused above: `load(path)` is what a user "
+            "calls, and it reads MATLAB's format, whose readers refuse the file naming the "
+            "line and the feature (and point to the dialect). Reading Octave's own files "
+            "with the Octave dialect by default would count them, but would also make the "
+            "twin references, MATLAB's semantics, disagree where the toolkit merges "
+            "conclusions; the choice of reading is the user's, so it is reported apart."]
 
 
 #: refusal causes (notes.REFUSALS) of files that are not fuzzy systems
@@ -193,6 +245,7 @@ def render(found: list[Result]) -> str:
             note = PUBLISHER[r.example.path].format(older=f"{trapezoid_gap(r):.2g}")
             lines += [f"- `{r.example.path}`: {result} with `{table.name}`, {engine} "
                       f"({_magnitude(r.error)}). {note}"]
+    lines += octave_readings(found)
     lines += ["", "## Where it2track differs from the reference", ""]
     for r in found:
         if r.status == "differs":

@@ -151,9 +151,10 @@ REFUSALS: list[tuple[str, str, str]] = [
     ("centroid_integral", "Octave's centroid_integral defuzzifier",
      "The toolkit's (0.6.2) trapz(x, x.*y) / trapz(x, y) over the same 101 points: the "
      "trapezoid rule, the two end points weighted by half, not MATLAB's centroid (the "
-     "weighted average, it2track's). It is exact arithmetic, no adaptive quadrature, but "
-     "it2track has no such defuzzifier: reading it as the centroid would be a different "
-     "number."),
+     "weighted average). MATLAB's format has no such method, and reading it as the centroid "
+     "would be a different number, so load(path) refuses it; load(path, dialect='octave') "
+     "reads it (Defuzzifier.CENTROID_INTEGRAL) and agrees with Octave's own evalfis (the "
+     "Octave toolkit's files under each reading, above)."),
     ("feet and peak must satisfy", "a zero-width triangle",
      "junit_shashankrao.fcl's TRIAN 0 0 0 is 1 at 0 and 0 elsewhere (jFuzzyLogic's "
      "MembershipFunctionTriangular). On a centroid's grid it counts only at a grid point "
@@ -171,3 +172,35 @@ def refusal_cause(detail: str) -> tuple[str, str] | None:
         if fragment in detail:
             return cause, why_of[cause]
     return None
+
+
+#: why the default (MATLAB's) reading of an Octave toolkit file differs from Octave's own
+#: evalfis, by what ``make_table.octave_readings`` finds: ``{agg}`` is the file's AggMethod
+OCTAVE_READINGS: dict[str, str] = {
+    "merge": (
+        "The toolkit merges the Sugeno rules that conclude the same value with the file's "
+        "AggMethod ('{agg}'): aggregate_output_sugeno sorts the rules' (value, firing) "
+        "pairs by value and folds equal neighbours with it, in rule order, before the "
+        "weighted average over the distinct values. MATLAB, whose format a .fis is, counts "
+        "every rule (fuzzylite's reading, the twin reference, agrees with MATLAB's); "
+        "dialect='octave' reads AggMethod as T1Sugeno(aggregation=...), the same merge."
+    ),
+    "centroid_integral": (
+        "DefuzzMethod='centroid_integral' is the toolkit's trapz(x, x.*y) / trapz(x, y) "
+        "over the 101 points (defuzz.m): the trapezoid rule, the two end points weighted by "
+        "half. MATLAB has no such method, so the default reading refuses it naming the "
+        "line; dialect='octave' reads it as Defuzzifier.CENTROID_INTEGRAL."
+    ),
+    "same-mamdani": (
+        "None here: a Mamdani system whose DefuzzMethod is the toolkit's 0.6.2 'centroid' "
+        "(MATLAB's weighted average of the 101 points)."
+    ),
+    "same-sum": (
+        "None here: AggMethod='sum', and merging equal conclusions by their sum is counting "
+        "every rule, as MATLAB does."
+    ),
+    "same-apart": (
+        "None here: the toolkit would merge with AggMethod ('{agg}'), but at no point of "
+        "the table do two firing rules conclude the same value."
+    ),
+}

@@ -15,7 +15,7 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).parent))
 from catalog import CORRECTED, FILES, REFERENCES, examples, twins
-from harness import check, results
+from harness import check, check_reading, results
 from make_table import PAGE, render
 from notes import CORRECTIONS, NOTES, PUBLISHER, refusal_cause
 
@@ -57,22 +57,61 @@ def test_every_twin_has_its_reference_table_and_no_table_is_stale() -> None:
     assert names == {p.name for p in REFERENCES.glob("*.csv")}
 
 
-def test_octave_files_without_a_twin_have_the_toolkits_own_evalfis_of_the_files_commit() -> None:
+def test_octave_files_have_the_toolkits_own_evalfis_of_the_files_commit() -> None:
     # make_octave_references.py: the toolkit at the commit SOURCES.md names (0.6.2, whose
-    # 'centroid' is MATLAB's), one table per Octave file without a twin, and no other
+    # 'centroid' is MATLAB's), one table per Octave file, and no other; the reference of the
+    # file without a twin, a second (publisher's) table beside the twin's of the others
     from make_octave_references import SUFFIX, files_commit, wanted
 
     own = wanted()
-    assert [e.path for e in own] == ["octave/inst/mamdani_tip_calculator.fis"]
-    assert set(PUBLISHER) == {e.path for e in own}
+    assert [e.path for e in own] == [e.path for e in EXAMPLES if e.path.startswith("octave/")]
+    assert len(own) == 6
+    assert set(PUBLISHER) == {e.path for e in own if e.twin is None}
     assert {p.name for p in REFERENCES.glob(f"*{SUFFIX}")} == {
         e.path.replace("/", "__") + SUFFIX for e in own}
     for example in own:
-        assert example.reference == REFERENCES / (example.path.replace("/", "__") + SUFFIX)
-        first = example.reference.read_text().split("\n", 1)[0]
+        assert example.publisher == REFERENCES / (example.path.replace("/", "__") + SUFFIX)
+        if example.twin is None:
+            assert example.reference == example.publisher
+        else:
+            assert example.reference is not None and "@octave" not in example.reference.name
+        first = example.publisher.read_text().split("\n", 1)[0]
         assert f"fuzzy-logic-toolkit 0.6.2 (commit {files_commit()[:12]}): evalfis of " \
                f"{example.path}" in first, first
+    assert check(own[[e.twin for e in own].index(None)]).status == "agrees"
+
+
+OCTAVE = [e for e in EXAMPLES if e.source == "octave"]
+
+
+@pytest.mark.parametrize("example", OCTAVE, ids=[e.path for e in OCTAVE])
+def test_octave_file_read_as_octave_agrees_with_octaves_own_evalfis(example) -> None:
+    ours = check_reading(example, "octave")
+    assert ours.status == "agrees", f"{example.path}: {ours.detail}"
+    assert ours.points >= 33 and ours.error is not None and ours.error <= 1e-9
+    # the default reading stays MATLAB's: its own reference (the twin's) still agrees, and
+    # it differs from Octave's engine exactly where the toolkit's semantics are not MATLAB's
+    matlab = check_reading(example, None)
+    merged = load(FILES / example.path, dialect="octave")
+    merges = getattr(merged, "aggregation", None) not in (None, Aggregation.SUM) and \
+        not hasattr(merged, "implication")  # a Sugeno system's max/probor/...: not MATLAB's
+    if "centroid_integral" in (FILES / example.path).read_text():
+        assert matlab.status == check(example).status == "refused"
+        assert "dialect='octave'" in matlab.detail and matlab.detail.startswith("line 36: ")
+    else:
         assert check(example).status == "agrees"
+        assert matlab.status == "agrees" or (merges and matlab.status == "differs"), (
+            f"{example.path}: {matlab.detail}")
+
+
+def test_the_toolkits_merging_of_equal_sugeno_conclusions_moves_two_files() -> None:
+    # aggregate_output_sugeno with AggMethod='max': MATLAB's reading is off Octave's engine
+    # where two firing rules conclude the same value (the finding of issue 20)
+    moved = {e.path: check_reading(e, None).error for e in OCTAVE
+             if check_reading(e, None).status == "differs"}
+    assert moved == {"octave/inst/heart_disease_risk.fis": pytest.approx(1 / 32, rel=1e-9),
+                     "octave/inst/linear_tip_calculator.fis":
+                         pytest.approx(0.0293233082706767, rel=1e-9)}
 
 
 def test_the_toolkits_older_centroid_is_beyond_the_tolerance_for_the_tip_calculator() -> None:

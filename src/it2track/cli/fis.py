@@ -197,17 +197,23 @@ def _condition_text(system: Any, node: Any) -> str:
                                           for c in node.operands) + ")"
 
 
-def _load(path: str, block: str | None = None) -> AnySystem:
+def _load(path: str, block: str | None = None, dialect: str | None = None) -> AnySystem:
     from ..io import load
 
     try:
-        return load(path, block=block)
+        return load(path, block=block, dialect=dialect)
     except (ValueError, OSError) as exc:
         where = f"--block {block}: " if block is not None and "block" in str(exc) else ""
+        where = f"--dialect {dialect}: " if dialect is not None and "dialect" in str(exc) \
+            else where
         raise click.ClickException(f"{where}{exc}") from None
 
 
 _FILE = click.Path(exists=True, dir_okay=False, path_type=str)
+_DIALECT = click.option(
+    "--dialect", type=click.Choice(["matlab", "octave"]), default=None,
+    help="Read a .fis as MATLAB (the default) or the Octave fuzzy-logic-toolkit evaluates it "
+         "(Sugeno rules of equal conclusions merged by AggMethod; 'centroid_integral').")
 
 
 @click.group()
@@ -218,9 +224,10 @@ def fis() -> None:
 
 @fis.command()
 @click.argument("file", type=_FILE)
-def show(file: str) -> None:
+@_DIALECT
+def show(file: str, dialect: str | None) -> None:
     """Print a summary of the fuzzy system in FILE."""
-    click.echo(describe(_load(file)))
+    click.echo(describe(_load(file, dialect=dialect)))
 
 
 _FORCE = click.option(
@@ -233,8 +240,10 @@ _FORCE = click.option(
 @click.argument("target", type=click.Path(dir_okay=False, path_type=str))
 @click.option("--block", metavar="NAME", default=None,
               help="The FUNCTION_BLOCK of an FCL SOURCE to read (default: the first).")
+@_DIALECT
 @_FORCE
-def convert(source: str, target: str, block: str | None, force: bool) -> None:
+def convert(source: str, target: str, block: str | None, dialect: str | None,
+            force: bool) -> None:
     """Convert SOURCE to TARGET; the formats follow the suffixes (.toml, .t2fis, .fis, .fll,
     .fml; .fcl is read only).
 
@@ -247,7 +256,7 @@ def convert(source: str, target: str, block: str | None, force: bool) -> None:
     except ValueError as exc:
         raise click.BadParameter(str(exc), param_hint="TARGET") from None
     check_output_file(target, "TARGET", force=force)
-    system = _load(source, block)
+    system = _load(source, block, dialect)
     try:
         text = dumps(system, fmt)
     except ValueError as exc:
@@ -259,10 +268,11 @@ def convert(source: str, target: str, block: str | None, force: bool) -> None:
 @fis.command(name="eval", context_settings={"ignore_unknown_options": True})
 @click.argument("file", type=_FILE)
 @click.argument("values", nargs=-1, required=True)
-def evaluate(file: str, values: tuple[str, ...]) -> None:
+@_DIALECT
+def evaluate(file: str, values: tuple[str, ...], dialect: str | None) -> None:
     """Evaluate FILE at one point: one VALUE per input, in order (negative values are fine:
     ``it2track fis eval heading.toml 0.3 -0.1``)."""
-    system = _load(file)
+    system = _load(file, dialect=dialect)
     names = [inp.name for inp in system.inputs]
     if len(values) != system.n_inputs:
         raise click.ClickException(

@@ -161,9 +161,11 @@ def check_supported(system: object, real: RealType | None = None) -> None:
         _operator(system.implication, SUPPORTED_IMPLICATIONS, "implication", system)
         _operator(system.aggregation, SUPPORTED_AGGREGATIONS, "aggregation", system)
     if isinstance(system, T1Mamdani):
-        _operator(system.defuzzifier, SUPPORTED_DEFUZZIFIERS, "defuzzifier", system,
-                  ": it picks grid points by exact comparisons, so a last-bit difference in the "
-                  "aggregated set moves it by whole grid steps")
+        why = (" (Octave's trapezoid-rule centroid is not generated)"
+               if system.defuzzifier is Defuzzifier.CENTROID_INTEGRAL else
+               ": it picks grid points by exact comparisons, so a last-bit difference in the "
+               "aggregated set moves it by whole grid steps")
+        _operator(system.defuzzifier, SUPPORTED_DEFUZZIFIERS, "defuzzifier", system, why)
     reducer_of(system)
     if real is not None and real.fixed:
         if mamdani:

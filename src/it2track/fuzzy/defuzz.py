@@ -79,13 +79,19 @@ def defuzzify(mu: FloatArray, y: FloatArray, method: Defuzzifier) -> FloatArray:
     >>> mu = np.array([[0.0], [1.0], [1.0], [0.5]])
     >>> y = np.array([0.0, 1.0, 2.0, 3.0])
     >>> [float(defuzzify(mu, y, d)[0]) for d in Defuzzifier]
-    [1.8, 2.0, 1.5, 1.0, 2.0]
+    [1.8, 2.0, 1.5, 1.0, 2.0, 1.6666666666666667]
     """
     total = mu.sum(axis=0)
     empty = total <= 0
     with np.errstate(divide="ignore", invalid="ignore"):
         if method is Defuzzifier.CENTROID:
             out = (mu * y[:, None]).sum(axis=0) / total
+        elif method is Defuzzifier.CENTROID_INTEGRAL:
+            # Octave's trapz(y, v): sum(diff(y) .* (v(1:end-1) + v(2:end))) / 2
+            step = np.diff(y)[:, None]
+            moment = mu * y[:, None]
+            out = ((step * (moment[1:] + moment[:-1])).sum(axis=0)
+                   / (step * (mu[1:] + mu[:-1])).sum(axis=0))
         elif method is Defuzzifier.BISECTOR:
             # The first grid point where the running sum reaches half the total.
             idx = np.argmax(np.cumsum(mu, axis=0) >= 0.5 * total, axis=0)

@@ -273,6 +273,9 @@ class Defuzzifier(_Named):
     ``CENTROID``: ``sum(mu y) / sum(mu)``; ``BISECTOR``: the grid point where the cumulative
     area first reaches half the total; ``MOM`` / ``SOM`` / ``LOM``: mean / smallest / largest
     of the grid points where ``mu`` is maximal (MATLAB's ``defuzz`` definitions on the grid).
+    ``CENTROID_INTEGRAL``: the Octave fuzzy-logic-toolkit's ``trapz(y, y.*mu) / trapz(y, mu)``
+    (its ``'centroid_integral'``; its ``'centroid'`` up to 0.6.1): the trapezoid rule, the two
+    end points weighted by half. Written to ``.fis`` (Octave's name) and ``.toml`` only.
     """
 
     @classmethod
@@ -284,6 +287,7 @@ class Defuzzifier(_Named):
     MOM = "mom"
     SOM = "som"
     LOM = "lom"
+    CENTROID_INTEGRAL = "centroid_integral"
 
 
 class WeightedDefuzzifier(_Named):

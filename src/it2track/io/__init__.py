@@ -129,15 +129,22 @@ def _format(fmt: str) -> tuple[str, _Loader, _Dumper]:
         raise ValueError(f"unknown format {fmt!r}; choose one of {known}") from None
 
 
-def loads(text: str, fmt: str, *, path: str = "<string>", block: str | None = None
-          ) -> AnySystem:
+def loads(text: str, fmt: str, *, path: str = "<string>", block: str | None = None,
+          dialect: str | None = None) -> AnySystem:
     """Parse ``text`` in format ``fmt`` (``"toml"``, ``"t2fis"``, ``"fis"``, ``"fll"``,
     ``"fml"`` or ``"fcl"``).
 
     ``path`` only labels error messages; ``block`` names the FCL ``FUNCTION_BLOCK`` to read
-    (``None``: the first; other formats take no ``block``).
+    (``None``: the first; other formats take no ``block``); ``dialect`` reads a ``.fis`` as
+    ``"matlab"`` (``None``: the default) or ``"octave"`` evaluates it (the Octave
+    fuzzy-logic-toolkit's semantics where they differ: :mod:`.matfis`; other formats take no
+    ``dialect``).
     """
     _, loader, _ = _format(fmt)
+    if dialect is not None:
+        if loader is not matfis.loads:
+            raise ValueError(f"dialect= names a reading of a .fis; format {fmt!r} has none")
+        return matfis.loads(text, path, dialect=dialect)
     if block is None:
         return loader(text, path)
     if loader is not fcl.loads:
@@ -157,9 +164,11 @@ def dumps(system: AnySystem, fmt: str) -> str:
     return _format(fmt)[2](system)
 
 
-def load(path: str | os.PathLike[str], *, block: str | None = None) -> AnySystem:
+def load(path: str | os.PathLike[str], *, block: str | None = None,
+         dialect: str | None = None) -> AnySystem:
     """Read a fuzzy system from ``path``; the format follows the suffix (``block``: the FCL
-    ``FUNCTION_BLOCK`` to read, as :func:`loads`).
+    ``FUNCTION_BLOCK`` to read; ``dialect``: ``"matlab"`` or ``"octave"``'s reading of a
+    ``.fis``; as :func:`loads`).
 
     Returns
     -------
@@ -174,7 +183,8 @@ def load(path: str | os.PathLike[str], *, block: str | None = None) -> AnySystem
         ``.toml``) is not UTF-8; ``str(err)`` is ``"path:line: problem"`` (or ``"path:
         problem"``).
     ValueError
-        For an unknown suffix, or ``block`` with a format other than FCL.
+        For an unknown suffix, ``block`` with a format other than FCL, or ``dialect`` with
+        a format other than ``.fis`` or other than ``"matlab"``/``"octave"``.
     OSError
         If the file does not exist or cannot be read.
     """
@@ -189,7 +199,7 @@ def load(path: str | os.PathLike[str], *, block: str | None = None) -> AnySystem
             text = decode(data)  # UTF-8, else Latin-1 (MATLAB files)
     except InputFileError as exc:
         raise FisFormatError(label, exc.line, exc.problem) from None
-    return loads(text, name, path=label, block=block)
+    return loads(text, name, path=label, block=block, dialect=dialect)
 
 
 def save(system: AnySystem, path: str | os.PathLike[str]) -> None:

@@ -123,6 +123,10 @@ def _part(system: Any) -> tuple[list[str], list[list[str]], list[list[int]], str
     lines: list[str] = []
     if isinstance(system, T1Mamdani | T1Tsukamoto):
         if isinstance(system, T1Mamdani):
+            if system.defuzzifier not in _DEFUZZIFIERS:
+                raise UnsupportedFeatureError(
+                    f"fuzzylite has no defuzzifier {system.defuzzifier.value!r} (Octave's "
+                    "trapezoid-rule centroid); save as .fis or .toml")
             if system.sampling is not Sampling.MIDPOINTS:
                 raise UnsupportedFeatureError(
                     "fuzzylite samples a Mamdani output at the midpoints of N cells; this "

@@ -141,6 +141,10 @@ def _part(system: Any, k: int) -> tuple[list[str], list[str]]:
     mamdani = isinstance(system, T1Mamdani)
     names = system.output_names
     if mamdani:
+        if system.defuzzifier not in _DEFUZZ:
+            raise UnsupportedFeatureError(
+                f"IEEE 1855 has no defuzzifier {system.defuzzifier.value!r} (Octave's "
+                "trapezoid-rule centroid); save as .fis or .toml")
         if system.resolution != RESOLUTION or system.sampling is not Sampling.ENDPOINTS:
             raise UnsupportedFeatureError(
                 f"IEEE 1855 carries no sampling: it2track reads FML Mamdani outputs at MATLAB's "

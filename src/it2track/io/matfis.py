@@ -57,6 +57,13 @@ MATLAB or fuzzylite reads them, with a :class:`~it2track.io.FisFormatWarning`.
 - fuzzylite's ``Type='tsukamoto'`` and ``'hybrid'`` (a :class:`~it2track.fuzzy.HybridSystem`
   of the runs of Mamdani and Takagi-Sugeno outputs).
 
+``dialect="octave"`` reads a file as the Octave fuzzy-logic-toolkit (0.6.2) evaluates it, where
+that differs from MATLAB: a Sugeno output merges the rules that conclude the same value with
+``AggMethod`` (``aggregate_output_sugeno``: :class:`T1Sugeno` ``aggregation``; ``'max'`` if
+absent, ``newfis``'s), where MATLAB counts every rule; and a Mamdani ``DefuzzMethod`` may be
+``'centroid_integral'`` (:attr:`Defuzzifier.CENTROID_INTEGRAL`, the trapezoid rule). Only the
+toolkit's ``Type='mamdani'``/``'sugeno'`` type-1 systems of constant/linear Sugeno outputs.
+
 Where no rule fires MATLAB returns the middle of the output ``Range``: the loaded system's
 ``on_zero_firing`` is that midpoint (one per output), and for Sugeno systems the writer chooses
 the output ``Range`` so that its midpoint is the system's ``on_zero_firing`` (covering the
@@ -149,7 +156,7 @@ from ._lowerlag import LOWER_KEYS, lag_foot, lower_from
 from ._matlab import Document, Entry, MFValue, Section
 from ._writing import fmt_vector
 
-__all__ = ["dumps", "lag_foot", "loads"]
+__all__ = ["DIALECTS", "dumps", "lag_foot", "loads"]
 
 _SYSTEM_KEYS = frozenset({
     "Name", "Type", "Version", "NumInputs", "NumOutputs", "NumRules", "AndMethod", "OrMethod",
@@ -172,8 +179,9 @@ class _Reader(FisReader):
     variable_keys = frozenset({"Name", "Range", "NumMFs", "Enabled"})
     sugeno_output_keys = frozenset({"Name", "Range", "NumMFs", *_FUZZYLITE_FLAGS, "Default"})
 
-    def __init__(self, text: str, path: str) -> None:
+    def __init__(self, text: str, path: str, octave: bool = False) -> None:
         super().__init__(text, path)
+        self.octave = octave
         self.type2 = False
         self.defaults: list[float | None] = []
         self.locks: list[bool] = []
@@ -188,6 +196,12 @@ class _Reader(FisReader):
                                  "'mamdani', and fuzzylite's 'tsukamoto' and 'hybrid')")
         if fis_type in ("tsukamoto", "hybrid") and "TypeReductionMethod" in system.entries:
             raise self.doc.error(entry.line, f"a type-2 system of Type={fis_type!r}")
+        if self.octave and fis_type in ("tsukamoto", "hybrid"):
+            raise self.doc.error(entry.line, f"Type={fis_type!r} is fuzzylite's; the Octave "
+                                 "toolkit (dialect='octave') has 'mamdani' and 'sugeno'")
+        if self.octave and "TypeReductionMethod" in system.entries:
+            raise self.doc.error(system.entries["TypeReductionMethod"].line, "a type-2 system: "
+                                 "the Octave toolkit (dialect='octave') has type-1 only")
         return fis_type
 
     def output_kind(self, section: Section) -> str:
@@ -197,6 +211,10 @@ class _Reader(FisReader):
                     for entry in section.mfs}
         if self.type == "hybrid":  # fuzzylite's: an output of 'constant'/'linear' MFs is TSK
             return "sugeno" if constant == {True} else "mamdani"
+        if constant == {False} and self.octave:
+            raise self.doc.error(section.line, f"[{section.title}] of a Type='sugeno' system "
+                                 "has membership functions: the Octave toolkit (dialect="
+                                 "'octave') calls them as functions of the inputs")
         if constant == {False}:
             # fuzzylite's importer takes any term; its weighted average of monotonic terms is
             # Tsukamoto's (MATLAB refuses such a file)
@@ -216,7 +234,15 @@ class _Reader(FisReader):
         }
         if self.type in ("mamdani", "hybrid"):
             options.update(self.mamdani_options(system))
-            allowed = ("centroid",) if self.type2 else tuple(d.value for d in Defuzzifier)
+            allowed = ("centroid",) if self.type2 else tuple(
+                d.value for d in Defuzzifier
+                if self.octave or d is not Defuzzifier.CENTROID_INTEGRAL)
+            entry = system.entries.get("DefuzzMethod")
+            if (entry is not None and not self.octave
+                    and doc.string(entry).lower() == Defuzzifier.CENTROID_INTEGRAL.value):
+                raise doc.error(entry.line, "DefuzzMethod='centroid_integral' is the Octave "
+                                "toolkit's trapezoid-rule centroid; MATLAB has none (read "
+                                "the file with dialect='octave', CLI --dialect octave)")
             defuzz, _ = doc.method(system, "DefuzzMethod", allowed, "centroid")
             if not self.type2:
                 options["defuzzifier"] = Defuzzifier.from_name(defuzz)
@@ -224,6 +250,11 @@ class _Reader(FisReader):
             if self.type == "tsukamoto":  # fuzzylite 8 aggregates the firing of a set with it
                 options["aggregation"] = self.operator(system, "AggMethod", Aggregation,
                                                        Aggregation.SUM)
+            elif self.octave:  # aggregate_output_sugeno: equal conclusions merged
+                options["aggregation"] = self.operator(system, "AggMethod", Aggregation,
+                                                       Aggregation.MAXIMUM)
+                if "ImpMethod" in system.entries:
+                    doc.string(system.entries["ImpMethod"])
             else:
                 for key in ("ImpMethod", "AggMethod"):  # MATLAB's Sugeno systems ignore them
                     if key in system.entries:
@@ -340,7 +371,7 @@ class _Reader(FisReader):
             names = [outputs[k] for k in cut]
             if kind == "sugeno":
                 cls: type = IT2Sugeno if self.type2 else T1Sugeno
-                for key in ("implication", "aggregation"):
+                for key in ("implication",) if self.octave else ("implication", "aggregation"):
                     part.pop(key, None)
                 if isinstance(part.get("defuzzifier"), Defuzzifier):
                     part["defuzzifier"] = WeightedDefuzzifier.AVERAGE
@@ -359,8 +390,15 @@ class _Reader(FisReader):
                          name=options["name"])
 
 
-def loads(text: str, path: str = "<string>") -> AnySystem:
+#: the readings of a ``.fis`` file: ``dialect=`` of :func:`loads`
+DIALECTS = ("matlab", "octave")
+
+
+def loads(text: str, path: str = "<string>", *, dialect: str = "matlab") -> AnySystem:
     """Parse ``.fis`` text (type-1 or type-2, Sugeno or Mamdani) into a system.
+
+    ``dialect``: ``"matlab"`` (MATLAB's reading, the default) or ``"octave"`` (the Octave
+    fuzzy-logic-toolkit's, where it differs: see the module).
 
     Raises
     ------
@@ -375,7 +413,9 @@ def loads(text: str, path: str = "<string>") -> AnySystem:
         lines or rules than ``NumMFs``/``NumRules`` say, a ``Type='sugeno'`` output of
         monotonic membership functions, read as Tsukamoto's).
     """
-    return _Reader(text, path).read()
+    if dialect not in DIALECTS:
+        raise ValueError(f"dialect={dialect!r}: a .fis is read as one of {DIALECTS}")
+    return _Reader(text, path, octave=dialect == "octave").read()
 
 
 def _check_shoulders(
