@@ -171,6 +171,8 @@ class _Bar:
     """Records what a tqdm bar is given."""
 
     def __init__(self, **kwargs: Any) -> None:
+        # (the stream as tqdm resolves it: file=None is sys.stderr)
+        self.file = kwargs.pop("file", None) or sys.stderr
         self.kwargs: dict[str, Any] = kwargs
         self.updates: list[int] = []
         self.closed = False
@@ -203,8 +205,8 @@ def test_the_bar_counts_runs_from_those_already_done(
     (out / "chunks" / "chunk-000001.csv").unlink()  # the chunk of one run
     run_sweep(plan, out, resume=True, progress=False)
     first, second = bars
-    common = {"total": 4, "unit": "run", "desc": "sweep", "file": sys.stderr,
-              "dynamic_ncols": True}
+    common = {"total": 4, "unit": "run", "desc": "sweep", "dynamic_ncols": True}
+    assert first.file is sys.stderr and second.file is sys.stderr
     assert first.kwargs == {**common, "initial": 0, "disable": False}
     assert (first.updates, first.closed) == ([3, 1], True)
     assert second.kwargs == {**common, "initial": 3, "disable": True}
