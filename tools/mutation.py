@@ -90,6 +90,9 @@ DEFAULT_TESTS: dict[str, list[str]] = {
     "it2track.experiments.sweep.chunks": ["tests/experiments/test_sweep_chunks_units.py",
                                           "tests/experiments/test_sweep_config.py",
                                           "tests/experiments/test_sweep_chunk_checks.py"],
+    # (direct, fast tests: the runner's with the simulation replaced by a formula of the run)
+    "it2track.experiments.sweep.runner": ["tests/experiments/test_sweep_runner_units.py"],
+    "it2track.experiments.sweep.refs": ["tests/experiments/test_sweep_refs_units.py"],
     "it2track.experiments.analysis": ["tests/experiments/test_analysis.py"],
     "it2track.experiments.robustness": [
         "tests/experiments/test_robustness_judge.py",
