@@ -34,7 +34,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 from catalog import FILES, OUTPUT_NAMES, Example, examples
 
 from it2track.fuzzy import HybridSystem
-from it2track.fuzzy.chain import chain_outputs
+from it2track.fuzzy.sequence import chain_outputs
 from it2track.io import FisFormatError, load
 
 #: agreement bound, relative to the output's range

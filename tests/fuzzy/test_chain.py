@@ -17,8 +17,9 @@ import pytest
 
 from it2track.codegen import generate_c
 from it2track.fuzzy import Input, IT2Sugeno, Rule, T1Sugeno, Triangle, ZeroFiringError, kernels
-from it2track.fuzzy.chain import chain_outputs, chained_outputs
+from it2track.fuzzy.chain import chained_outputs
 from it2track.fuzzy.formula import Formula
+from it2track.fuzzy.sequence import chain_outputs
 from it2track.io import UnsupportedFeatureError
 
 U = Input("u", (0, 10), [("lo", Triangle(0, 0, 10)), ("hi", Triangle(0, 10, 10))])

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from it2track.fuzzy import T1Sugeno, ZeroFiringError
-from it2track.fuzzy.chain import chain_outputs
+from it2track.fuzzy.sequence import chain_outputs
 from it2track.io import FisFormatError, loads
 
 CHAIN = """Engine: chain

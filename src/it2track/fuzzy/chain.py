@@ -29,7 +29,7 @@ from numpy.typing import NDArray
 
 from .formula import Formula
 
-__all__ = ["chain_outputs", "chain_values", "chained_outputs", "check_chain"]
+__all__ = ["chain_values", "chained_outputs", "check_chain"]
 
 FloatArray = NDArray[np.float64]
 
@@ -97,16 +97,3 @@ def chain_values(system: Any, x: FloatArray, state: FloatArray | None = None) ->
         out[:, k] = u
     return out
 
-
-def chain_outputs(system: Any, x: Any, previous: Any = None, *, sequence: bool = False
-                  ) -> FloatArray:
-    """The outputs ``(N, m)`` of the rows of ``x`` (shape ``(N, n_inputs)``) of a chained
-    system, as fuzzylite has them: NaN where an output has no value (where ``__call__`` and
-    :meth:`evaluate_sequence` raise ``ZeroFiringError``). With ``sequence`` the rows are
-    evaluated in order from ``previous`` (see :func:`chain_values`); else each alone."""
-    from .sequence import _rows, previous_state
-
-    arr = _rows(system, np.asarray(x, dtype=np.float64))
-    prepared, _ = system._prepare(tuple(arr.T))
-    state = previous_state(previous, system.n_outputs) if sequence else None
-    return chain_values(system, prepared, state)

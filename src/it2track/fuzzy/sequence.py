@@ -39,7 +39,7 @@ from numpy.typing import ArrayLike, NDArray
 from .chain import chain_values
 from .reducers import ZeroFiringError
 
-__all__ = ["evaluate_sequence", "lock_flags", "previous_state"]
+__all__ = ["chain_outputs", "evaluate_sequence", "lock_flags", "previous_state"]
 
 FloatArray = NDArray[np.float64]
 
@@ -166,3 +166,15 @@ def _raise(system: Any, arr: FloatArray, k: int, i: int) -> None:
     raise ZeroFiringError(
         f"no rule of {what} for output {out!r} fires at row {i} ({point}) and there is no "
         "previous output; pass previous=, or on_zero_firing=<value> to define it there")
+
+
+def chain_outputs(system: Any, x: Any, previous: Any = None, *, sequence: bool = False
+                  ) -> FloatArray:
+    """The outputs ``(N, m)`` of the rows of ``x`` (shape ``(N, n_inputs)``) of a chained
+    system, as fuzzylite has them: NaN where an output has no value (where ``__call__`` and
+    :meth:`evaluate_sequence` raise ``ZeroFiringError``). With ``sequence`` the rows are
+    evaluated in order from ``previous`` (see :func:`~.chain.chain_values`); else each alone."""
+    arr = _rows(system, np.asarray(x, dtype=np.float64))
+    prepared, _ = system._prepare(tuple(arr.T))
+    state = previous_state(previous, system.n_outputs) if sequence else None
+    return chain_values(system, prepared, state)
