@@ -100,13 +100,26 @@ def test_what_a_chained_formula_may_read_is_checked() -> None:
                        r"order: \['u', 'a', 'b'\]"):
         T1Sugeno(inputs=[U], outputs=("a", "b", "c"), rules=[
             Rule(["hi"], consequents=[1.0, 2.0, _f("b - a", "b", "a")])])
-    with pytest.raises(ValueError, match=r"rule 0: formula 'a' reads 2 names for 1 inputs$"):
+    # its own output, or a later one: fuzzylite's previous evaluation, not read
+    with pytest.raises(ValueError, match=r"rule 0: formula 'a' of output 'a' reads \['u', "
+                       r"'a'\]; a formula reads the inputs, then the outputs before its own in "
+                       r"order: \['u'\]$"):
         T1Sugeno(inputs=[U], outputs=("a", "b"), rules=[Rule(["hi"], consequents=[
             _f("a", "a"), 1.0])])
-    with pytest.raises(ValueError, match=r"rule 0: formula 'a \+ b' reads 3 names for 1 "
-                       r"inputs and the 1 outputs before this one"):
+    with pytest.raises(ValueError, match=r"rule 1: formula 'a \+ b' of output 'b' reads "
+                       r"\['u', 'a', 'b'\]; .* order: \['u', 'a'\]$"):
+        T1Sugeno(inputs=[U], outputs=("a", "b"), rules=[Rule(["lo"], consequents=[1.0, 2.0]),
+                                                         Rule(["hi"], consequents=[
+                                                             1.0, _f("a + b", "a", "b")])])
+    # names beyond the inputs that the formula does not read: more names than the tables take
+    with pytest.raises(ValueError, match=r"rule 0: formula 'u \+ 1' reads 3 names for 1 "
+                       r"inputs and the 1 outputs before this one$"):
         T1Sugeno(inputs=[U], outputs=("a", "b"), rules=[Rule(["hi"], consequents=[
-            1.0, _f("a + b", "a", "b")])])
+            1.0, _f("u + 1", "a", "b")])])
+    with pytest.raises(ValueError, match=r"rule 0: formula 'u \+ 1' reads 2 names for 1 "
+                       r"inputs$"):
+        T1Sugeno(inputs=[U], outputs=("a", "b"), rules=[Rule(["hi"], consequents=[
+            _f("u + 1", "a"), 1.0])])
     with pytest.raises(ValueError, match="only T1Sugeno evaluates formulas of outputs"):
         IT2Sugeno(inputs=[U], outputs=("a", "b"), rules=[Rule(["hi"], consequents=[
             1.0, _f("a", "a")])])

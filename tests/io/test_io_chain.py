@@ -204,3 +204,40 @@ def test_a_read_of_a_later_or_its_own_output_is_refused_naming_it(
     assert info.value.line == next(i for i, line in enumerate(text.split("\n"), 1)
                                    if where in line)
     assert str(info.value).startswith(f"chain.{fmt}:{info.value.line}")
+
+
+def test_a_function_reading_an_output_of_another_part_is_refused_naming_it() -> None:
+    # a Mamdani output and a Takagi-Sugeno one are two systems (a HybridSystem) in it2track;
+    # fuzzylite defuzzifies m first and s reads it (pyfuzzylite at u = 5: m 5, s 10)
+    hybrid = CHAIN.split("OutputVariable: a")[0] + """OutputVariable: m
+  range: 0 10
+  aggregation: Maximum
+  defuzzifier: Centroid 100
+  default: nan
+  term: small Triangle 0 0 10
+  term: big Triangle 0 10 10
+OutputVariable: s
+  range: -100 100
+  aggregation: none
+  defuzzifier: WeightedAverage TakagiSugeno
+  default: nan
+  term: twice Function 2*m
+RuleBlock:
+  conjunction: none
+  disjunction: none
+  implication: Minimum
+  activation: General
+  rule: if u is lo then m is small
+  rule: if u is hi then m is big
+  rule: if u is hi then s is twice
+"""
+    with pytest.raises(FisFormatError) as info:
+        loads(hybrid, "fll", path="hybrid.fll")
+    assert info.value.line == hybrid.split("\n").index("  term: twice Function 2*m") + 1
+    assert info.value.message == ("term 'twice': Function '2*m' reads the output 'm' "
+                                  "(mamdani), which it2track evaluates apart from 's': it "
+                                  "chains formulas among Takagi-Sugeno outputs declared one "
+                                  "after another")
+    # s reading the input only: the file loads, a HybridSystem of the two
+    plain = hybrid.replace("twice Function 2*m", "twice Function 2*u")
+    assert loads(plain, "fll").output_names == ("m", "s")

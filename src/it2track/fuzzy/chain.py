@@ -45,7 +45,8 @@ def chained_outputs(system: Any, k: int) -> tuple[str, ...]:
 
 def check_chain(system: Any) -> None:
     """Refuse a chained formula a system cannot evaluate: in a system other than T1Sugeno, or
-    whose names after the inputs are not the outputs before its own, in order."""
+    whose names after the inputs are not the outputs before its own, in order (checked before
+    the system is lowered to tables)."""
     n_in = len(system.inputs)
     if not any(isinstance(f, Formula) and f.used.intersection(f.names[n_in:])
                for rule in system.rules for f in rule.consequents):
@@ -55,13 +56,14 @@ def check_chain(system: Any) -> None:
         raise ValueError(f"{what}: a formula consequent reads an output; only T1Sugeno "
                          "evaluates formulas of outputs (fuzzylite's chained Function)")
     inputs = tuple(i.name for i in system.inputs)
-    outputs = system.output_names
+    outputs = tuple(o if isinstance(o, str) else o.name for o in system.outputs) or tuple(
+        f"output{k + 1}" for k in range(len(system.rules[0].consequents)))
     for r, rule in enumerate(system.rules):
         for k, f in enumerate(rule.consequents):
             if not isinstance(f, Formula) or len(f.names) == len(inputs):
                 continue
-            expected = inputs + outputs[:len(f.names) - len(inputs)]
-            if f.names != expected:
+            read = len(f.names) - len(inputs)
+            if read > k or f.names != inputs + outputs[:read]:
                 raise ValueError(
                     f"{what}: rule {r}: formula {f.text!r} of output {outputs[k]!r} reads "
                     f"{list(f.names)}; a formula reads the inputs, then the outputs before "

@@ -138,8 +138,8 @@ class _SystemBase:
             elif not scalar:
                 object.__setattr__(self, "on_zero_firing", tuple(float(v) for v in values))
         object.__setattr__(self, "lock_previous", lock_flags(self.lock_previous, n_out))
-        object.__setattr__(self, "_c", self._lower())
         check_chain(self)
+        object.__setattr__(self, "_c", self._lower())
 
     def _check_outputs(self) -> None:
         if len(set(self.outputs)) != len(self.outputs) or not all(

@@ -270,10 +270,29 @@ def build(doc: Document) -> AnySystem:
     name = engine.name if engine is not None else ""
     # a run: outputs of one kind (and, for Mamdani, one defuzzifier and resolution)
     runs = [list(group) for _, group in itertools.groupby(outputs, key=_run_key)]
+    if len(runs) > 1:
+        _chains_within_runs(b, runs)
     parts = [_part(b, inputs, run, rules, name) for run in runs]
     if len(parts) == 1:
         return parts[0]
     return b.guarded(None, lambda: HybridSystem(tuple(parts), name=name))
+
+
+def _chains_within_runs(b: _Builder, runs: list[list[_Output]]) -> None:
+    """Refuse a Function reading an output of another part (fuzzylite evaluates it; it2track
+    chains formulas within one system)."""
+    kinds = {o.section.name: o.kind for run in runs for o in run}
+    for run in runs:
+        mine = {o.section.name for o in run}
+        for out in run:
+            for term, (value, line) in out.terms.items():
+                if isinstance(value, Formula) and (read := sorted(value.used & set(kinds)
+                                                                  - mine)):
+                    raise b.error(line, f"term {term!r}: Function {value.text!r} reads the "
+                                  f"output {read[0]!r} ({kinds[read[0]]}), which it2track "
+                                  f"evaluates apart from {out.section.name!r}: it chains "
+                                  "formulas among Takagi-Sugeno outputs declared one after "
+                                  "another")
 
 
 @dataclass(frozen=True)
