@@ -193,6 +193,11 @@ def test_each_format_reads_a_chained_function_as_fuzzylite_evaluates_it(fmt: str
      "term 'plus': Function 'a + c' reads the output 'c', which fuzzylite defuzzifies after "
      "'b' (its value of the previous evaluation, NaN after a restart): it2track reads only "
      "the outputs declared before this one ('a')"),
+    # jFuzzyLogic's FUNCTION (its grammar): it defuzzifies in another order, not read
+    ("fcl", "Function a + u;", "FUNCTION a + u;", "TERM plus",
+     "term 'plus': FUNCTION 'a + u' reads the output 'a': it2track reads a jFuzzyLogic "
+     "FUNCTION of the inputs only (fuzzylite's chained Function, in its own grammar, reads "
+     "the outputs declared before its own)"),
 ])
 def test_a_read_of_a_later_or_its_own_output_is_refused_naming_it(
         fmt: str, old: str, new: str, where: str, message: str) -> None:
