@@ -9,6 +9,7 @@ from a restart), and by hand (``tests/fuzzy/test_chain.py``).
 
 from __future__ import annotations
 
+import contextlib
 import math
 
 import numpy as np
@@ -246,3 +247,25 @@ RuleBlock:
     # s reading the input only: the file loads, a HybridSystem of the two
     plain = hybrid.replace("twice Function 2*m", "twice Function 2*u")
     assert loads(plain, "fll").output_names == ("m", "s")
+
+
+@pytest.mark.parametrize(("fmt", "old", "new", "message"), [
+    ("fis", "MF1='six':'constant',[6]", "MF1='six':'rampmf',[0 10]",
+     "MF 'tenfold': function 'a*10 - u' reads the output 'a' (tsukamoto), which it2track "
+     "evaluates apart from 'b': it chains formulas among Takagi-Sugeno outputs declared one "
+     "after another"),
+    ("fcl", "TERM six := 6;\n  METHOD : COGS;", "TERM six := Triangle 0 5 10;\n  METHOD : COG;",
+     "term 'tenfold': Function 'a * 10 - u' reads the output 'a', of another kind, which "
+     "it2track evaluates apart from 'b': it chains formulas among Takagi-Sugeno outputs "
+     "declared one after another"),
+])
+def test_fis_and_fcl_refuse_a_function_reading_another_parts_output(
+        fmt: str, old: str, new: str, message: str) -> None:
+    text = TEXTS[fmt].replace(old, new)
+    assert text != TEXTS[fmt]
+    with pytest.raises(FisFormatError) as info:
+        with pytest.warns(Warning) if fmt == "fis" else contextlib.nullcontext():
+            loads(text, fmt, path=f"chain.{fmt}")
+    assert info.value.message == message
+    assert info.value.line == next(i for i, line in enumerate(text.split("\n"), 1)
+                                   if "tenfold" in line)

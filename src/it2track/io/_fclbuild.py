@@ -192,8 +192,10 @@ class Builder:
                              "output without METHOD : COGS) as here")
         raise self.error(term.line, f"term {term.name!r}: FUNCTION is a COGF output term")
 
-    def consequent(self, term: FclTerm, inputs: list[str],
-                   outputs: Iterable[str] = (), own: str | None = None) -> Consequent:
+    def consequent(self, term: FclTerm, inputs: list[str], outputs: Iterable[str] = (),
+                   own: str | None = None, apart: Iterable[str] = ()) -> Consequent:
+        """An output term's value; a Function reading an output (before ``own``) that is
+        ``apart`` (in another system of a hybrid) is refused."""
         if term.kind == "singleton":
             return (term.value, term.value)
         if term.kind == "shape":
@@ -206,6 +208,12 @@ class Builder:
             # fuzzylite's FCL export spells its Function term so, in its grammar
             dialect = "fuzzylite" if term.shape == "Function" else "jfuzzylogic"
             formula = self.formula(term, inputs, dialect, outputs, own)
+            read = sorted(formula.used & set(apart))
+            if read:
+                raise self.error(term.line, f"term {term.name!r}: Function {formula.text!r} "
+                                 f"reads the output {read[0]!r}, of another kind, which "
+                                 f"it2track evaluates apart from {own!r}: it chains formulas "
+                                 "among Takagi-Sugeno outputs declared one after another")
             try:  # linear in the inputs: a Linear (compiled, written), refused if not finite
                 return self.linear(term, inputs)
             except _NotLinear:

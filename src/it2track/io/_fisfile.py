@@ -148,9 +148,13 @@ class FisReader:
             self.output_extras(section)
             count_entry = doc.entry(section, "NumMFs")
             n = doc.integer(count_entry, minimum=1)
+            # outputs before this one that fuzzylite's hybrid puts in another system
+            start = max((j + 1 for j, kind in enumerate(kinds) if kind != "sugeno"), default=0)
+            apart = {o.name if isinstance(o, Output) else o: kinds[j]
+                     for j, o in enumerate(outputs[:start])}
             consequents.append([
                 self.consequent(doc.mf(entry), counts.n_inputs,
-                                tuple(i.name for i in inputs), own)
+                                tuple(i.name for i in inputs), own, apart)
                 for entry in self.mf_lines(section, n, count_entry)
             ])
         rules = build_rules(doc, doc.counted_rules(counts), inputs, consequents,
@@ -192,21 +196,32 @@ class FisReader:
         return [section.entries[f"MF{j}"] for j in range(1, n + 1)]
 
     def consequent(self, mfv: MFValue, n_inputs: int, names: tuple[str, ...] = (),
-                   own: str | None = None) -> Consequent:
+                   own: str | None = None, apart: dict[str, str] | None = None
+                   ) -> Consequent:
         """A Sugeno output MF: ``'linear'`` or ``'constant'`` (see :meth:`constant`), or
         fuzzylite's ``'function'``, a formula of the inputs ``names`` (and of the outputs
-        declared before ``own``: fuzzylite's chained Function, :mod:`._chainread`)."""
+        declared before ``own``: fuzzylite's chained Function, :mod:`._chainread`; not of
+        those ``apart``, output name -> kind, in another system of a hybrid)."""
         if mfv.type == "function":
             outputs = [self.doc.string(self.doc.sections[t].entries["Name"])
                        for t in sorted((t for t in self.doc.sections if t.startswith("Output")
                                         and "Name" in self.doc.sections[t].entries),
                                        key=lambda t: int(t[6:]) if t[6:].isdigit() else 0)]
             try:
-                return chained_formula(mfv.formula, "fuzzylite", names, outputs, own)
+                formula = chained_formula(mfv.formula, "fuzzylite", names, outputs, own)
             except (FormulaError, ChainRefused) as exc:
                 sep = " " if isinstance(exc, ChainRefused) else ": "
                 raise self.doc.error(mfv.line, f"MF {mfv.name!r}: function {mfv.formula!r}"
                                      f"{sep}{exc}") from None
+            apart = apart or {}
+            read = sorted(formula.used & set(apart))
+            if read:
+                raise self.doc.error(mfv.line, f"MF {mfv.name!r}: function {mfv.formula!r} "
+                                     f"reads the output {read[0]!r} ({apart[read[0]]}), which "
+                                     f"it2track evaluates apart from {own!r}: it chains "
+                                     "formulas among Takagi-Sugeno outputs declared one after "
+                                     "another")
+            return formula
         if mfv.type == "linear":
             return linear_from(self.doc, mfv, n_inputs, interval=self.interval_linear)
         if mfv.type != "constant":
