@@ -172,10 +172,8 @@ class SystemTables:
         ``"or"`` (an OR rule over two or more inputs), ``"weights"`` (a weight other than 1),
         ``"linear"`` (a first-order consequent), ``"formula"`` (a
         :class:`~it2track.fuzzy.formula.Formula` consequent, evaluated per sample; with it
-        ``"linear"`` too), ``"chain"`` (a formula that reads outputs before this one: its
-        names are the inputs, then those outputs, whose values :meth:`consequents_block` takes
-        as rows after the inputs' -- fuzzylite's Function reading an output it defuzzified
-        before), ``"outputs"`` (more than one output),
+        ``"linear"`` too), ``"chain"`` (a formula reading the outputs before this one, as
+        rows after the inputs': :mod:`~it2track.fuzzy.chain`), ``"outputs"`` (several),
         ``"idle"`` (an output other than the first that no rule concludes: its tables have
         no rules and it is the system's zero-firing value everywhere),
         ``"hedges"`` (a hedged proposition -- its rows are :class:`~it2track.fuzzy.hedges.Hedged`
@@ -566,8 +564,7 @@ class SystemTables:
 
     def consequents_block(self, x: FloatArray) -> tuple[FloatArray, FloatArray]:
         """First-order consequents at a block ``x`` (n_inputs, N): ``(y_lo, y_hi)`` (R, N),
-        rules in sorted order (the formula of :attr:`coef_lo`). With ``"chain"``, ``x`` has
-        the values of the outputs before this one as rows after the inputs'."""
+        rules in sorted order (the formula of :attr:`coef_lo`; ``"chain"``: outputs after)."""
         y_lo = np.repeat(self.y_lo_s[:, None], x.shape[1], axis=1)
         y_hi = np.repeat(self.y_hi_s[:, None], x.shape[1], axis=1)
         for i in range(self.n_inputs):
