@@ -34,6 +34,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 from catalog import FILES, OUTPUT_NAMES, Example, examples
 
 from it2track.fuzzy import HybridSystem
+from it2track.fuzzy.sequence import chain_outputs
 from it2track.io import FisFormatError, load
 
 #: agreement bound, relative to the output's range
@@ -94,6 +95,8 @@ def _ours_in_order(system, x: np.ndarray) -> np.ndarray:
     keeping its previous value where it has one; NaN where it2track has none (no rule fires,
     and no previous output and no default), the state then unchanged, as fuzzylite's."""
     m = system.n_outputs
+    if getattr(system, "_chained", False):  # outputs read outputs: NaN where one has none
+        return chain_outputs(system, x, sequence=True)
     try:
         y, _ = system.evaluate_sequence(x)
         return np.asarray(y, dtype=float).reshape(len(x), m)
@@ -115,6 +118,8 @@ def _ours(system, x: np.ndarray) -> np.ndarray:
     """Outputs ``(N, m)``; NaN where it2track has none: ZeroFiringError (no rule fires), or
     the ValueError of a Tsukamoto set fired beyond its range (no inverse)."""
     m = system.n_outputs
+    if getattr(system, "_chained", False):
+        return chain_outputs(system, x)
     try:
         y = np.asarray(system.evaluate(x), dtype=float)
         return y.reshape(len(x), m)

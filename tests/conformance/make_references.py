@@ -112,8 +112,18 @@ def _octave_powers(engine, fl, example: Path) -> str:
             "membership and 1/p of a conclusion's firing, one rule per conclusion")
 
 
+def _matlab_default(engine, fl, example: Path) -> str:
+    """A ``.fis`` without fuzzylite's ``Default`` key: MATLAB's value where an output has
+    none, the middle of its range, in place of the twin's ``default: nan``."""
+    for ov in engine.output_variables:
+        assert np.isnan(ov.default_value)
+        ov.default_value = (ov.minimum + ov.maximum) / 2
+    return ("default: nan replaced by the middle of each output's range (MATLAB's value where "
+            "an output has none; the .fis has no Default)")
+
+
 CORRECT = {"terms-apart": _terms_apart, "unbounded-sum": _unbounded_sum,
-           "octave-powers": _octave_powers}
+           "octave-powers": _octave_powers, "matlab-default": _matlab_default}
 
 
 def evaluate(path: Path, resolution: int | None, *, sequence: bool = False,

@@ -66,6 +66,16 @@ PUBLISHER: dict[str, str] = {
     "octave/inst/mamdani_tip_calculator.fis": _OCTAVE_CENTROID,
 }
 
+_MATLAB_DEFAULT = (
+    "fuzzylite 6 wrote this .fis without its Default/LockPrevious keys, so it2track reads "
+    "MATLAB's meaning: an output with no value (outputFx where no NEAR_k fires, at 0 and 10; "
+    "trueFx's sin(x)/x at 0) is the middle of its range, 0. The twin .fll, the original "
+    "reference, says default: nan, so there it has none -- and neither has diffFx, "
+    "Function fabs(outputFx-trueFx), which fuzzylite evaluates with the values committed "
+    "before it (default applied). The corrected reference is pyfuzzylite with each output's "
+    "default the middle of its range: diffFx then reads the 0 too."
+)
+
 #: the files compared with a corrected reference (``catalog.CORRECTED``): the original
 #: reference's defect and what the correction changes (the table's header says it too)
 CORRECTIONS: dict[str, str] = {
@@ -76,6 +86,7 @@ CORRECTIONS: dict[str, str] = {
         _OCTAVE_HEDGES,
     "octave/inst/sugeno_tip_calculator.fis": _OCTAVE_HEDGES,
     "fuzzylite/examples/takagi-sugeno/matlab/juggler.fis": _JUGGLER,
+    "fuzzylite/examples/takagi-sugeno/approximation.fis": _MATLAB_DEFAULT,
 }
 
 NOTES: dict[str, str] = {
@@ -120,11 +131,13 @@ REFUSALS: list[tuple[str, str, str]] = [
      "An output no rule concludes is its default (jFuzzyLogic's DEFAULT, as arm.fcl's "
      "torque2 reads); it2track's system tables are built from the first output's rules, so "
      "a first output without rules is refused."),
-    ("reads the output", "a formula reading another output (fuzzylite's chained Function)",
-     "approximation's diffFx is Function fabs(outputFx-trueFx): fuzzylite evaluates it with "
-     "the values of the outputs it defuzzified before (an order-dependent chain of outputs). "
-     "it2track reads formulas (it2track.fuzzy.formula: parsed, never run as code) of the "
-     "inputs only."),
+    ("which fuzzylite defuzzifies after", "a formula reading a later output",
+     "fuzzylite defuzzifies the outputs in the order they are declared; a Function reading "
+     "an output declared after its own reads that output's value of the previous evaluation "
+     "(NaN after a restart), so the output depends on the order of evaluation. it2track "
+     "reads formulas of the inputs and of the outputs declared before (fuzzylite's chained "
+     "Function, it2track.fuzzy.chain)."),
+    ("reads its own output", "a formula reading a later output", ""),
     ("rule mentions no input", "a chained rule lost in a .fis export",
      "fuzzylite wrote the chained rules of Laundry/SimpleDimmerChained/SimpleDimmerInverse "
      "to .fis with antecedent index 0 (a .fis cannot name an output in a condition): the "

@@ -280,8 +280,9 @@ END_DEFUZZIFY"""
          "x; jfuzzylogic's functions: EXP, LN, LOG, SIN, COS, TAN, ABS) (at character 15)"),
         ("x ** 2", "FUNCTION 'x * * 2': unexpected '*' where a number, name or '(' should be "
          "(at character 5)"),
-        ("(x * 3.0) + y", "FUNCTION '( x * 3.0 ) + y' reads the output 'y' (fuzzylite's value "
-         "of it defuzzified before this one): it2track's consequents read the inputs only"),
+        ("(x * 3.0) + y", "FUNCTION '( x * 3.0 ) + y' reads the output 'y': it2track reads a "
+         "jFuzzyLogic FUNCTION of the inputs only (fuzzylite's chained Function, in its own "
+         "grammar, reads the outputs declared before its own)"),
     ]:
         text = fcl(ONE_IN, outputs.replace("3 - x * 0.5", bad), TWO_RULES)
         with pytest.raises(FisFormatError) as info:

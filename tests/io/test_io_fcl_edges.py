@@ -528,9 +528,10 @@ BUILD_REFUSALS = {
                          "term 'b': FUNCTION 'x 1': unexpected '1' where the formula should end "
                          "(at character 3)"),
     "FUNCTION of an output": (out_term("FUNCTION y"), 12,
-                              "term 'b': FUNCTION 'y' reads the output 'y' (fuzzylite's value of "
-                              "it defuzzified before this one): it2track's consequents read the "
-                              "inputs only"),
+                              "term 'b': FUNCTION 'y' reads the output 'y': it2track reads a "
+                              "jFuzzyLogic FUNCTION of the inputs only (fuzzylite's chained "
+                              "Function, in its own grammar, reads the outputs declared before "
+                              "its own)"),
     "FUNCTION of an operator": (out_term("FUNCTION x + * 2"), 12,
                                 "term 'b': FUNCTION 'x + * 2': unexpected '*' where a number, "
                                 "name or '(' should be (at character 5)"),

@@ -304,8 +304,9 @@ def test_fuzzylites_function_consequent_in_fis() -> None:
     np.testing.assert_allclose(fls(GRID[:, 0], GRID[:, 1]),
                                (f * y).sum(1) / f.sum(1), rtol=1e-15, atol=0)
     for formula, message in [
-        ("25 + tip", "reads the output 'tip' (fuzzylite's value of it defuzzified before this "
-         "one): it2track's consequents read the inputs only"),
+        ("25 + tip", "function '25 + tip' reads its own output 'tip' (fuzzylite's value of the "
+         "previous evaluation, NaN after a restart): it2track reads only the outputs declared "
+         "before this one (none)"),
         ("25 + ", "function '25 +': ends where a number, name or '(' should follow (at the "
          "end)"),
     ]:

@@ -264,6 +264,7 @@ def test_function_terms_are_formulas_of_x_and_of_the_inputs() -> None:
     chained = SUGENO.replace("term: plane Linear 2 -1 0.5", "term: plane Function a + z")
     err = error_of(chained)
     assert err.line == line_with(chained, "term: plane Function")
-    assert err.message == ("term 'plane': Function 'a + z' reads the output 'z' (fuzzylite's "
-                           "value of it defuzzified before this one): it2track's consequents "
-                           "read the inputs only")
+    assert err.message == ("term 'plane': Function 'a + z' reads the output 'z', which "
+                           "fuzzylite defuzzifies after 'y' (its value of the previous "
+                           "evaluation, NaN after a restart): it2track reads only the outputs "
+                           "declared before this one (none)")

@@ -149,7 +149,7 @@ def supported(system: Any) -> str | None:
     t = system.tables
     if getattr(system, "aggregation", None) is not None:
         return "a T1Sugeno aggregation (rules grouped by consequent) is not compiled"
-    extra = set(t.features) - _FEATURES
+    extra = set().union(*(o.features for o in t.outputs)) - _FEATURES  # every output's
     if extra:
         return f"rule features {sorted(extra)} are not compiled"
     kinds = {MFKind(int(k)) for k in t.mf_kind}

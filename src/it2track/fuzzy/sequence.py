@@ -20,6 +20,9 @@ NaN for it, and no earlier row) it is what ``__call__`` gives there: ``on_zero_f
 where it changes nothing, so a previous value is already inside the range. (A Mamdani output
 whose rules fire but whose set is empty on the grid raises, as ``__call__`` does.)
 
+A system whose formulas read earlier outputs (:mod:`.chain`) fills its outputs in order, each
+before a later one reads it (fuzzylite's ``Engine.process``), in one pass.
+
 Cost: where an output keeps its previous value the system is evaluated twice, with two
 placeholder ``on_zero_firing`` values, so that the rows where it has no value of its own are
 exactly those where the two differ.
@@ -33,9 +36,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .chain import chain_values
 from .reducers import ZeroFiringError
 
-__all__ = ["evaluate_sequence", "lock_flags", "previous_state"]
+__all__ = ["chain_outputs", "evaluate_sequence", "lock_flags", "previous_state"]
 
 FloatArray = NDArray[np.float64]
 
@@ -114,6 +118,14 @@ def evaluate_sequence(system: Any, x: FloatArray, previous: ArrayLike | None = N
     n = arr.shape[0]
     if n == 0:
         return np.empty((0,) if m == 1 else (0, m)), state
+    if getattr(system, "_chained", False):  # outputs read outputs: filled in order
+        x_in, _ = system._prepare(tuple(arr.T))
+        y = chain_values(system, x_in, state)
+        bad = np.isnan(y)
+        if bad.any():
+            k = int(np.argmax(bad.any(axis=0)))
+            _raise(system, arr, k, int(np.argmax(bad[:, k])))
+        return (y[:, 0] if m == 1 else y), y[-1].copy()
     locks = [system.keeps_previous(k) for k in range(m)]
     if not any(locks):
         y = np.asarray(system.evaluate(arr), dtype=np.float64).reshape(n, m)
@@ -154,3 +166,15 @@ def _raise(system: Any, arr: FloatArray, k: int, i: int) -> None:
     raise ZeroFiringError(
         f"no rule of {what} for output {out!r} fires at row {i} ({point}) and there is no "
         "previous output; pass previous=, or on_zero_firing=<value> to define it there")
+
+
+def chain_outputs(system: Any, x: Any, previous: Any = None, *, sequence: bool = False
+                  ) -> FloatArray:
+    """The outputs ``(N, m)`` of the rows of ``x`` (shape ``(N, n_inputs)``) of a chained
+    system, as fuzzylite has them: NaN where an output has no value (where ``__call__`` and
+    :meth:`evaluate_sequence` raise ``ZeroFiringError``). With ``sequence`` the rows are
+    evaluated in order from ``previous`` (see :func:`~.chain.chain_values`); else each alone."""
+    arr = _rows(system, np.asarray(x, dtype=np.float64))
+    prepared, _ = system._prepare(tuple(arr.T))
+    state = previous_state(previous, system.n_outputs) if sequence else None
+    return chain_values(system, prepared, state)

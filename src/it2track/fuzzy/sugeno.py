@@ -32,6 +32,7 @@ from typing import ClassVar
 import numpy as np
 from numpy.typing import NDArray
 
+from .chain import chain_values
 from .norms import Aggregation, WeightedDefuzzifier
 from .reducers import EXHAUSTIVE, TypeReducer
 from .system import BLOCK, _SystemBase
@@ -215,6 +216,8 @@ class T1Sugeno(_SystemBase):
     aggregation: Aggregation | None = None
     #: How :mod:`.kernels` compiles this class (this class only: not inherited, see there).
     _compiled_as: ClassVar[str] = "t1"
+    #: A formula consequent may read the outputs before its own (:mod:`.chain`).
+    _chains: ClassVar[bool] = True
 
     def __post_init__(self) -> None:
         if not isinstance(self.defuzzifier, WeightedDefuzzifier):
@@ -235,15 +238,28 @@ class T1Sugeno(_SystemBase):
     def _interval_of(
         self, c: SystemTables, x: FloatArray, k: int
     ) -> tuple[FloatArray, FloatArray]:
+        u = self._values_of(c, x, k)
+        if math.isnan(float(np.add.reduce(u))):
+            bad = np.isnan(u)
+            zero = self.zero_firing_value(k)
+            if zero is None:
+                self._zero_firing(x, bad)
+            u[bad] = zero
+        return u, u.copy()
+
+    def _values_of(self, c: SystemTables, x: FloatArray, k: int) -> FloatArray:
+        """Output ``k`` at the block ``x``, NaN where it has none (no rule fires, 0/0); with
+        ``"chain"`` the rows of ``x`` after the inputs' are the outputs before ``k``."""
         y = c.y_lo_s
         n = x.shape[1]
+        n_in = self.n_inputs
         u = np.empty(n)
         linear = "linear" in c.features
         average = self.defuzzifier is WeightedDefuzzifier.AVERAGE
         with np.errstate(divide="ignore", invalid="ignore"):
             for start in range(0, n, BLOCK):
                 stop = min(start + BLOCK, n)
-                _, f = c.firing_block(x[:, start:stop], self.tnorm)
+                _, f = c.firing_block(x[:n_in, start:stop], self.tnorm)
                 if self.aggregation is not None:
                     yb = (c.consequents_block(x[:, start:stop])[0] if linear
                           else np.broadcast_to(y[:, None], f.shape))
@@ -258,13 +274,22 @@ class T1Sugeno(_SystemBase):
                         num += f[r] * y[r]
                         den += f[r]
                 u[start:stop] = num / den if average else np.where(den != 0.0, num, np.nan)
-        if math.isnan(float(np.add.reduce(u))):
-            bad = np.isnan(u)
-            zero = self.zero_firing_value(k)
-            if zero is None:
-                self._zero_firing(x, bad)
-            u[bad] = zero
-        return u, u.copy()
+        return u
+
+    def _interval_blocks(self, x: FloatArray) -> tuple[FloatArray, FloatArray]:
+        if not self._chained:
+            return super()._interval_blocks(x)
+        y = chain_values(self, x)
+        bad = np.isnan(y)
+        if bad.any():  # the first output without a value (and no on_zero_firing)
+            self._zero_firing(x, bad[:, int(np.argmax(bad.any(axis=0)))])
+        y = y[:, 0] if y.shape[1] == 1 else y
+        return y, y.copy()
+
+    @property
+    def _chained(self) -> bool:
+        """A formula consequent reads an output before its own (see :mod:`.chain`)."""
+        return any("chain" in c.features for c in self._c.outputs)
 
     def _aggregated(self, f: FloatArray, yb: FloatArray) -> tuple[FloatArray, FloatArray]:
         """``(sum_v v F_v, sum_v F_v)`` per sample, ``F_v`` the aggregation of the firings

@@ -24,6 +24,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import kernels as _kernels
+from .chain import chained_outputs, check_chain
 from .norms import SNorm, TNorm
 from .reducers import ZeroFiringError
 from .rules import Input, Rule
@@ -137,6 +138,7 @@ class _SystemBase:
             elif not scalar:
                 object.__setattr__(self, "on_zero_firing", tuple(float(v) for v in values))
         object.__setattr__(self, "lock_previous", lock_flags(self.lock_previous, n_out))
+        check_chain(self)
         object.__setattr__(self, "_c", self._lower())
 
     def _check_outputs(self) -> None:
@@ -216,6 +218,10 @@ class _SystemBase:
                              f"index 0..{len(names) - 1}")
         if self.n_outputs == 1:
             return self
+        read = chained_outputs(self, k)
+        if read:
+            raise ValueError(f"output {names[k]!r} reads the outputs {list(read)} evaluated "
+                             "before it (a chained formula): it is not evaluated alone")
         rules = tuple(
             r.with_consequents([r.consequents[k]], [k])
             for r in self.rules if r.consequents[k] is not None

@@ -45,8 +45,8 @@ from .sets import ScaledLagged
 __all__ = ["FEATURES", "MFKind", "SystemTables"]
 
 #: Every name :attr:`SystemTables.features` can hold (see the class docstring).
-FEATURES = frozenset({"not", "or", "weights", "linear", "formula", "outputs", "hedges",
-                      "tree", "idle"})
+FEATURES = frozenset({"not", "or", "weights", "linear", "formula", "chain", "outputs",
+                      "hedges", "tree", "idle"})
 
 FloatArray = NDArray[np.float64]
 
@@ -172,7 +172,8 @@ class SystemTables:
         ``"or"`` (an OR rule over two or more inputs), ``"weights"`` (a weight other than 1),
         ``"linear"`` (a first-order consequent), ``"formula"`` (a
         :class:`~it2track.fuzzy.formula.Formula` consequent, evaluated per sample; with it
-        ``"linear"`` too), ``"outputs"`` (more than one output),
+        ``"linear"`` too), ``"chain"`` (a formula reading the outputs before this one, as
+        rows after the inputs': :mod:`~it2track.fuzzy.chain`), ``"outputs"`` (several),
         ``"idle"`` (an output other than the first that no rule concludes: its tables have
         no rules and it is the system's zero-firing value everywhere),
         ``"hedges"`` (a hedged proposition -- its rows are :class:`~it2track.fuzzy.hedges.Hedged`
@@ -295,10 +296,11 @@ class SystemTables:
         for r, rule in enumerate(rules):
             cons = rule.consequents[output]
             if isinstance(cons, Formula):
-                if len(cons.names) != n_in:
+                if not n_in <= len(cons.names) <= n_in + output:
                     raise ValueError(
                         f"rule {int(self.rule_index[r])}: formula {cons.text!r} reads "
                         f"{len(cons.names)} names for {n_in} inputs"
+                        + (f" and the {output} outputs before this one" if output else "")
                     )
                 y_lo[r] = y_hi[r] = 0.0
                 formulas[r] = cons
@@ -348,6 +350,8 @@ class SystemTables:
             features.add("linear")
         if formulas:
             features.add("formula")
+        if any(name in f.used for f in formulas.values() for name in f.names[n_in:]):
+            features.add("chain")
         if n_outputs > 1:
             features.add("outputs")
         self.features: frozenset[str] = frozenset(features)
@@ -560,7 +564,7 @@ class SystemTables:
 
     def consequents_block(self, x: FloatArray) -> tuple[FloatArray, FloatArray]:
         """First-order consequents at a block ``x`` (n_inputs, N): ``(y_lo, y_hi)`` (R, N),
-        rules in sorted order (the formula of :attr:`coef_lo`)."""
+        rules in sorted order (the formula of :attr:`coef_lo`; ``"chain"``: outputs after)."""
         y_lo = np.repeat(self.y_lo_s[:, None], x.shape[1], axis=1)
         y_hi = np.repeat(self.y_hi_s[:, None], x.shape[1], axis=1)
         for i in range(self.n_inputs):
@@ -569,7 +573,7 @@ class SystemTables:
             y_lo += np.minimum(p, q)
             y_hi += np.maximum(p, q)
         for s, formula in self.formulas_s:
-            y_lo[s] = y_hi[s] = formula(*x)
+            y_lo[s] = y_hi[s] = formula(*x[:len(formula.names)])
         return y_lo, y_hi
 
 

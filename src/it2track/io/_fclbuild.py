@@ -33,6 +33,7 @@ from ..fuzzy import (
 )
 from ..fuzzy.formula import Formula, FormulaError
 from ..fuzzy.terms import FUZZYLITE_TERMS, from_fuzzylite, fuzzylite_consequent
+from ._chainread import ChainRefused, chained_formula
 from ._common import footed
 from ._fclparse import FclTerm, FclVar, Parser
 from ._ruletree import DUALS
@@ -191,8 +192,10 @@ class Builder:
                              "output without METHOD : COGS) as here")
         raise self.error(term.line, f"term {term.name!r}: FUNCTION is a COGF output term")
 
-    def consequent(self, term: FclTerm, inputs: list[str],
-                   outputs: Iterable[str] = ()) -> Consequent:
+    def consequent(self, term: FclTerm, inputs: list[str], outputs: Iterable[str] = (),
+                   own: str | None = None, apart: Iterable[str] = ()) -> Consequent:
+        """An output term's value; a Function reading an output (before ``own``) that is
+        ``apart`` (in another system of a hybrid) is refused."""
         if term.kind == "singleton":
             return (term.value, term.value)
         if term.kind == "shape":
@@ -204,7 +207,13 @@ class Builder:
         if term.kind == "function":
             # fuzzylite's FCL export spells its Function term so, in its grammar
             dialect = "fuzzylite" if term.shape == "Function" else "jfuzzylogic"
-            formula = self.formula(term, inputs, dialect, outputs)
+            formula = self.formula(term, inputs, dialect, outputs, own)
+            read = sorted(formula.used & set(apart))
+            if read:
+                raise self.error(term.line, f"term {term.name!r}: Function {formula.text!r} "
+                                 f"reads the output {read[0]!r}, of another kind, which "
+                                 f"it2track evaluates apart from {own!r}: it chains formulas "
+                                 "among Takagi-Sugeno outputs declared one after another")
             try:  # linear in the inputs: a Linear (compiled, written), refused if not finite
                 return self.linear(term, inputs)
             except _NotLinear:
@@ -213,26 +222,23 @@ class Builder:
                          "fuzzylite's Constant/Linear or a FUNCTION")
 
     def formula(self, term: FclTerm, inputs: list[str], dialect: str = "jfuzzylogic",
-                outputs: Iterable[str] = ()) -> Formula:
-        """A FUNCTION's formula of the inputs (its tokens, rejoined); one reading an output
-        (of ``outputs``) is refused as such."""
+                outputs: Iterable[str] = (), own: str | None = None) -> Formula:
+        """A FUNCTION's formula of the inputs (its tokens, rejoined), and of the ``outputs``
+        declared before ``own`` (fuzzylite's chained Function, :mod:`._chainread`); one
+        reading ``own`` or a later output is refused as such."""
         text, starts = "", []
         for tok in term.params:
             starts.append(len(text))
             text += tok.text + " "
         text = text.rstrip()
         try:
-            return Formula(text, dialect, inputs)
-        except FormulaError as exc:
+            return chained_formula(text, dialect, inputs, list(outputs), own)
+        except (FormulaError, ChainRefused) as exc:
             k = max([0, *(k for k, start in enumerate(starts) if start <= exc.position)])
             line = term.params[k].line if term.params else term.line
             where = f"FUNCTION {text!r}" if dialect == "jfuzzylogic" else f"Function {text!r}"
-            if exc.token in set(outputs):
-                raise self.error(line, f"term {term.name!r}: {where} reads the output "
-                                 f"{exc.token!r} (fuzzylite's value of it defuzzified before "
-                                 "this one): it2track's consequents read the inputs only"
-                                 ) from None
-            raise self.error(line, f"term {term.name!r}: {where}: {exc}") from None
+            sep = " " if isinstance(exc, ChainRefused) else ": "
+            raise self.error(line, f"term {term.name!r}: {where}{sep}{exc}") from None
 
     def linear(self, term: FclTerm, inputs: list[str]) -> Linear:
         """A jFuzzyLogic FUNCTION that is linear in the inputs."""

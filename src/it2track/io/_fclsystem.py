@@ -227,7 +227,8 @@ def _assemble(b: Builder, fb: FunctionBlock, outputs: dict[str, FclVar], inputs:
     values: dict[str, dict[str, Consequent]] = {}
     if sugeno:
         for name, var in outputs.items():
-            values[name] = {t.name: b.consequent(t, in_names, fb.outputs)
+            values[name] = {t.name: b.consequent(t, in_names, fb.outputs, name,
+                                                 [o for o in fb.outputs if o not in outputs])
                             for t in var.terms.values()}
     built: list[Rule] = []
     concluded: set[tuple[str, str]] = set()  # (output, value) of the rules so far

@@ -31,8 +31,9 @@ from ..fuzzy import (
     TNorm,
     TypeReducer,
 )
-from ..fuzzy.formula import Formula, FormulaError
+from ..fuzzy.formula import FormulaError
 from ..fuzzy.mamdani import RESOLUTION
+from ._chainread import ChainRefused, chained_formula
 from ._common import build_input, build_rules, guard, linear_from
 from ._matlab import Document, Entry, MFValue, Section
 from ._writing import fmt_number, fmt_rule, fmt_string, fmt_vector
@@ -139,16 +140,21 @@ class FisReader:
                 consequents.append([s.name for s in out.sets])
                 continue
             doc.check_keys(section, set(self.sugeno_output_keys), _MF_PATTERN)
-            outputs.append(doc.string(doc.entry(section, "Name")))
+            own = doc.string(doc.entry(section, "Name"))
+            outputs.append(own)
             # a Sugeno output's Range only gives the zero-firing midpoint (MATLAB's juggler.fis
             # has [0 0])
             ranges.append((doc.universe(doc.entry(section, "Range"), point_ok=True), section))
             self.output_extras(section)
             count_entry = doc.entry(section, "NumMFs")
             n = doc.integer(count_entry, minimum=1)
+            # outputs before this one that fuzzylite's hybrid puts in another system
+            start = max((j + 1 for j, kind in enumerate(kinds) if kind != "sugeno"), default=0)
+            apart = {o.name if isinstance(o, Output) else o: kinds[j]
+                     for j, o in enumerate(outputs[:start])}
             consequents.append([
                 self.consequent(doc.mf(entry), counts.n_inputs,
-                                tuple(i.name for i in inputs))
+                                tuple(i.name for i in inputs), own, apart)
                 for entry in self.mf_lines(section, n, count_entry)
             ])
         rules = build_rules(doc, doc.counted_rules(counts), inputs, consequents,
@@ -189,25 +195,33 @@ class FisReader:
         self.doc.check_mf_keys(section, n, count_entry)
         return [section.entries[f"MF{j}"] for j in range(1, n + 1)]
 
-    def consequent(self, mfv: MFValue, n_inputs: int, names: tuple[str, ...] = ()
+    def consequent(self, mfv: MFValue, n_inputs: int, names: tuple[str, ...] = (),
+                   own: str | None = None, apart: dict[str, str] | None = None
                    ) -> Consequent:
         """A Sugeno output MF: ``'linear'`` or ``'constant'`` (see :meth:`constant`), or
-        fuzzylite's ``'function'``, a formula of the inputs ``names``."""
+        fuzzylite's ``'function'``, a formula of the inputs ``names`` (and of the outputs
+        declared before ``own``: fuzzylite's chained Function, :mod:`._chainread`; not of
+        those ``apart``, output name -> kind, in another system of a hybrid)."""
         if mfv.type == "function":
+            outputs = [self.doc.string(self.doc.sections[t].entries["Name"])
+                       for t in sorted((t for t in self.doc.sections if t.startswith("Output")
+                                        and "Name" in self.doc.sections[t].entries),
+                                       key=lambda t: int(t[6:]) if t[6:].isdigit() else 0)]
             try:
-                return Formula(mfv.formula, "fuzzylite", names)
-            except FormulaError as exc:
-                outputs = {self.doc.string(s.entries["Name"]) for t, s in
-                           self.doc.sections.items() if t.startswith("Output")
-                           and "Name" in s.entries}
-                if exc.token in outputs:
-                    raise self.doc.error(mfv.line, f"MF {mfv.name!r}: function "
-                                         f"{mfv.formula!r} reads the output {exc.token!r} "
-                                         "(fuzzylite's value of it defuzzified before this "
-                                         "one): it2track's consequents read the inputs only"
-                                         ) from None
-                raise self.doc.error(mfv.line, f"MF {mfv.name!r}: function {mfv.formula!r}: "
-                                     f"{exc}") from None
+                formula = chained_formula(mfv.formula, "fuzzylite", names, outputs, own)
+            except (FormulaError, ChainRefused) as exc:
+                sep = " " if isinstance(exc, ChainRefused) else ": "
+                raise self.doc.error(mfv.line, f"MF {mfv.name!r}: function {mfv.formula!r}"
+                                     f"{sep}{exc}") from None
+            apart = apart or {}
+            read = sorted(formula.used & set(apart))
+            if read:
+                raise self.doc.error(mfv.line, f"MF {mfv.name!r}: function {mfv.formula!r} "
+                                     f"reads the output {read[0]!r} ({apart[read[0]]}), which "
+                                     f"it2track evaluates apart from {own!r}: it chains "
+                                     "formulas among Takagi-Sugeno outputs declared one after "
+                                     "another")
+            return formula
         if mfv.type == "linear":
             return linear_from(self.doc, mfv, n_inputs, interval=self.interval_linear)
         if mfv.type != "constant":

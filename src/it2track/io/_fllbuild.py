@@ -36,6 +36,7 @@ from ..fuzzy.conditions import Condition as CoreCondition
 from ..fuzzy.formula import Formula, FormulaError, FormulaMembership
 from ..fuzzy.terms import from_fuzzylite, fuzzylite_consequent
 from ._chain import Chain
+from ._chainread import ChainRefused, chained_formula
 from ._common import footed
 from ._flldoc import Document, Item, Section, show
 from ._ruletree import Condition, Proposition, flatten, propositions
@@ -121,19 +122,20 @@ class _Builder:
                   for p in parts[2:]]
         return name, kind, params
 
-    def formula(self, item: Item, name: str, names: tuple[str, ...]) -> Formula:
-        """A ``Function`` term's formula over ``names`` (``x`` for a membership function)."""
+    def formula(self, item: Item, name: str, names: tuple[str, ...], own: str | None = None
+                ) -> Formula:
+        """A ``Function`` term's formula over ``names`` (``x`` for a membership function), or,
+        in the output ``own``, over the inputs ``names`` and the outputs declared before it
+        (fuzzylite's chained Function, :mod:`._chainread`)."""
         text = item.value.split(None, 2)[2] if len(item.value.split(None, 2)) > 2 else ""
+        outputs = [s.name for s in self.doc.sections if s.kind == "OutputVariable"]
         try:
-            return Formula(text, "fuzzylite", names)
-        except FormulaError as exc:
-            outputs = {s.name for s in self.doc.sections if s.kind == "OutputVariable"}
-            if exc.token in outputs:
-                raise self.error(item.line, f"term {name!r}: Function {text!r} reads the output "
-                                 f"{exc.token!r} (fuzzylite's value of it defuzzified before "
-                                 "this one): it2track's consequents read the inputs only"
-                                 ) from None
-            raise self.error(item.line, f"term {name!r}: Function {text!r}: {exc}") from None
+            if own is None:
+                return Formula(text, "fuzzylite", names)
+            return chained_formula(text, "fuzzylite", names, outputs, own)
+        except (FormulaError, ChainRefused) as exc:
+            raise self.error(item.line, f"term {name!r}: Function {text!r}"
+                             f"{' ' if isinstance(exc, ChainRefused) else ': '}{exc}") from None
 
     def mf(self, item: Item, universe: tuple[float, float]) -> tuple[str, MembershipFunction]:
         name, kind, params = self.term(item, universe)
@@ -204,7 +206,7 @@ class _Builder:
             value: Any
             if out_kind == "sugeno":
                 name, tkind, values = self.term(t, universe)
-                value = (self.formula(t, name, inputs) if tkind == "Function" else
+                value = (self.formula(t, name, inputs, section.name) if tkind == "Function" else
                          self.consequent(t.line, name, tkind, values, len(inputs)))
             else:
                 name, value = self.mf(t, universe)
@@ -268,10 +270,29 @@ def build(doc: Document) -> AnySystem:
     name = engine.name if engine is not None else ""
     # a run: outputs of one kind (and, for Mamdani, one defuzzifier and resolution)
     runs = [list(group) for _, group in itertools.groupby(outputs, key=_run_key)]
+    if len(runs) > 1:
+        _chains_within_runs(b, runs)
     parts = [_part(b, inputs, run, rules, name) for run in runs]
     if len(parts) == 1:
         return parts[0]
     return b.guarded(None, lambda: HybridSystem(tuple(parts), name=name))
+
+
+def _chains_within_runs(b: _Builder, runs: list[list[_Output]]) -> None:
+    """Refuse a Function reading an output of another part (fuzzylite evaluates it; it2track
+    chains formulas within one system)."""
+    kinds = {o.section.name: o.kind for run in runs for o in run}
+    for run in runs:
+        mine = {o.section.name for o in run}
+        for out in run:
+            for term, (value, line) in out.terms.items():
+                if isinstance(value, Formula) and (read := sorted(value.used & set(kinds)
+                                                                  - mine)):
+                    raise b.error(line, f"term {term!r}: Function {value.text!r} reads the "
+                                  f"output {read[0]!r} ({kinds[read[0]]}), which it2track "
+                                  f"evaluates apart from {out.section.name!r}: it chains "
+                                  "formulas among Takagi-Sugeno outputs declared one after "
+                                  "another")
 
 
 @dataclass(frozen=True)

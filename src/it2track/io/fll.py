@@ -35,7 +35,9 @@ What is read
   :mod:`it2track.fuzzy.formula`: of ``x`` as a membership function (a Mamdani output's is
   read floored at 0, fuzzylite's aggregated set under Maximum aggregation with a Minimum or
   AlgebraicProduct implication, and refused under others), of the inputs as a Takagi-Sugeno
-  consequent (a formula reading an output, fuzzylite's chained value, is refused).
+  consequent, and of the outputs declared before its own (fuzzylite's chained Function, as
+  ``Engine.process`` defuzzifies them in order: :mod:`it2track.fuzzy.chain`); one reading its
+  own output or a later one (fuzzylite's value of the previous evaluation) is refused.
 - Operators: conjunction / disjunction, implication and aggregation by fuzzylite's class
   names (``AlgebraicProduct``, ``EinsteinSum``, ...; ``none`` where no rule needs one);
   ``activation: General`` (the others select or scale rules and are refused).
