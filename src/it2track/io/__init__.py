@@ -37,7 +37,7 @@ from pathlib import Path
 
 from .._files import InputFileError, decode_text, read_bytes, refuse_binary
 from ..atomicfile import atomic_write_text
-from ..fuzzy import AnySystem
+from ..fuzzy import AnySystem, Input
 from . import fcl, fll, fml, matfis, t2fis, tomlfmt
 from ._matlab import decode
 from ._writing import refuse_formulas
@@ -53,7 +53,9 @@ __all__ = [
     "dumps",
     "format_of",
     "load",
+    "load_terms",
     "loads",
+    "loads_terms",
     "save",
 ]
 
@@ -152,6 +154,24 @@ def loads(text: str, fmt: str, *, path: str = "<string>", block: str | None = No
     return fcl.loads(text, path, block=block)
 
 
+def loads_terms(text: str, fmt: str, *, path: str = "<string>", block: str | None = None
+                ) -> dict[str, Input]:
+    """The input variables of ``text`` in format ``fmt`` and their terms, by name in the
+    file's order (each an :class:`~it2track.fuzzy.Input`; ``inputs["x"].sets`` are the terms).
+
+    FCL is read for its inputs alone (:func:`.fcl.loads_terms`): a function block with no
+    outputs, an output without terms, or no rules -- jFuzzyLogic's membership-function files
+    -- gives its terms. The other formats describe whole systems, so their file is read as
+    :func:`loads` reads it and its system's inputs are returned (a file that does not load
+    is refused so). ``path`` and ``block`` as for :func:`loads`.
+    """
+    name = _format(fmt)[0].lstrip(".")
+    if name == "fcl":
+        return fcl.loads_terms(text, path, block=block)
+    system = loads(text, name, path=path, block=block)
+    return {var.name: var for var in system.inputs}
+
+
 def dumps(system: AnySystem, fmt: str) -> str:
     """Text of ``system`` in format ``fmt`` (``"toml"``, ``"t2fis"``, ``"fis"``, ``"fll"`` or
     ``"fml"``).
@@ -190,16 +210,45 @@ def load(path: str | os.PathLike[str], *, block: str | None = None,
     """
     name = format_of(path)
     label = os.fspath(path)
+    return loads(_read(path, name, label), name, path=label, block=block, dialect=dialect)
+
+
+def _read(path: str | os.PathLike[str], name: str, label: str) -> str:
+    """The text of the file at ``path`` in format ``name`` (refused as :func:`load` says)."""
     try:
         data = read_bytes(path, what="fuzzy-system file")
         if name == "toml":
-            text = decode_text(data, label, what="fuzzy-system file")
-        else:
-            refuse_binary(data, label, what="fuzzy-system file")
-            text = decode(data)  # UTF-8, else Latin-1 (MATLAB files)
+            return decode_text(data, label, what="fuzzy-system file")
+        refuse_binary(data, label, what="fuzzy-system file")
+        return decode(data)  # UTF-8, else Latin-1 (MATLAB files)
     except InputFileError as exc:
         raise FisFormatError(label, exc.line, exc.problem) from None
-    return loads(text, name, path=label, block=block, dialect=dialect)
+
+
+def load_terms(path: str | os.PathLike[str], *, block: str | None = None
+               ) -> dict[str, Input]:
+    """The input variables of the file at ``path`` and their terms, by name (as
+    :func:`loads_terms`; the format follows the suffix, the file is read as :func:`load`
+    reads it).
+
+    >>> import tempfile, pathlib
+    >>> text = "FUNCTION_BLOCK f VAR_INPUT x : REAL; END_VAR " \\
+    ...        "FUZZIFY x TERM low := TRIAN 0 2 4; END_FUZZIFY END_FUNCTION_BLOCK"
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     path = pathlib.Path(d) / "terms.fcl"
+    ...     _ = path.write_text(text)
+    ...     x = load_terms(path)["x"]
+    >>> x.universe, [s.name for s in x.sets], float(x.sets[0].upper(1.0))
+    ((0.0, 4.0), ['low'], 0.5)
+
+    Raises
+    ------
+    FisFormatError, ValueError, OSError
+        As :func:`load`.
+    """
+    name = format_of(path)
+    label = os.fspath(path)
+    return loads_terms(_read(path, name, label), name, path=label, block=block)
 
 
 def save(system: AnySystem, path: str | os.PathLike[str]) -> None:

@@ -30,7 +30,7 @@ from ._fclbuild import ACCU, AND, MAMDANI, OR, PARTNER_OF_OR, SUGENO, Builder
 from ._fclparse import Block, FclVar, FunctionBlock, Parser, RuleNode, Tok
 from ._ruletree import DUALS, flatten, propositions
 
-__all__ = ["POINTS", "build"]
+__all__ = ["POINTS", "build", "input_terms"]
 
 #: Mamdani outputs are sampled at jFuzzyLogic's 1000 intervals: 1001 points, both ends
 POINTS = 1001
@@ -118,19 +118,7 @@ def build(parser: Parser, fb: FunctionBlock) -> AnySystem:
     if not fb.outputs:
         raise b.error(fb.line, "no VAR_OUTPUT variables (a function block without outputs is "
                       "not a fuzzy system)")
-    read = _fclvars.check(b, fb)  # terms whose parameters are variables (jFuzzyLogic)
-    for var in (*fb.inputs.values(), *fb.outputs.values()):
-        if var.block_line is None and var.name not in read:
-            kind = "FUZZIFY" if var.name in fb.inputs else "DEFUZZIFY"
-            raise b.error(var.line, f"variable {var.name!r} has no {kind} block")
-    inputs = []
-    for var in fb.inputs.values():
-        universe = _fclvars.universe(b, fb, var)
-        if universe[0] == universe[1]:
-            raise b.error(var.range_line, f"RANGE of {var.name!r} is a point; an input needs "
-                          "lo < hi")
-        sets = _fclvars.sets(b, fb, var, universe)
-        inputs.append(_variable(b, Input, var, universe, sets))
+    inputs = _inputs(b, fb, with_outputs=True)
     parsed: list[tuple[RuleNode, str, list, Block, TNorm, SNorm]] = []
     accus = {name: ACCU.get(var.accu.upper) if var.accu is not None else next(
         (_op(b, blk, "ACCU", ACCU) for blk in fb.blocks if blk.ops.get("ACCU")), None)
@@ -180,6 +168,35 @@ def build(parser: Parser, fb: FunctionBlock) -> AnySystem:
         return parts[0]
     hybrid: AnySystem = b.guarded(fb.line, lambda: HybridSystem(tuple(parts), name=fb.name))
     return hybrid
+
+
+def input_terms(parser: Parser, fb: FunctionBlock) -> dict[str, Input]:
+    """The input variables of one parsed function block, with their terms, by name (in the
+    declared order), read as :func:`build` reads them; the outputs and rules are not read
+    (a block may have none)."""
+    b = Builder(parser)
+    if not fb.inputs:
+        raise b.error(fb.line, "no VAR_INPUT variables")
+    return {var.name: var for var in _inputs(b, fb, with_outputs=False)}
+
+
+def _inputs(b: Builder, fb: FunctionBlock, *, with_outputs: bool) -> list[Input]:
+    """The inputs, each checked to have its FUZZIFY block (or to be read as a term's
+    parameter); ``with_outputs``: the outputs' terms and blocks are checked too."""
+    read = _fclvars.check(b, fb, with_outputs=with_outputs)  # terms given by variables
+    for var in (*fb.inputs.values(), *(fb.outputs.values() if with_outputs else ())):
+        if var.block_line is None and var.name not in read:
+            kind = "FUZZIFY" if var.name in fb.inputs else "DEFUZZIFY"
+            raise b.error(var.line, f"variable {var.name!r} has no {kind} block")
+    inputs = []
+    for var in fb.inputs.values():
+        universe = _fclvars.universe(b, fb, var)
+        if universe[0] == universe[1]:
+            raise b.error(var.range_line, f"RANGE of {var.name!r} is a point; an input needs "
+                          "lo < hi")
+        sets = _fclvars.sets(b, fb, var, universe)
+        inputs.append(_variable(b, Input, var, universe, sets))
+    return inputs
 
 
 def _part(b: Builder, fb: FunctionBlock, inputs: list[Input], names: list[str], kind: str,

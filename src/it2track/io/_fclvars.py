@@ -49,11 +49,12 @@ def names(term: FclTerm, declared: set[str]) -> list[str]:
     return found
 
 
-def check(b: Builder, fb: FunctionBlock) -> set[str]:
-    """Refuse what is not read (see the module docstring); the inputs read as parameters."""
+def check(b: Builder, fb: FunctionBlock, *, with_outputs: bool = True) -> set[str]:
+    """Refuse what is not read (see the module docstring); the inputs read as parameters.
+    ``with_outputs=False`` checks the inputs' terms only."""
     declared = {*fb.inputs, *fb.outputs}
     read: set[str] = set()
-    for var in (*fb.inputs.values(), *fb.outputs.values()):
+    for var in (*fb.inputs.values(), *(fb.outputs.values() if with_outputs else ())):
         for term in var.terms.values():
             used = names(term, declared)
             if not used:

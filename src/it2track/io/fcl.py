@@ -83,18 +83,22 @@ What is read
 
 Errors raise :class:`~it2track.io.FisFormatError` with ``file:line``. Writing FCL is not
 supported.
+
+A file's input variables and their terms alone: :func:`loads_terms` (``it2track.io.load_terms``),
+also for a function block with no outputs or rules, as jFuzzyLogic's membership-function
+files are.
 """
 
 from __future__ import annotations
 
 import warnings
 
-from ..fuzzy import AnySystem
-from ._fclparse import Parser
-from ._fclsystem import build
+from ..fuzzy import AnySystem, Input
+from ._fclparse import FunctionBlock, Parser
+from ._fclsystem import build, input_terms
 from .errors import FisFormatError, FisFormatWarning
 
-__all__ = ["loads"]
+__all__ = ["loads", "loads_terms"]
 
 
 def loads(text: str, path: str = "<string>", *, block: str | None = None) -> AnySystem:
@@ -121,17 +125,40 @@ def loads(text: str, path: str = "<string>", *, block: str | None = None) -> Any
         When the file has several function blocks and ``block`` is ``None``.
     """
     parser = Parser(text, path)
+    return build(parser, _chosen(parser, path, block))
+
+
+def loads_terms(text: str, path: str = "<string>", *, block: str | None = None
+                ) -> dict[str, Input]:
+    """The input variables of FCL text and their terms, by name in the declared order: each
+    an :class:`~it2track.fuzzy.Input` whose sets are its terms, read as :func:`loads` reads
+    them (universes, named shapes, terms given by variables), for a function block with or
+    without outputs and rules (jFuzzyLogic's membership-function files declare inputs only).
+    The outputs and rules are not read.
+
+    Raises
+    ------
+    FisFormatError
+        As :func:`loads`, for the function block's inputs and their terms (naming ``path``,
+        the line and the term); for a block without ``VAR_INPUT``.
+    """
+    parser = Parser(text, path)
+    return input_terms(parser, _chosen(parser, path, block))
+
+
+def _chosen(parser: Parser, path: str, block: str | None) -> FunctionBlock:
+    """The function block ``block`` names (``None``: the first, warning when there are
+    several)."""
     blocks = parser.function_blocks()
     names = [fb.name for fb in blocks]
     if block is not None:
         if block not in names:
             raise FisFormatError(path, None, f"no FUNCTION_BLOCK {block!r} (the file has "
                                  f"{', '.join(repr(n) for n in names)})")
-        chosen = blocks[names.index(block)]
-    else:
-        chosen = blocks[0]
-        if len(blocks) > 1:
-            warnings.warn(FisFormatWarning(
-                path, chosen.line, f"{len(blocks)} FUNCTION_BLOCKs ({', '.join(map(repr, names))})"
-                f"; read the first, {chosen.name!r} (block= selects another)"), stacklevel=2)
-    return build(parser, chosen)
+        return blocks[names.index(block)]
+    chosen = blocks[0]
+    if len(blocks) > 1:
+        warnings.warn(FisFormatWarning(
+            path, chosen.line, f"{len(blocks)} FUNCTION_BLOCKs ({', '.join(map(repr, names))})"
+            f"; read the first, {chosen.name!r} (block= selects another)"), stacklevel=3)
+    return chosen
