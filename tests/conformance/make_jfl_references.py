@@ -13,7 +13,15 @@ Matched resolution: a continuous defuzzifier samples 1001 points over jFuzzyLogi
 both ends included (it2track's reading of an FCL output: jFuzzyLogic's 1000 intervals, its
 own universe estimate when there is no RANGE); each evaluation starts from no output
 (``DEFAULT`` or NaN, where jFuzzyLogic would keep the previous evaluation's). Inputs are
-sampled over jFuzzyLogic's universes, or :data:`SAMPLED`'s where it has none. ``--check``
+sampled over jFuzzyLogic's universes, or :data:`SAMPLED`'s where it has none.
+
+A file jFuzzyLogic does not evaluate as a system whose function blocks have no output with
+terms (its membership-function files: inputs only, or an output without terms) gets a term
+table instead (``@jfl-terms.csv``): jFuzzyLogic's ``Variable.getMembership`` of every term of
+every input with terms, at :data:`TERM_POINTS` points over the input's universe as jFuzzyLogic
+estimates it (``numpy.linspace``, both ends included), full precision. A file with a term
+jFuzzyLogic gives no value there (a term given by other variables, NaN until they are set) or
+with no term at all gets none. ``--check``
 compares instead of writing; without it only new or changed tables are written (and tables of
 files jFuzzyLogic no longer evaluates removed).
 """
@@ -27,6 +35,7 @@ import tempfile
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).parent))
+import numpy as np
 from catalog import FILES, POINTS, REFERENCES, examples
 from grids import grid
 
@@ -44,6 +53,10 @@ SAMPLED: dict[str, dict[str, tuple[float, float]]] = {
     "jfuzzylogic/fcl/cinthia.fcl": {"inVar": (-7.0, 13.0), "meanGood": (-7.0, 13.0),
                                     "stdGood": (0.5, 5.0)},
 }
+
+
+#: points per input of a term table (over jFuzzyLogic's universe, both ends included)
+TERM_POINTS = 101
 
 
 def _setup(mirror: str, work: Path) -> str:
@@ -89,6 +102,45 @@ def table(path: str, classpath: str, commit: str) -> str | None:
                       f"# output ranges: {spans}", ",".join(names + out_names), *body]) + "\n"
 
 
+def terms_table(path: str, classpath: str, commit: str) -> str | None:
+    """The term table of one file, or ``None`` (jFuzzyLogic gives a term no value, the file
+    has an output with terms or no term at all)."""
+    command = ["java", "-cp", classpath, "JflReference", str(FILES / path), "terms"]
+    head = subprocess.run(command, input="", capture_output=True, text=True, timeout=120)
+    if head.returncode != 0:
+        return None
+    queries, rows, block = [], [], ""
+    for line in head.stdout.splitlines():
+        words = line.split()
+        if words[0] == "block":
+            block = words[1]
+            continue
+        name, lo, hi, terms = words[1], float(words[2]), float(words[3]), words[4:]
+        if not lo < hi:  # NaN: terms given by variables; a point: nothing to sample
+            return None
+        for x in np.linspace(lo, hi, TERM_POINTS):
+            queries.append(f"{block} {name} {float(x)!r}")
+            rows.append((block, name, float(x), terms))
+    if not rows:
+        return None
+    run = subprocess.run(command, input="\n".join(queries) + "\n", capture_output=True,
+                         text=True, timeout=600)
+    values = run.stdout.splitlines()[len(head.stdout.splitlines()):]
+    if run.returncode != 0 or len(values) != len(rows):
+        return None
+    body = []
+    for (blk, name, x, terms), line in zip(rows, values, strict=True):
+        mus = [float(v) for v in line.split()]
+        if any(not 0.0 <= mu <= 1.0 for mu in mus):  # NaN included
+            return None
+        body += [f"{blk},{name},{x!r},{term},{mu!r}" for term, mu in zip(terms, mus, strict=True)]
+    return "\n".join([f"# jFuzzyLogic (commit {commit[:12]}): the memberships of the input "
+                      f"terms of {path} (Variable.getMembership)",
+                      f"# at {TERM_POINTS} points over each input's universe as jFuzzyLogic "
+                      "estimates it, both ends included",
+                      "block,input,x,term,membership", *body]) + "\n"
+
+
 def main(argv: list[str]) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("mirror", help="a bare clone of pcingola/jFuzzyLogic")
@@ -105,11 +157,18 @@ def main(argv: list[str]) -> int:
                 continue
             text = table(example.path, classpath, commit)
             name = example.path.replace("/", "__") + "@jfl.csv"
-            if text is None:
+            if text is not None:
+                wanted[name] = text
+                continue
+            terms = terms_table(example.path, classpath, commit)
+            if terms is None:
                 print(f"{example.path}: jFuzzyLogic does not evaluate it")
             else:
-                wanted[name] = text
-    stale = sorted(p.name for p in REFERENCES.glob("*@jfl.csv") if p.name not in wanted)
+                print(f"{example.path}: not a system; its terms' memberships")
+                wanted[name.replace("@jfl.csv", "@jfl-terms.csv")] = terms
+    stale = sorted(p.name for p in [*REFERENCES.glob("*@jfl.csv"),
+                                    *REFERENCES.glob("*@jfl-terms.csv")]
+                   if p.name not in wanted)
     changed = [n for n, text in wanted.items()
                if not (REFERENCES / n).exists() or (REFERENCES / n).read_text() != text]
     if args.check:
