@@ -11,7 +11,8 @@ the ``.fll`` fuzzylite wrote for them under ``examples/original/`` (fuzzylite's 
 README: "to include scalar values with at least the same number of decimal places").
 jFuzzyLogic's ``.fcl`` files have no twin; nor has the Octave toolkit's
 ``mamdani_tip_calculator.fis`` (below). Their references are the publishers' engines:
-``make_jfl_references.py`` (``@jfl.csv``) and ``make_octave_references.py`` (``@octave.csv``).
+``make_jfl_references.py`` (``@jfl.csv``; ``@jfl-terms.csv`` for a file that is no system
+but a term library) and ``make_octave_references.py`` (``@octave.csv``).
 """
 
 from __future__ import annotations
@@ -106,6 +107,15 @@ class Example:
         if self.source != "octave":
             return None
         table = REFERENCES / (self.path.replace("/", "__") + "@octave.csv")
+        return table if table.exists() else None
+
+    @property
+    def terms(self) -> Path | None:
+        """jFuzzyLogic's table of the memberships of the file's input terms
+        (``@jfl-terms.csv``, ``make_jfl_references.py``), or None: the reference of a
+        jFuzzyLogic file that is no fuzzy system but a term library (inputs only, or an
+        output without terms)."""
+        table = REFERENCES / (self.path.replace("/", "__") + "@jfl-terms.csv")
         return table if table.exists() else None
 
     def variant(self, tag: str) -> Path | None:

@@ -16,6 +16,11 @@ A file that keeps an output's previous value where no rule fires (fuzzylite's
 order from a fresh start (``evaluate_sequence``), against the twin evaluated so
 (``...@sequence.csv``). A file of ``catalog.CORRECTED`` is compared with its corrected
 reference; its difference from the original reference is kept for the docs.
+
+A jFuzzyLogic file refused as a system because it is none (its function blocks have no output
+with terms) but with jFuzzyLogic's table of its input terms (``catalog.Example.terms``) is
+compared as a term library: ``table="terms"``, every membership of ``load_terms`` within
+``1e-9`` of jFuzzyLogic's; counted apart from the systems.
 """
 
 from __future__ import annotations
@@ -35,7 +40,7 @@ from catalog import FILES, OUTPUT_NAMES, Example, examples
 
 from it2track.fuzzy import HybridSystem
 from it2track.fuzzy.sequence import chain_outputs
-from it2track.io import FisFormatError, load
+from it2track.io import FisFormatError, load, load_terms
 
 #: agreement bound, relative to the output's range
 TOLERANCE = 1e-9
@@ -149,7 +154,8 @@ def check(example: Example) -> Result:
             system = load(FILES / example.path)
         except FisFormatError as err:
             where = f"line {err.line}: " if err.line is not None else ""
-            return Result(example, "refused", where + err.message)
+            refused = Result(example, "refused", where + err.message)
+            return refused if example.terms is None else _term_library(refused, example.terms)
     noted = tuple(str(w.message).split(": ", 1)[-1] for w in caught)
     if example.reference is None:
         why = "no twin .fll" if example.twin is None else "pyfuzzylite cannot evaluate its twin"
@@ -163,6 +169,48 @@ def check(example: Example) -> Result:
         return result
     original = _compare(example, system, example.reference, noted, in_order=False)
     return dataclasses.replace(result, table=tag, original=original.detail or "agrees")
+
+
+def _term_library(refused: Result, table: Path) -> Result:
+    """A file refused as a system, compared as a term library: every membership of
+    :func:`~it2track.io.load_terms`'s input terms with jFuzzyLogic's ``table`` (``agrees`` with
+    ``table="terms"`` within :data:`TOLERANCE`, absolute: memberships are in [0, 1]). Where
+    the terms are refused too, the file stays refused, the term reader's reason added."""
+    example = refused.example
+    lines = [line for line in table.read_text().splitlines() if not line.startswith("#")][1:]
+    rows = [line.split(",") for line in lines]
+    blocks = dict.fromkeys(row[0] for row in rows)
+    with warnings.catch_warnings(record=True):
+        warnings.simplefilter("always")
+        try:
+            read = {b: load_terms(FILES / example.path, block=b) for b in blocks}
+        except FisFormatError as err:
+            where = f"line {err.line}: " if err.line is not None else ""
+            return dataclasses.replace(refused, detail=f"{refused.detail}; its terms: "
+                                       f"{where}{err.message}")
+    worst, problems = 0.0, []
+    for block, name, x, term, mu in rows:
+        variable = read[block].get(name)
+        names = [s.name for s in variable.sets] if variable is not None else []
+        if term not in names:
+            problems.append(f"{block}.{name} has no term {term!r}")
+            continue
+        assert variable is not None
+        lower, upper = variable.sets[names.index(term)](float(x))
+        if float(lower) != float(upper):
+            problems.append(f"{block}.{name}.{term} is not type-1 at {x}")
+            continue
+        worst = max(worst, abs(float(upper) - float(mu)))
+    ours = {(b, v.name, s.name) for b in blocks for v in read[b].values() for s in v.sets}
+    theirs = {(row[0], row[1], row[3]) for row in rows}
+    if ours != theirs:
+        problems.append(f"terms {sorted(ours ^ theirs)} in one reading only")
+    if problems:
+        return Result(example, "differs", f"as a term library: {problems[0]}", worst,
+                      len(rows), table="terms")
+    status = "agrees" if worst <= TOLERANCE else "differs"
+    detail = "" if status == "agrees" else f"as a term library: largest difference {worst:.3g}"
+    return Result(example, status, detail, worst, len(rows), table="terms")
 
 
 def _compare(example: Example, system, table: Path, noted: tuple[str, ...], *, in_order: bool

@@ -148,17 +148,53 @@ def octave_readings(found: list[Result]) -> list[str]:
 NOT_A_SYSTEM = "not a fuzzy system"
 
 
+def term_library(r: Result) -> bool:
+    """Whether ``r`` is a file that is no fuzzy system and agrees as a term library (its
+    input terms' memberships against jFuzzyLogic's, ``harness._term_library``)."""
+    return r.table == "terms" and r.status == "agrees"
+
+
 def not_a_system(r: Result) -> bool:
-    """Whether ``r`` is a file refused because it is no fuzzy system (no output, an output
-    without terms, no rules)."""
+    """Whether ``r`` is a file that is no fuzzy system (no output, an output without terms,
+    no rules): refused so, or compared as a term library."""
+    if r.table == "terms":
+        return True
     cause = refusal_cause(r.detail) if r.status == "refused" else None
     return cause is not None and cause[0].startswith(NOT_A_SYSTEM)
+
+
+def _count(found: list[Result]) -> Counter:
+    """Statuses, a term library's agreement counted as ``terms``, apart from the systems'."""
+    return Counter("terms" if term_library(r) else r.status for r in found)
+
+
+def term_libraries(found: list[Result]) -> list[str]:
+    """The section on the files compared as term libraries."""
+    mine = [r for r in found if r.table == "terms"]
+    if not mine:
+        return []
+    lines = ["", "## Term libraries", "",
+             "These files are no fuzzy systems: their function blocks declare inputs with terms "
+             "and no output, or an output without terms (jFuzzyLogic's unit tests read their "
+             "terms' memberships directly). `load(path)` refuses them as systems; "
+             "`it2track.io.load_terms(path)` reads their inputs' terms, and every membership is "
+             "compared with jFuzzyLogic's own (`Variable.getMembership`, full precision: "
+             "`...@jfl-terms.csv`, written by `make_jfl_references.py` at 101 points over each "
+             "input's universe as jFuzzyLogic estimates it, both ends included). A file agrees "
+             f"as a term library when every membership is within {TOLERANCE:g} (absolute: "
+             "memberships are in [0, 1]). They are counted apart from the systems.", "",
+             "| file | result | memberships compared | largest difference |", "|---|---|---|---|"]
+    for r in mine:
+        lines.append(f"| `{r.example.path}` | {STATUS[r.status]} | {r.points} | "
+                     f"{_magnitude(r.error)} |")
+    return lines
 
 
 def render(found: list[Result]) -> str:
     """The page's text."""
     total = len(found)
-    agree = sum(r.status == "agrees" for r in found)
+    agree = sum(r.status == "agrees" and not term_library(r) for r in found)
+    libraries = sum(term_library(r) for r in found)
     systems = [r for r in found if not not_a_system(r)]
     agree_systems = sum(r.status == "agrees" for r in systems)
     in_order = [r for r in found if r.table == "sequence"]
@@ -172,8 +208,15 @@ def render(found: list[Result]) -> str:
         f"jFuzzyLogic unmodified and compares each with a reference: **{agree} of {total} "
         f"files ({100 * agree / total:.1f} %) load and agree**. Of the {len(systems)} files "
         f"that are fuzzy systems (the other {total - len(systems)} declare no output, an "
-        f"output without terms, or no rules: see the refusals below), **{agree_systems} "
-        f"({100 * agree_systems / len(systems):.1f} %) load and agree**. The files, their "
+        "output without terms, or no rules: see the term libraries and the refusals "
+        f"below), **{agree_systems} "
+        f"({100 * agree_systems / len(systems):.1f} %) load and agree**. Of those "
+        f"{total - len(systems)}, {libraries} are term libraries that agree as such: "
+        "jFuzzyLogic's membership-function files, whose input terms (`it2track.io.load_terms`) "
+        f"have jFuzzyLogic's memberships to {TOLERANCE:g} at every point of its table (see "
+        "*Term libraries* below); counting them, **"
+        f"{agree + libraries} of {total} files ({100 * (agree + libraries) / total:.1f} %) "
+        "load and agree, as systems or as term libraries**. The files, their "
         "licences and where each came from are in `tests/conformance/files/` (`SOURCES.md`); "
         "the test `tests/conformance/test_conformance.py` runs them all.",
         "",
@@ -203,23 +246,27 @@ def render(found: list[Result]) -> str:
         "",
         "## Summary",
         "",
-        "| source | files | agree | differ (explained below) | refused | no reference |",
-        "|---|---|---|---|---|---|",
+        "| source | files | agree (systems) | agree as term libraries | differ (explained "
+        "below) | refused | no reference |",
+        "|---|---|---|---|---|---|---|",
     ]
     for source in SOURCES:
         mine = [r for r in found if r.example.source == source]
-        count = Counter(r.status for r in mine)
+        count = _count(mine)
         lines.append(f"| [{SOURCES[source][0]}]({SOURCES[source][1]}) | {len(mine)} | "
-                     f"{count['agrees']} | {count['differs']} | {count['refused']} | "
-                     f"{count['loads']} |")
-    count = Counter(r.status for r in found)
-    lines.append(f"| **all** | **{total}** | **{count['agrees']}** | **{count['differs']}** | "
-                 f"**{count['refused']}** | **{count['loads']}** |")
-    lines += ["", "By format:", "", "| format | files | agree | refused |", "|---|---|---|---|"]
+                     f"{count['agrees']} | {count['terms']} | {count['differs']} | "
+                     f"{count['refused']} | {count['loads']} |")
+    count = _count(found)
+    lines.append(f"| **all** | **{total}** | **{count['agrees']}** | **{count['terms']}** | "
+                 f"**{count['differs']}** | **{count['refused']}** | **{count['loads']}** |")
+    lines += ["", "By format:", "", "| format | files | agree (systems) | agree as term "
+              "libraries | refused |", "|---|---|---|---|---|"]
     for suffix in (".fis", ".fll", ".fcl"):
         mine = [r for r in found if r.example.suffix == suffix]
-        c = Counter(r.status for r in mine)
-        lines.append(f"| `{suffix}` | {len(mine)} | {c['agrees']} | {c['refused']} |")
+        c = _count(mine)
+        lines.append(f"| `{suffix}` | {len(mine)} | {c['agrees']} | {c['terms']} | "
+                     f"{c['refused']} |")
+    lines += term_libraries(found)
     lines += ["", "## The publishers' own values", "", *publisher_values()]
     lines += ["", "## Compared with a corrected reference", "",
               "The twin of each of these files has a defect, corrected in the reference it is "
@@ -268,7 +315,8 @@ def render(found: list[Result]) -> str:
     lines += ["", "## Every file", "", "| file | result | largest difference (of the range) |",
               "|---|---|---|"]
     for r in found:
-        how = {"": "", "sequence": " (in order)"}.get(r.table, " (corrected reference)")
+        how = {"": "", "sequence": " (in order)", "terms": " as a term library"}.get(
+            r.table, " (corrected reference)")
         lines.append(f"| `{r.example.path}` | {STATUS[r.status]}{how} | "
                      f"{_magnitude(r.error)} |")
     return "\n".join(lines) + "\n"

@@ -8,6 +8,7 @@ reference tables are re-checked live against it."""
 from __future__ import annotations
 
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -20,7 +21,7 @@ from make_table import PAGE, render
 from notes import CORRECTIONS, NOTES, PUBLISHER, refusal_cause
 
 from it2track.fuzzy import Aggregation
-from it2track.io import FisFormatWarning, load
+from it2track.io import FisFormatError, FisFormatWarning, load, load_terms
 
 EXAMPLES = examples()
 
@@ -53,8 +54,94 @@ def test_every_twin_has_its_reference_table_and_no_table_is_stale() -> None:
         assert all(r is None or any(f"@{r}" in n for n in found) or f"{stem}.csv" in found
                    for r in resolutions)
     names.update(p.name for p in REFERENCES.glob("*@jfl.csv"))
+    names.update(p.name for p in REFERENCES.glob("*@jfl-terms.csv"))
     names.update(p.name for p in REFERENCES.glob("*@octave.csv"))
     assert names == {p.name for p in REFERENCES.glob("*.csv")}
+
+
+#: the files that agree as term libraries (no fuzzy system; their input terms against
+#: jFuzzyLogic's Variable.getMembership), and the term files that stay refused
+TERM_LIBRARIES = ["jfuzzylogic/fcl/scarledOLD.fcl", *(
+    f"jfuzzylogic/tests/junit_{n}.fcl"
+    for n in ("cosine", "gauss", "gbell", "piecewise_linear", "sigmoid", "trape", "triang"))]
+TERMS_REFUSED = {"jfuzzylogic/fcl/membershipFunctionsDemo.fcl": "singleton",
+                 "jfuzzylogic/tests/junit4.fcl": "singleton",
+                 "jfuzzylogic/tests/junit_singletons.fcl": "singleton",
+                 "jfuzzylogic/tests/junit_dsigm.fcl": "DSIGM"}
+
+
+def test_term_libraries_are_files_refused_as_systems_and_agree_term_by_term() -> None:
+    # a term table only for a file load() refuses as no system; every such file compared
+    # term by term, the agreeing ones counted apart (table "terms"), the others refused with
+    # the system's reason and the term reader's
+    from make_table import not_a_system, term_library
+
+    with_terms = [e for e in EXAMPLES if e.terms is not None]
+    assert {e.path for e in with_terms} == set(TERM_LIBRARIES) | set(TERMS_REFUSED)
+    for example in with_terms:
+        with pytest.raises(FisFormatError), warnings.catch_warnings():
+            warnings.simplefilter("ignore", FisFormatWarning)  # scarledOLD: two blocks
+            load(FILES / example.path)
+        result = check(example)
+        assert not_a_system(result), example.path
+        if example.path in TERMS_REFUSED:
+            assert result.status == "refused" and not term_library(result)
+            system, terms = result.detail.split("; its terms: ")
+            assert refusal_cause(system)[0].startswith("not a fuzzy system"), system
+            assert TERMS_REFUSED[example.path] in terms and terms.startswith("line ")
+        else:
+            assert result.status == "agrees" and result.table == "terms", result.detail
+            assert term_library(result) and result.error is not None
+            assert result.error <= 1e-9 and result.points >= 303
+    # the files with no term jFuzzyLogic values stay refused as no system, with no table
+    for path in ("jfuzzylogic/tests/noRules.fcl", "jfuzzylogic/tests/on_line_variable.fcl"):
+        (example,) = [e for e in EXAMPLES if e.path == path]
+        assert example.terms is None and check(example).status == "refused"
+
+
+def test_term_tables_are_jfuzzylogics_universe_sampled_and_cover_every_term() -> None:
+    # 101 points per input over jFuzzyLogic's universe, both ends; every term of every input
+    # at each; memberships in [0, 1] at full precision (not rounded as junit_*.txt are)
+    for path in TERM_LIBRARIES:
+        (example,) = [e for e in EXAMPLES if e.path == path]
+        assert example.terms is not None
+        lines = example.terms.read_text().splitlines()
+        assert lines[0].startswith("# jFuzzyLogic (commit 1f421d1b176b): ") and path in lines[0]
+        rows = [line.split(",") for line in lines[3:]]
+        assert lines[2] == "block,input,x,term,membership"
+        blocks = dict.fromkeys(r[0] for r in rows)
+        read = {b: load_terms(FILES / path, block=b) for b in blocks}
+        for block, inputs in read.items():
+            for name, variable in inputs.items():
+                xs = sorted({float(r[2]) for r in rows if r[:2] == [block, name]})
+                assert len(xs) == 101, (path, name)
+                terms = {r[3] for r in rows if r[:2] == [block, name]}
+                assert terms == {s.name for s in variable.sets}
+        mus = np.array([float(r[4]) for r in rows])
+        assert ((mus >= 0) & (mus <= 1)).all()
+        smooth = any(f"junit_{n}." in path for n in ("gauss", "gbell", "sigmoid", "cosine"))
+        if smooth:  # a Gaussian, bell, sigmoid, cosine: not the x100-rounded values
+            assert np.any(np.abs(mus * 100 - np.round(mus * 100)) > 1e-6), path
+
+
+JUNIT = ["cosine", "gauss", "gbell", "piecewise_linear", "sigmoid", "trape", "triang"]
+
+
+@pytest.mark.parametrize("name", JUNIT)
+def test_jfuzzylogic_recorded_memberships(name) -> None:
+    # jFuzzyLogic's TestCaseJfuzzy.checkMembershipFunction: junit_NAME.txt records inVar and
+    # the memberships of poor, good, excellent times 100, each rounded by Math.round
+    # (floor(v + 0.5)); it2track's terms give every recorded value
+    data = np.loadtxt(FILES / f"jfuzzylogic/tests/junit_{name}.txt", skiprows=1)
+    inputs = load_terms(FILES / f"jfuzzylogic/tests/junit_{name}.fcl")
+    variable = inputs["inVar"]
+    assert len(data) >= 100
+    for k, term in enumerate(("poor", "good", "excellent")):
+        mf = variable.sets[variable.set_index(term)]
+        lower, upper = mf(data[:, 0] / 100.0)
+        np.testing.assert_array_equal(lower, upper)
+        np.testing.assert_array_equal(np.floor(np.asarray(upper) * 100 + 0.5), data[:, k + 1],
+                                      err_msg=f"{name}: {term}")
 
 
 def test_octave_files_have_the_toolkits_own_evalfis_of_the_files_commit() -> None:
