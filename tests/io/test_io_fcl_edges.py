@@ -35,6 +35,7 @@ from it2track.fuzzy import (
     Triangle,
     WeightedDefuzzifier,
 )
+from it2track.fuzzy.formula import Formula
 from it2track.io import FisFormatError, FisFormatWarning, loads
 from it2track.io import fcl as fcl_reader
 from it2track.io._fclparse import FunctionBlock, Parser, RuleNode, Tok
@@ -944,6 +945,8 @@ def test_a_triangle_or_trapezoid_of_points_is_one(points: str, mf) -> None:
     "(0, 1) (0.25, 0) (0.5, 1) (1, 0)",  # two peaks
     "(0, 0) (0.25, 1) (0.5, 1) (0.75, 1) (1, 0)",  # a plateau of three points
     "(0.5, 1)",  # one point
+    "(0, 0.5) (1, 1)",  # a degree between 0 and the height where a triangle has its foot
+    "(0, 0.5) (0.5, 1) (1, 0)",
 ])
 def test_other_polylines_are_discrete(points: str) -> None:
     fls = loads(in_term(points, " RANGE := (0 .. 1);"), "fcl")
@@ -1170,3 +1173,60 @@ def test_a_subnormal_width_below_zero_is_refused_too() -> None:
                                        "closer than the smallest normal float "
                                        "(2.2250738585072014e-308): the slope between them "
                                        "overflows")
+
+
+# -- the second mutation run of _fclbuild ------------------------------------------------------
+def test_numeric_errors_are_refused_whatever_numpy_is_set_to() -> None:
+    # inf - inf on the universe: refused even where the caller ignores invalid values
+    with np.errstate(all="ignore"):
+        err = refusal(in_term("SemiEllipse -1e308 1e308", " RANGE := (0 .. 10);"))
+    assert (err.line, err.message) == (8, "numeric overflow (invalid value encountered in "
+                                       "subtract)")
+    # ... and an underflow (exp(-(10 / 0.01)^2 / 2) = 0) is a value where the caller raises
+    with np.errstate(under="raise"):
+        fls = loads(in_term("GAUSS 0 0.01", " RANGE := (0 .. 10);"), "fcl")
+    assert fls.inputs[0].sets[0].upper == Gaussian(0.0, 0.01)
+
+
+@pytest.mark.parametrize(("points", "message"), [
+    ("(0, 0) (inf, 1)", "term 'a': Triangle(0.0, inf, inf, h=1.0): parameter b=inf must be a "
+     "finite number"),
+    ("(nan, 0) (1, 1)", "term 'a': Triangle(nan, 1.0, 1.0, h=1.0): parameter a=nan must be a "
+     "finite number"),
+    ("(0, 0) (1, 0.5) (inf, 1)", "term 'a': Discrete(points=((0.0, 0.0), (1.0, 0.5), (inf, "
+     "1.0)), h=1.0): parameter x3=inf must be a finite number"),
+])
+def test_points_at_an_infinite_or_nan_x_are_refused_naming_the_term(points: str,
+                                                                    message: str) -> None:
+    err = refusal(in_term(points, " RANGE := (0 .. 1);"))
+    assert (err.line, err.message) == (9, message)
+
+
+@pytest.mark.parametrize(("function", "linear"), [
+    ("FUNCTION x / 1", Linear([1.0, 0.0], 0.0)),
+    ("FUNCTION (x) * (2) - (w)", Linear([2.0, -1.0], 0.0)),
+    ("Function 2 * x + 1", Linear([2.0, 0.0], 1.0)),
+    ("FUNCTION x / 0", None),  # by zero
+    ("FUNCTION x / w", None),  # by an input
+    ("FUNCTION x * w", None),  # input times input
+    ("Function x + pi", None),  # a name that is no input (fuzzylite's pi)
+    ("FUNCTION x ^ 2", None),
+    ("FUNCTION (x ^ 2)", None),
+    ("FUNCTION abs(x)", None),
+])
+def test_a_function_not_linear_in_the_inputs_is_its_formula(function: str,
+                                                            linear: Linear | None) -> None:
+    two = "FUZZIFY x\n    TERM a := (0, 1) (1, 0);\nEND_FUZZIFY\nFUZZIFY w\n" \
+        "    TERM a := (0, 1) (1, 0);\nEND_FUZZIFY"
+    out = f"DEFUZZIFY y\n    TERM b := {function};\n    METHOD : COGF;\nEND_DEFUZZIFY"
+    fls = loads(fcl(two, out, inputs="x : REAL; w : REAL;"), "fcl")
+    word, text = function.split(" ", 1)
+    tokens = " ".join(text.replace("(", " ( ").replace(")", " ) ").split())
+    dialect = "fuzzylite" if word == "Function" else "jfuzzylogic"
+    assert fls.rules[0].consequent == (linear or Formula(tokens, dialect, ("x", "w"))), function
+
+
+def test_a_fuzzylite_function_is_refused_in_its_own_spelling() -> None:
+    err = refusal(out_term("Function x +"))
+    assert (err.line, err.message) == (12, "term 'b': Function 'x +': ends where a number, name "
+                                       "or '(' should follow (at the end)")
