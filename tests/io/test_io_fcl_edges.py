@@ -419,6 +419,9 @@ def test_a_duplicate_term_warns_and_the_last_one_is_read() -> None:
         fls = loads(text, "fcl", path="d.fcl")
     assert [str(w.message) for w in record] == [
         "d.fcl:10: duplicate term 'a' of 'x' (first at line 9): rules naming it take this one"]
+    with pytest.warns(FisFormatWarning) as record:  # attributed to a caller of the reader
+        fcl_reader.loads(text, "d.fcl")
+    assert not record[0].filename.endswith(("fcl.py", "_fclparse.py"))
     assert fls.inputs[0].sets[0].upper(np.array([0.0, 1.0])).tolist() == [0.0, 1.0]
     assert [s.name for s in fls.inputs[0].sets] == ["a"]
 
@@ -1230,3 +1233,25 @@ def test_a_fuzzylite_function_is_refused_in_its_own_spelling() -> None:
     err = refusal(out_term("Function x +"))
     assert (err.line, err.message) == (12, "term 'b': Function 'x +': ends where a number, name "
                                        "or '(' should follow (at the end)")
+
+
+# -- the second mutation run of _fclparse ------------------------------------------------------
+def test_x_is_any_names_no_term_and_keeps_its_hedges_and_negation() -> None:
+    r1, r2, r3 = rules_of("RULE 1 : IF x IS any THEN y IS e;\n"
+                          "RULE 2 : IF x IS NOT very ANY AND w IS Any THEN y IS e;\n"
+                          "RULE 3 : IF x IS any a THEN y IS e;")
+    assert r1.condition == Proposition("x", "", False, ("any",))
+    assert r2.condition == Compound("and", (Proposition("x", "", True, ("very", "any")),
+                                            Proposition("w", "", False, ("any",))))
+    assert r3.condition == Proposition("x", "a", False, ("any",))  # the hedge before a term
+
+
+@pytest.mark.parametrize(("default", "value", "nc"), [
+    ("DEFAULT := NC;", None, True), ("DEFAULT := 0.5 | NC;", (0.5, 3), True),
+    ("DEFAULT := nc;", None, True), ("DEFAULT := -1;", (-1.0, 3), False), ("", None, False)])
+def test_default_nc_is_no_change(default: str, value: tuple[float, int] | None,
+                                 nc: bool) -> None:
+    (fb,) = tree("FUNCTION_BLOCK f\nVAR_OUTPUT y : REAL; END_VAR\n"
+                 f"DEFUZZIFY y TERM b := 1; {default} END_DEFUZZIFY\nEND_FUNCTION_BLOCK")
+    y = fb.outputs["y"]
+    assert (y.default, y.nc) == (value, nc)

@@ -122,6 +122,8 @@ def loads(text: str, path: str = "<string>", *, block: str | None = None) -> Any
     """
     parser = Parser(text, path)
     blocks = parser.function_blocks()
+    for warning in parser.warnings:  # attributed to the caller, as the one below
+        warnings.warn(warning, stacklevel=2)
     names = [fb.name for fb in blocks]
     if block is not None:
         if block not in names:
