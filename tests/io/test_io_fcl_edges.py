@@ -696,6 +696,12 @@ SYSTEM_REFUSALS = {
                                "output 'y' has no term 'q'"),
     "an unknown input term": (fcl(IN_A, OUT_B, "RULE 1 : IF x IS q THEN y IS b;"), 16,
                               "input 'x' has no term 'q'"),
+    "an infinite singleton": (out_term("-inf"), 16,
+                              "rule ['a']: consequent 1 (-inf, -inf) must be finite, lo <= hi"),
+    "'x is any' on an input without terms": (
+        fcl("FUZZIFY x\n    RANGE := (0 .. 1);\nEND_FUZZIFY", OUT_B,
+            "RULE 1 : IF x IS any THEN y IS b;"), 16,
+        "input 'x' has no term (for 'x is any')"),
     "a weight above 1": (fcl(IN_A, OUT_B, "RULE 1 : IF x IS a THEN y IS b WITH 1.5;"), 16,
                          "rule weight 1.5 must be in [0, 1]"),
     "a negative weight": (fcl(IN_A, OUT_B, "RULE 1 : IF x IS a THEN y IS b WITH -0.5;"), 16,
