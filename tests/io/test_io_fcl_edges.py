@@ -455,6 +455,11 @@ BUILD_REFUSALS = {
                                   "is not a declared variable"),
     "punctuation in the parameters": (in_term("TRIAN 0 ( 1"), 9,
                                       "term 'a': unexpected '(' in the parameters"),
+    # NaN and infinities are no variables (_fclvars lets them through): no number either
+    "infinity in the parameters": (in_term("TRIAN 0 inf 1"), 9,
+                                   "term 'a': unexpected 'inf' in the parameters"),
+    "NaN in the parameters": (in_term("GAUSS NaN 1"), 9,
+                              "term 'a': unexpected 'NaN' in the parameters"),
     "a trailing sign": (in_term("TRIAN 0 0.5 1 -"), 9,
                         "term 'a': unexpected '-' in the parameters"),
     "decreasing x": (in_term("(0, 1) (1, 0.5) (0.5, 0)"), 9, "term 'a': the points [(0.0, 1.0), "

@@ -92,11 +92,7 @@ class Builder:
             if tokens[k].text in ("-", "+") and k + 1 < len(tokens):
                 sign, k = (-1.0 if tokens[k].text == "-" else 1.0), k + 1
             tok = tokens[k]
-            if tok.kind == "ident":
-                raise self.error(tok.line, f"term {term.name!r}: parameter {tok.text!r} is a "
-                                 "variable (jFuzzyLogic's membership with variables), which is "
-                                 "not supported")
-            if tok.kind != "num":
+            if tok.kind != "num":  # a variable's name is _fclvars' (NaN and inf are no number)
                 raise self.error(tok.line, f"term {term.name!r}: unexpected {tok.text!r} in the "
                                  "parameters")
             values.append(sign * float(tok.text))
