@@ -1266,3 +1266,14 @@ def test_default_nc_is_no_change(default: str, value: tuple[float, int] | None,
                  f"DEFUZZIFY y TERM b := 1; {default} END_DEFUZZIFY\nEND_FUNCTION_BLOCK")
     y = fb.outputs["y"]
     assert (y.default, y.nc) == (value, nc)
+
+
+def test_point_values_given_by_variables_are_nan_with_their_names_in_refs() -> None:
+    (fb,) = tree("FUNCTION_BLOCK f\nVAR_INPUT x : REAL; END_VAR\n"
+                 "FUZZIFY x TERM a := (0, lo) (mid, 1) (2, top) (inf, 0); END_FUZZIFY\n"
+                 "END_FUNCTION_BLOCK")
+    a = fb.inputs["x"].terms["a"]
+    assert a.refs == {1: "lo", 2: "mid", 5: "top"}  # 2k: point k's x, 2k + 1: its degree
+    assert math.isnan(a.points[1][0]) and a.points[1][1] == 1.0
+    assert math.isnan(a.points[0][1]) and math.isnan(a.points[2][1])
+    assert (a.points[0][0], a.points[2][0], a.points[3]) == (0.0, 2.0, (math.inf, 0.0))
