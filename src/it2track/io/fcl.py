@@ -118,7 +118,8 @@ def loads(text: str, path: str = "<string>", *, block: str | None = None) -> Any
     Warns
     -----
     FisFormatWarning
-        When the file has several function blocks and ``block`` is ``None``.
+        When the file has several function blocks and ``block`` is ``None``, a term defined
+        twice, or ``DEFAULT = v`` (jFuzzyLogic's lenient form).
     """
     parser = Parser(text, path)
     blocks = parser.function_blocks()
