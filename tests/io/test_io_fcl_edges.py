@@ -35,6 +35,7 @@ from it2track.fuzzy import (
     Triangle,
     WeightedDefuzzifier,
 )
+from it2track.fuzzy.formula import Formula
 from it2track.io import FisFormatError, FisFormatWarning, loads
 from it2track.io import fcl as fcl_reader
 from it2track.io._fclparse import FunctionBlock, Parser, RuleNode, Tok
@@ -418,6 +419,9 @@ def test_a_duplicate_term_warns_and_the_last_one_is_read() -> None:
         fls = loads(text, "fcl", path="d.fcl")
     assert [str(w.message) for w in record] == [
         "d.fcl:10: duplicate term 'a' of 'x' (first at line 9): rules naming it take this one"]
+    with pytest.warns(FisFormatWarning) as record:  # attributed to a caller of the reader
+        fcl_reader.loads(text, "d.fcl")
+    assert not record[0].filename.endswith(("fcl.py", "_fclparse.py"))
     assert fls.inputs[0].sets[0].upper(np.array([0.0, 1.0])).tolist() == [0.0, 1.0]
     assert [s.name for s in fls.inputs[0].sets] == ["a"]
 
@@ -451,6 +455,11 @@ BUILD_REFUSALS = {
                                   "is not a declared variable"),
     "punctuation in the parameters": (in_term("TRIAN 0 ( 1"), 9,
                                       "term 'a': unexpected '(' in the parameters"),
+    # NaN and infinities are no variables (_fclvars lets them through): no number either
+    "infinity in the parameters": (in_term("TRIAN 0 inf 1"), 9,
+                                   "term 'a': unexpected 'inf' in the parameters"),
+    "NaN in the parameters": (in_term("GAUSS NaN 1"), 9,
+                              "term 'a': unexpected 'NaN' in the parameters"),
     "a trailing sign": (in_term("TRIAN 0 0.5 1 -"), 9,
                         "term 'a': unexpected '-' in the parameters"),
     "decreasing x": (in_term("(0, 1) (1, 0.5) (0.5, 0)"), 9, "term 'a': the points [(0.0, 1.0), "
@@ -693,6 +702,12 @@ SYSTEM_REFUSALS = {
                                "output 'y' has no term 'q'"),
     "an unknown input term": (fcl(IN_A, OUT_B, "RULE 1 : IF x IS q THEN y IS b;"), 16,
                               "input 'x' has no term 'q'"),
+    "an infinite singleton": (out_term("-inf"), 16,
+                              "rule ['a']: consequent 1 (-inf, -inf) must be finite, lo <= hi"),
+    "'x is any' on an input without terms": (
+        fcl("FUZZIFY x\n    RANGE := (0 .. 1);\nEND_FUZZIFY", OUT_B,
+            "RULE 1 : IF x IS any THEN y IS b;"), 16,
+        "input 'x' has no term (for 'x is any')"),
     "a weight above 1": (fcl(IN_A, OUT_B, "RULE 1 : IF x IS a THEN y IS b WITH 1.5;"), 16,
                          "rule weight 1.5 must be in [0, 1]"),
     "a negative weight": (fcl(IN_A, OUT_B, "RULE 1 : IF x IS a THEN y IS b WITH -0.5;"), 16,
@@ -945,6 +960,8 @@ def test_a_triangle_or_trapezoid_of_points_is_one(points: str, mf) -> None:
     "(0, 1) (0.25, 0) (0.5, 1) (1, 0)",  # two peaks
     "(0, 0) (0.25, 1) (0.5, 1) (0.75, 1) (1, 0)",  # a plateau of three points
     "(0.5, 1)",  # one point
+    "(0, 0.5) (1, 1)",  # a degree between 0 and the height where a triangle has its foot
+    "(0, 0.5) (0.5, 1) (1, 0)",
 ])
 def test_other_polylines_are_discrete(points: str) -> None:
     fls = loads(in_term(points, " RANGE := (0 .. 1);"), "fcl")
@@ -1171,3 +1188,93 @@ def test_a_subnormal_width_below_zero_is_refused_too() -> None:
                                        "closer than the smallest normal float "
                                        "(2.2250738585072014e-308): the slope between them "
                                        "overflows")
+
+
+# -- the second mutation run of _fclbuild ------------------------------------------------------
+def test_numeric_errors_are_refused_whatever_numpy_is_set_to() -> None:
+    # inf - inf on the universe: refused even where the caller ignores invalid values
+    with np.errstate(all="ignore"):
+        err = refusal(in_term("SemiEllipse -1e308 1e308", " RANGE := (0 .. 10);"))
+    assert (err.line, err.message) == (8, "numeric overflow (invalid value encountered in "
+                                       "subtract)")
+    # ... and an underflow (exp(-(10 / 0.01)^2 / 2) = 0) is a value where the caller raises
+    with np.errstate(under="raise"):
+        fls = loads(in_term("GAUSS 0 0.01", " RANGE := (0 .. 10);"), "fcl")
+    assert fls.inputs[0].sets[0].upper == Gaussian(0.0, 0.01)
+
+
+@pytest.mark.parametrize(("points", "message"), [
+    ("(0, 0) (inf, 1)", "term 'a': Triangle(0.0, inf, inf, h=1.0): parameter b=inf must be a "
+     "finite number"),
+    ("(nan, 0) (1, 1)", "term 'a': Triangle(nan, 1.0, 1.0, h=1.0): parameter a=nan must be a "
+     "finite number"),
+    ("(0, 0) (1, 0.5) (inf, 1)", "term 'a': Discrete(points=((0.0, 0.0), (1.0, 0.5), (inf, "
+     "1.0)), h=1.0): parameter x3=inf must be a finite number"),
+])
+def test_points_at_an_infinite_or_nan_x_are_refused_naming_the_term(points: str,
+                                                                    message: str) -> None:
+    err = refusal(in_term(points, " RANGE := (0 .. 1);"))
+    assert (err.line, err.message) == (9, message)
+
+
+@pytest.mark.parametrize(("function", "linear"), [
+    ("FUNCTION x / 1", Linear([1.0, 0.0], 0.0)),
+    ("FUNCTION (x) * (2) - (w)", Linear([2.0, -1.0], 0.0)),
+    ("Function 2 * x + 1", Linear([2.0, 0.0], 1.0)),
+    ("FUNCTION x / 0", None),  # by zero
+    ("FUNCTION x / w", None),  # by an input
+    ("FUNCTION x * w", None),  # input times input
+    ("Function x + pi", None),  # a name that is no input (fuzzylite's pi)
+    ("FUNCTION x ^ 2", None),
+    ("FUNCTION (x ^ 2)", None),
+    ("FUNCTION abs(x)", None),
+])
+def test_a_function_not_linear_in_the_inputs_is_its_formula(function: str,
+                                                            linear: Linear | None) -> None:
+    two = "FUZZIFY x\n    TERM a := (0, 1) (1, 0);\nEND_FUZZIFY\nFUZZIFY w\n" \
+        "    TERM a := (0, 1) (1, 0);\nEND_FUZZIFY"
+    out = f"DEFUZZIFY y\n    TERM b := {function};\n    METHOD : COGF;\nEND_DEFUZZIFY"
+    fls = loads(fcl(two, out, inputs="x : REAL; w : REAL;"), "fcl")
+    word, text = function.split(" ", 1)
+    tokens = " ".join(text.replace("(", " ( ").replace(")", " ) ").split())
+    dialect = "fuzzylite" if word == "Function" else "jfuzzylogic"
+    assert fls.rules[0].consequent == (linear or Formula(tokens, dialect, ("x", "w"))), function
+
+
+def test_a_fuzzylite_function_is_refused_in_its_own_spelling() -> None:
+    err = refusal(out_term("Function x +"))
+    assert (err.line, err.message) == (12, "term 'b': Function 'x +': ends where a number, name "
+                                       "or '(' should follow (at the end)")
+
+
+# -- the second mutation run of _fclparse ------------------------------------------------------
+def test_x_is_any_names_no_term_and_keeps_its_hedges_and_negation() -> None:
+    r1, r2, r3 = rules_of("RULE 1 : IF x IS any THEN y IS e;\n"
+                          "RULE 2 : IF x IS NOT very ANY AND w IS Any THEN y IS e;\n"
+                          "RULE 3 : IF x IS any a THEN y IS e;")
+    assert r1.condition == Proposition("x", "", False, ("any",))
+    assert r2.condition == Compound("and", (Proposition("x", "", True, ("very", "any")),
+                                            Proposition("w", "", False, ("any",))))
+    assert r3.condition == Proposition("x", "a", False, ("any",))  # the hedge before a term
+
+
+@pytest.mark.parametrize(("default", "value", "nc"), [
+    ("DEFAULT := NC;", None, True), ("DEFAULT := 0.5 | NC;", (0.5, 3), True),
+    ("DEFAULT := nc;", None, True), ("DEFAULT := -1;", (-1.0, 3), False), ("", None, False)])
+def test_default_nc_is_no_change(default: str, value: tuple[float, int] | None,
+                                 nc: bool) -> None:
+    (fb,) = tree("FUNCTION_BLOCK f\nVAR_OUTPUT y : REAL; END_VAR\n"
+                 f"DEFUZZIFY y TERM b := 1; {default} END_DEFUZZIFY\nEND_FUNCTION_BLOCK")
+    y = fb.outputs["y"]
+    assert (y.default, y.nc) == (value, nc)
+
+
+def test_point_values_given_by_variables_are_nan_with_their_names_in_refs() -> None:
+    (fb,) = tree("FUNCTION_BLOCK f\nVAR_INPUT x : REAL; END_VAR\n"
+                 "FUZZIFY x TERM a := (0, lo) (mid, 1) (2, top) (inf, 0); END_FUZZIFY\n"
+                 "END_FUNCTION_BLOCK")
+    a = fb.inputs["x"].terms["a"]
+    assert a.refs == {1: "lo", 2: "mid", 5: "top"}  # 2k: point k's x, 2k + 1: its degree
+    assert math.isnan(a.points[1][0]) and a.points[1][1] == 1.0
+    assert math.isnan(a.points[0][1]) and math.isnan(a.points[2][1])
+    assert (a.points[0][0], a.points[2][0], a.points[3]) == (0.0, 2.0, (math.inf, 0.0))

@@ -26,6 +26,7 @@ from it2track.fuzzy import (
     Triangle,
     WeightedDefuzzifier,
 )
+from it2track.fuzzy.formula import Formula
 from it2track.io import FisFormatError, FisFormatWarning, loads, matfis
 
 DATA = Path(__file__).parent / "data"
@@ -162,6 +163,31 @@ def test_linear_outputs_are_takagi_sugeno_in_a_hybrid_and_a_sugeno_system() -> N
         assert fls.systems[2].rules[0].consequents == (Linear([0.5], 1.0),)
         one = loads(fis(linear.replace("Output3", "Output1"), "1, 1 (1) : 1\n", SUGENO), "fis")
         assert isinstance(one, T1Sugeno) and one.rules[0].consequents == (Linear([0.5], 1.0),)
+
+
+def test_function_outputs_are_takagi_sugeno_in_a_hybrid_and_a_sugeno_system() -> None:
+    function = constants(3, "c", [1]).replace("'constant',[1]", "'function',[x * 2]")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no "read as Tsukamoto" warning
+        fls = loads(fis(constants(1, "a", [2, 8]) + sets(2, "m") + function,
+                        "1, 1 1 1 (1) : 1\n"), "fis")
+        assert [type(p) for p in fls.systems] == [T1Sugeno, T1Mamdani, T1Sugeno]
+        assert fls.systems[2].rules[0].consequents == (Formula("x * 2", "fuzzylite", ("x",)),)
+        one = loads(fis(function.replace("Output3", "Output1"), "1, 1 (1) : 1\n", SUGENO),
+                    "fis")
+        assert isinstance(one, T1Sugeno)
+        assert one.rules[0].consequents == (Formula("x * 2", "fuzzylite", ("x",)),)
+
+
+def test_lock_previous_is_read_per_output_and_refused_naming_its_line() -> None:
+    text = fis(constants(1, "a", [2, 8], "LockPrevious=1\n") + sets(2, "m")
+               + constants(3, "c", [1], "LockPrevious=0\n"), "1, 1 1 1 (1) : 1\n")
+    fls = loads(text, "fis")
+    assert [p.lock_previous for p in fls.systems] == [True, False, False]
+    bad = text.replace("LockPrevious=0", "LockPrevious=0.5")
+    err = refusal(bad)
+    assert (err.line, err.message) == (line_of(bad, "LockPrevious=0.5"),
+                                       "LockPrevious=0.5 must be 0 or 1")
 
 
 def test_monotonic_sugeno_outputs_are_read_as_tsukamoto_with_a_warning() -> None:

@@ -63,7 +63,7 @@ _JFL = {"TRIAN": 3, "TRAPE": 4, "GAUSS": 2, "GAUSS2": 4, "GBELL": 3, "SIGM": 2, 
         "COSINE": 2}
 
 
-class _NotLinear(FisFormatError):
+class _NotLinear(Exception):
     """A FUNCTION that is not linear in the inputs (read as a formula instead)."""
 
 
@@ -93,11 +93,7 @@ class Builder:
             if tokens[k].text in ("-", "+") and k + 1 < len(tokens):
                 sign, k = (-1.0 if tokens[k].text == "-" else 1.0), k + 1
             tok = tokens[k]
-            if tok.kind == "ident":
-                raise self.error(tok.line, f"term {term.name!r}: parameter {tok.text!r} is a "
-                                 "variable (jFuzzyLogic's membership with variables), which is "
-                                 "not supported")
-            if tok.kind != "num":
+            if tok.kind != "num":  # a variable's name is _fclvars' (NaN and inf are no number)
                 raise self.error(tok.line, f"term {term.name!r}: unexpected {tok.text!r} in the "
                                  "parameters")
             values.append(sign * float(tok.text))
@@ -119,8 +115,8 @@ class Builder:
                                  f"x = {b!r} are closer than the smallest normal float "
                                  f"({sys.float_info.min!r}): the slope between them overflows")
         h = max(ms)
-        if len(set(xs)) == len(xs) and h > 0:
-            pattern = tuple("h" if m == h else "0" if m == 0 else "?" for m in ms)
+        if len(set(xs)) == len(xs) and set(ms) <= {0.0, h}:  # h = 0: no pattern below
+            pattern = tuple("h" if m == h else "0" for m in ms)
             shapes = {
                 ("h", "0"): lambda: Triangle(xs[0], xs[0], xs[1], h),
                 ("0", "h"): lambda: Triangle(xs[0], xs[1], xs[1], h),
@@ -204,22 +200,20 @@ class Builder:
                                                                          len(inputs)),
                                  f"term {term.name!r}")
             return (value, value) if isinstance(value, float) else value
-        if term.kind == "function":
-            # fuzzylite's FCL export spells its Function term so, in its grammar
-            dialect = "fuzzylite" if term.shape == "Function" else "jfuzzylogic"
-            formula = self.formula(term, inputs, dialect, outputs, own)
-            read = sorted(formula.used & set(apart))
-            if read:
-                raise self.error(term.line, f"term {term.name!r}: Function {formula.text!r} "
-                                 f"reads the output {read[0]!r}, of another kind, which "
-                                 f"it2track evaluates apart from {own!r}: it chains formulas "
-                                 "among Takagi-Sugeno outputs declared one after another")
-            try:  # linear in the inputs: a Linear (compiled, written), refused if not finite
-                return self.linear(term, inputs)
-            except _NotLinear:
-                return formula
-        raise self.error(term.line, f"term {term.name!r}: a COGS/COGF output term is a value, "
-                         "fuzzylite's Constant/Linear or a FUNCTION")
+        # a FUNCTION (_kind reads an output as Sugeno only when every term is a value,
+        # Constant/Linear or FUNCTION); fuzzylite's FCL export spells it Function, in its grammar
+        dialect = "fuzzylite" if term.shape == "Function" else "jfuzzylogic"
+        formula = self.formula(term, inputs, dialect, outputs, own)
+        read = sorted(formula.used & set(apart))
+        if read:
+            raise self.error(term.line, f"term {term.name!r}: Function {formula.text!r} "
+                             f"reads the output {read[0]!r}, of another kind, which "
+                             f"it2track evaluates apart from {own!r}: it chains formulas "
+                             "among Takagi-Sugeno outputs declared one after another")
+        try:  # linear in the inputs: a Linear (compiled, written), refused if not finite
+            return self.linear(term, inputs)
+        except _NotLinear:
+            return formula
 
     def formula(self, term: FclTerm, inputs: list[str], dialect: str = "jfuzzylogic",
                 outputs: Iterable[str] = (), own: str | None = None) -> Formula:
@@ -241,21 +235,14 @@ class Builder:
             raise self.error(line, f"term {term.name!r}: {where}{sep}{exc}") from None
 
     def linear(self, term: FclTerm, inputs: list[str]) -> Linear:
-        """A jFuzzyLogic FUNCTION that is linear in the inputs."""
+        """A FUNCTION that is linear in the inputs as a :class:`Linear`, else
+        :class:`_NotLinear`. :meth:`formula` has parsed it: its tokens are well formed (an
+        operand after every operator, every '(' closed)."""
         tokens = term.params
         pos = 0
 
-        def fail(message: str) -> FisFormatError:
-            line = tokens[min(pos, len(tokens) - 1)].line if tokens else term.line
-            err = self.error(line, f"term {term.name!r}: FUNCTION {message}; it2track reads "
-                             "functions linear in the inputs (sums of numbers and number * "
-                             "input)")
-            return _NotLinear(err.path, err.line, err.message)
-
         def atom() -> dict[str, float]:
             nonlocal pos
-            if pos >= len(tokens):
-                raise fail("ends early")
             tok = tokens[pos]
             pos += 1
             if tok.text in ("-", "+"):
@@ -263,15 +250,15 @@ class Builder:
                 return {k: -v for k, v in inner.items()} if tok.text == "-" else inner
             if tok.text == "(":
                 inner = expr()
-                if pos >= len(tokens) or tokens[pos].text != ")":
-                    raise fail("has an unclosed '('")
+                if tokens[pos].text != ")":  # ( x ^ 2 )
+                    raise _NotLinear
                 pos += 1
                 return inner
             if tok.kind == "num":
                 return {"": float(tok.text)}
             if tok.kind == "ident" and tok.text in inputs:
                 return {tok.text: 1.0}
-            raise fail(f"uses {tok.text!r}")
+            raise _NotLinear  # a function, a constant, an output
 
         def product() -> dict[str, float]:
             nonlocal pos
@@ -281,15 +268,15 @@ class Builder:
                 pos += 1
                 right = atom()
                 if op == "/":
-                    if set(right) != {""} or right[""] == 0.0:
-                        raise fail("divides by an input or by zero")
+                    if set(right) != {""} or right[""] == 0.0:  # by an input, by zero
+                        raise _NotLinear
                     left = {k: v / right[""] for k, v in left.items()}
                 elif set(left) == {""}:
                     left = {k: left[""] * v for k, v in right.items()}
                 elif set(right) == {""}:
                     left = {k: v * right[""] for k, v in left.items()}
-                else:
-                    raise fail("multiplies inputs")
+                else:  # input times input
+                    raise _NotLinear
             return left
 
         def expr() -> dict[str, float]:
@@ -303,8 +290,8 @@ class Builder:
             return total
 
         form = expr()
-        if pos != len(tokens):
-            raise fail(f"has {tokens[pos].text!r} where it should end")
+        if pos != len(tokens):  # x ^ 2
+            raise _NotLinear
         coefs = [form.get(name, 0.0) for name in inputs]
         return self.guarded(term.line, lambda: Linear(coefs, form.get("", 0.0)),
                             f"term {term.name!r}")

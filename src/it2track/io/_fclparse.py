@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import math
 import re
-import warnings
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 
@@ -122,6 +121,8 @@ class Parser:
         self.path = path
         self.toks = list(self._tokens(text))
         self.pos = 0
+        #: what is read but may not be what was meant; :func:`.fcl.loads` warns of each
+        self.warnings: list[FisFormatWarning] = []
 
     # -- tokens -------------------------------------------------------------------------------
     def _tokens(self, text: str) -> Iterator[Tok]:
@@ -315,10 +316,9 @@ class Parser:
                         self.expect("NC")
                         var.nc = True
                     if lenient:
-                        warnings.warn(FisFormatWarning(
+                        self.warnings.append(FisFormatWarning(
                             self.path, key.line, f"DEFAULT = {value:g}: read as jFuzzyLogic "
-                            f"reads it, DEFAULT := {value:g}; (the standard's form)"),
-                            stacklevel=2)
+                            f"reads it, DEFAULT := {value:g}; (the standard's form)"))
                 if lenient:
                     self.skip(";")
                 else:
@@ -332,10 +332,9 @@ class Parser:
     def term(self, var: FclVar) -> None:
         name = self.ident("a term name")
         if name.text in var.terms:  # pyfuzzylite 8 binds the last (fuzzylite 6 the first)
-            warnings.warn(FisFormatWarning(
+            self.warnings.append(FisFormatWarning(
                 self.path, name.line, f"duplicate term {name.text!r} of {var.name!r} (first at "
-                f"line {var.terms[name.text].line}): rules naming it take this one"),
-                stacklevel=2)
+                f"line {var.terms[name.text].line}): rules naming it take this one"))
             del var.terms[name.text]
         self.expect(":=")
         term = FclTerm(name.text, name.line, "points")

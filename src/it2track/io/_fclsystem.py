@@ -166,7 +166,8 @@ def build(parser: Parser, fb: FunctionBlock) -> AnySystem:
         parts.append(_part(b, fb, inputs, names, kind, mine))
     if len(parts) == 1:
         return parts[0]
-    hybrid: AnySystem = b.guarded(fb.line, lambda: HybridSystem(tuple(parts), name=fb.name))
+    # cannot fail: the parts share the inputs, and the outputs' names are distinct declarations
+    hybrid: Any = HybridSystem(tuple(parts), name=fb.name)  # evaluated as any AnySystem
     return hybrid
 
 
@@ -260,7 +261,8 @@ def _assemble(b: Builder, fb: FunctionBlock, outputs: dict[str, FclVar], inputs:
             terms = fb.inputs[prop.variable].terms
             term = prop.term or next(iter(terms), "")  # 'x is any': any term's hedge is 1
             if term not in terms:
-                raise b.error(rule.line, f"input {prop.variable!r} has no term {prop.term!r}")
+                missing = repr(prop.term) if prop.term else f"(for '{prop.variable} is any')"
+                raise b.error(rule.line, f"input {prop.variable!r} has no term {missing}")
             k = in_names.index(prop.variable)
             antecedent[k], negated[k] = term, prop.negated
             hedges[k] = tuple(Hedge(h) for h in prop.hedges)

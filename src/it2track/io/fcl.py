@@ -122,7 +122,8 @@ def loads(text: str, path: str = "<string>", *, block: str | None = None) -> Any
     Warns
     -----
     FisFormatWarning
-        When the file has several function blocks and ``block`` is ``None``.
+        When the file has several function blocks and ``block`` is ``None``, a term defined
+        twice, or ``DEFAULT = v`` (jFuzzyLogic's lenient form).
     """
     parser = Parser(text, path)
     return build(parser, _chosen(parser, path, block))
@@ -150,6 +151,8 @@ def _chosen(parser: Parser, path: str, block: str | None) -> FunctionBlock:
     """The function block ``block`` names (``None``: the first, warning when there are
     several)."""
     blocks = parser.function_blocks()
+    for warning in parser.warnings:  # attributed to the caller, as the one below
+        warnings.warn(warning, stacklevel=2)
     names = [fb.name for fb in blocks]
     if block is not None:
         if block not in names:

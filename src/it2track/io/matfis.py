@@ -305,9 +305,9 @@ class _Reader(FisReader):
             if output and key == "LockPrevious":  # fuzzylite's: the system's evaluate_sequence
                 value = 0.0 if entry is None else self.doc.number(entry)
                 if value not in (0.0, 1.0):
-                    raise self.doc.error(entry.line if entry else section.line,
-                                         f"LockPrevious={entry.value if entry else ''} must be "
-                                         "0 or 1")
+                    assert entry is not None  # absent, it is 0
+                    raise self.doc.error(entry.line, f"LockPrevious={entry.value} must be 0 "
+                                         "or 1")
                 self.locks.append(value == 1.0)
                 continue
             if entry is not None and self.doc.number(entry) != harmless:
