@@ -152,7 +152,7 @@ def _chosen(parser: Parser, path: str, block: str | None) -> FunctionBlock:
     several)."""
     blocks = parser.function_blocks()
     for warning in parser.warnings:  # attributed to the caller, as the one below
-        warnings.warn(warning, stacklevel=2)
+        warnings.warn(warning, stacklevel=3)
     names = [fb.name for fb in blocks]
     if block is not None:
         if block not in names:
