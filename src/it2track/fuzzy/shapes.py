@@ -1,5 +1,6 @@
 """Edge and geometric membership shapes: ramps (MATLAB's ``linsmf``/``linzmf``, fuzzylite's
-``Ramp``), ``Rectangle``, ``Point``, ``Binary``, ``Discrete``, ``Concave``, ``Arc`` and ``SemiEllipse``.
+``Ramp``), ``Rectangle``, ``Point`` (jFuzzyLogic's input singleton), ``Binary``, ``Discrete``,
+``Concave``, ``Arc`` and ``SemiEllipse``.
 
 As in :mod:`.curves`: frozen classes of their parameters (height ``h`` last, in ``(0, 1]``),
 checked on construction, evaluated by ``term(x)`` with the documented formula, lowered to a
