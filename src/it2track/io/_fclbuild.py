@@ -309,8 +309,7 @@ class Builder:
             raise self.error(var.block_line, f"{var.name!r}: give a RANGE")
         if lo > hi:  # only a malformed term has its feet reversed: its own check names it
             for term in var.terms.values():
-                if term.kind != "singleton":  # a point (an input's) has no feet
-                    self.mf(term, None)
+                self.mf(term, None)
         return (lo, hi) if lo < hi else (lo - 1.0, hi + 1.0)
 
     def _term_span(self, term: FclTerm) -> tuple[float, float]:
