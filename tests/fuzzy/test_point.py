@@ -82,8 +82,9 @@ def test_in_an_interval_set_the_lower_point_is_lower() -> None:
                     rules=[Rule(["p"], 1.0), Rule(["t"], 0.0)])
     lower, upper = s(np.array([V, 0.0]))
     assert lower.tolist() == [0.5, 0.0] and upper.tolist() == [1.0, 0.0]
-    yl, yr = fls.interval(V)
-    assert 0.0 < yl < yr < 1.0  # the point's firing [0.5, 1] against the triangle's 0.7
+    # the point's firing [0.5, 1] against the triangle's 0.7 (1 - V): the ends at 0.5 and 1
+    assert fls.interval(V) == (0.5 / (0.5 + 0.7), 1.0 / (1.0 + 0.7))
+    assert fls.interval(np.nextafter(V, 1.0)) == (0.0, 0.0)
 
 
 def system(mf) -> T1Sugeno:

@@ -112,13 +112,9 @@ def sets(b: Builder, fb: FunctionBlock, var: FclVar, span: tuple[float, float]
     ``MembershipFunctionSingleton``: 1 at the value, 0 elsewhere)."""
     declared = {*fb.inputs, *fb.outputs}
     order = list(fb.inputs)
-    return [(t.name, _parametric(b, t, order) if names(t, declared) else _point(b, t)
+    # (the parser refuses a number out of range: a singleton's value is finite, a Point)
+    return [(t.name, _parametric(b, t, order) if names(t, declared) else Point(t.value)
              if t.kind == "singleton" else b.mf(t, span)) for t in var.terms.values()]
-
-
-def _point(b: Builder, term: FclTerm) -> Point:
-    made: Point = b.guarded(term.line, lambda: Point(term.value), f"term {term.name!r}")
-    return made
 
 
 def _parametric(b: Builder, term: FclTerm, order: list[str]) -> Parametric:
