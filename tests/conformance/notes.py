@@ -121,17 +121,15 @@ REFUSALS: list[tuple[str, str, str]] = [
      "the terms' memberships directly. Nothing maps inputs to an output, so there is no "
      "system to evaluate or compare; those whose terms it2track reads (load_terms) agree "
      "as term libraries (above) and are not counted here. These stay refused: a term it2track "
-     "does not read (an input singleton, jFuzzyLogic's 1 at its value and 0 elsewhere; a DSIGM "
-     "with unequal gains, jFuzzyLogic's max(s1 - s2, 0), which no term of it2track is), the "
-     "reason after 'its terms:'; or terms given by other inputs, which jFuzzyLogic gives no "
-     "value until they are set, so its term table has none (on_line_variable.fcl's terms "
-     "reproduce the memberships jFuzzyLogic records for it, on_line_variable_4/5/6.txt: "
-     "tests/io/test_io_fcl_variables.py)."),
+     "does not read (a DSIGM with unequal gains, jFuzzyLogic's max(s1 - s2, 0), which no term "
+     "of it2track is), the reason after 'its terms:'; or terms given by other inputs, which "
+     "jFuzzyLogic gives no value until they are set, so its term table has none "
+     "(on_line_variable.fcl's terms reproduce the memberships jFuzzyLogic records for it, "
+     "on_line_variable_4/5/6.txt: tests/io/test_io_fcl_variables.py)."),
     ("has no DEFUZZIFY block", "not a fuzzy system: an output without terms",
      "The file declares an output it never defines (jFuzzyLogic fills it from a Java test). "
-     "There is no output set or value to evaluate. Its inputs' terms include input singletons, "
-     "which it2track's term reader refuses (after 'its terms:'), so it is no term library "
-     "either."),
+     "There is no output set or value to evaluate; its input terms agree as a term library "
+     "(above)."),
     ("no TERM", "not a fuzzy system: no rules, no terms",
      "noRules.fcl has an output with no term and no rule, a parser test of jFuzzyLogic."),
     ("no rule has a consequent for output 1", "a first output no rule concludes",

@@ -61,13 +61,12 @@ def test_every_twin_has_its_reference_table_and_no_table_is_stale() -> None:
 
 #: the files that agree as term libraries (no fuzzy system; their input terms against
 #: jFuzzyLogic's Variable.getMembership), and the term files that stay refused
-TERM_LIBRARIES = ["jfuzzylogic/fcl/scarledOLD.fcl", *(
+TERM_LIBRARIES = ["jfuzzylogic/fcl/scarledOLD.fcl", "jfuzzylogic/fcl/membershipFunctionsDemo.fcl",
+                  "jfuzzylogic/tests/junit4.fcl", *(
     f"jfuzzylogic/tests/junit_{n}.fcl"
-    for n in ("cosine", "gauss", "gbell", "piecewise_linear", "sigmoid", "trape", "triang"))]
-TERMS_REFUSED = {"jfuzzylogic/fcl/membershipFunctionsDemo.fcl": "singleton",
-                 "jfuzzylogic/tests/junit4.fcl": "singleton",
-                 "jfuzzylogic/tests/junit_singletons.fcl": "singleton",
-                 "jfuzzylogic/tests/junit_dsigm.fcl": "DSIGM"}
+    for n in ("cosine", "gauss", "gbell", "piecewise_linear", "sigmoid", "singletons", "trape",
+              "triang"))]
+TERMS_REFUSED = {"jfuzzylogic/tests/junit_dsigm.fcl": "DSIGM"}
 
 
 def test_term_libraries_are_files_refused_as_systems_and_agree_term_by_term() -> None:
@@ -124,7 +123,8 @@ def test_term_tables_are_jfuzzylogics_universe_sampled_and_cover_every_term() ->
             assert np.any(np.abs(mus * 100 - np.round(mus * 100)) > 1e-6), path
 
 
-JUNIT = ["cosine", "gauss", "gbell", "piecewise_linear", "sigmoid", "trape", "triang"]
+JUNIT = ["cosine", "gauss", "gbell", "piecewise_linear", "sigmoid", "singletons", "trape",
+         "triang"]
 
 
 @pytest.mark.parametrize("name", JUNIT)

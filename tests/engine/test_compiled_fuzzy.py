@@ -26,6 +26,7 @@ from it2track.fuzzy import (
     LinearZShape,
     MFKind,
     PiShape,
+    Point,
     Ramp,
     Rectangle,
     Reducer,
@@ -269,7 +270,7 @@ TERMS = [Bell(0.0, 0.5, 2.0), Bell(0.3, 0.4, 1.3), Sigmoid(0.2, 6.0),
          Concave(0.2, 0.8), Concave(-0.2, -0.8), Rectangle(-0.4, 0.4), Binary(0.0, math.inf),
          Binary(0.1, -math.inf), Arc(-1.0, 0.5), Arc(1.0, -0.5), SemiEllipse(-0.7, 0.7),
          Ramp(-1.0, 1.0), Ramp(1.0, -1.0), LinearSShape(-0.5, 0.5), LinearZShape(-0.5, 0.5),
-         LinearSShape(0.2, 0.2), LinearZShape(0.2, 0.2)]
+         LinearSShape(0.2, 0.2), LinearZShape(0.2, 0.2), Point(0.1), Point(-0.4, 0.6)]
 
 
 def two_term_system(k, *, it2, tnorm=TNorm.PRODUCT, reducer=None):

@@ -75,7 +75,7 @@ MALFORMED = [
     ("TERM lo := (0, 1) (1, 0);", "TERM lo := GAUSS m 1;", "TERM lo",
      "parameter 'm' is not a declared variable"),
     ("TERM lo := (0, 1) (1, 0);", "TERM lo := BLOB 1 2;", "TERM lo", "unknown shape 'BLOB'"),
-    ("TERM lo := (0, 1) (1, 0);", "TERM lo := 3;", "TERM lo", "not a membership function"),
+    ("TERM a := (0, 0) (5, 1) (10, 0);", "TERM a := 3;", "TERM a", "not a membership function"),
     ("METHOD : COG;", "METHOD : MEAN;", "METHOD", "METHOD MEAN is not supported"),
     ("METHOD : COG;", "METHOD : COG;\n    DEFAULT := NC 1;", "DEFAULT", "expected ';'"),
     ("AND : MIN;", "AND : LUKA;", "AND :", "AND : LUKA is not supported"),

@@ -512,14 +512,12 @@ BUILD_REFUSALS = {
     "FUNCTION of an input without RANGE": (in_term("FUNCTION 1"), 9, "term 'a': its variable "
                                            "needs a RANGE (it2track estimates one from "
                                            "jFuzzyLogic's shapes and points only)"),
-    "singleton input": (in_term("3"), 9, "term 'a': a singleton is the value of a COGS output, "
-                        "not a membership function (of an input, or of an output without "
-                        "METHOD : COGS) as here"),
     "FUNCTION input": (in_term("FUNCTION 1", " RANGE := (0 .. 1);"), 9,
                        "term 'a': FUNCTION is a COGF output term"),
     "singleton of a COG output": (out_term("2", "COG"), 12, "term 'b': a singleton is the "
-                                  "value of a COGS output, not a membership function (of an "
-                                  "input, or of an output without METHOD : COGS) as here"),
+                                  "value of a COGS output (or an input's Point), not a "
+                                  "membership function of an output without METHOD : COGS as "
+                                  "here"),
     "values and sets mixed": (fcl(IN_A, "DEFUZZIFY y\n    TERM b := 2;\n    TERM c := (0, 0) "
                                   "(1, 1);\n    METHOD : COGS;\nEND_DEFUZZIFY"), 11,
                               "the terms of 'y' mix values and membership functions"),

@@ -22,7 +22,7 @@ TERMS = [
     fz.LinearZShape(-0.6, 0.2), fz.Ramp(0.7, -0.3), fz.Rectangle(-0.4, 0.45),
     fz.Binary(0.2, math.inf), fz.Concave(0.3, 0.9), fz.Arc(-0.8, 0.1), fz.SemiEllipse(-0.7, 0.6),
     fz.Discrete([(-1.0, 0.0), (-0.2, 1.0), (0.3, 0.25), (1.0, 0.5)], 0.95),
-    fz.FootedTrapezoid(-0.5, -0.5, 0.2, 0.6, 0.9),
+    fz.FootedTrapezoid(-0.5, -0.5, 0.2, 0.6, 0.9), fz.Point(0.25, 0.8),
 ]
 
 

@@ -83,8 +83,8 @@ def test_an_output_without_terms_or_rules_does_not_stop_the_inputs() -> None:
 
 
 @pytest.mark.parametrize(("change", "line", "message"), [
-    (("TERM low := TRIAN 0 2 4;", "TERM low := 3;"), 7,
-     "term 'low': a singleton is the value of a COGS output"),
+    (("TERM low := TRIAN 0 2 4;", "TERM low := FUNCTION 1;"), 7,
+     "term 'low': its variable needs a RANGE"),
     (("TERM high := (2, 0) (6, 1);", "TERM high := (2, 0) (6, 1.5);"), 8, "high"),
     (("TERM bell := GAUSS 5 2;", "TERM bell := GAUSS 5 0;"), 11, "bell"),
     (("FUZZIFY a\n", "FUZZIFY c\n"), 10, "c"),

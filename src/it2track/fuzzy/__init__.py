@@ -4,7 +4,7 @@ nothing about robots).
 Imports numpy only. One concept per module: :mod:`.membership` (type-1 MFs: triangles,
 trapezoids, Gaussians), :mod:`.curves` (bell, two-sided Gaussian, cosine, spike),
 :mod:`.sigmoids`, :mod:`.splines` (S/Z/Pi shapes), :mod:`.shapes` (ramps, rectangle,
-binary, discrete, concave, arc, semi-ellipse), :mod:`.terms` (MATLAB's and fuzzylite's
+point, binary, discrete, concave, arc, semi-ellipse), :mod:`.terms` (MATLAB's and fuzzylite's
 names of them), :mod:`.kinds` (their compiled rows), :mod:`.sets`
 (IT2 sets), :mod:`.parametric` (terms whose parameters are inputs), :mod:`.hedges` (very,
 somewhat, ...), :mod:`.norms` (t-norms, s-norms, implication, aggregation, defuzzifiers),
@@ -76,6 +76,7 @@ from .shapes import (
     Discrete,
     LinearSShape,
     LinearZShape,
+    Point,
     Ramp,
     Rectangle,
     SemiEllipse,
@@ -143,6 +144,7 @@ __all__ = [
     "Parametric",
     "PiShape",
     "PiecewiseLinear",
+    "Point",
     "Ramp",
     "Rectangle",
     "Reducer",

@@ -1,5 +1,6 @@
 """Edge and geometric membership shapes: ramps (MATLAB's ``linsmf``/``linzmf``, fuzzylite's
-``Ramp``), ``Rectangle``, ``Binary``, ``Discrete``, ``Concave``, ``Arc`` and ``SemiEllipse``.
+``Ramp``), ``Rectangle``, ``Point`` (jFuzzyLogic's input singleton), ``Binary``, ``Discrete``,
+``Concave``, ``Arc`` and ``SemiEllipse``.
 
 As in :mod:`.curves`: frozen classes of their parameters (height ``h`` last, in ``(0, 1]``),
 checked on construction, evaluated by ``term(x)`` with the documented formula, lowered to a
@@ -26,6 +27,7 @@ __all__ = [
     "Discrete",
     "LinearSShape",
     "LinearZShape",
+    "Point",
     "Ramp",
     "Rectangle",
     "SemiEllipse",
@@ -259,6 +261,34 @@ class Rectangle(Term):
     def kernel_row(self) -> Row:
         """``RECTANGLE``: ``p = (start, end, h, 0, 0)``."""
         return MFKind.RECTANGLE, (float(self.start), float(self.end), float(self.h), 0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class Point(Term):
+    """A point (jFuzzyLogic's input singleton, ``TERM t := 5;``:
+    ``MembershipFunctionSingleton``): ``h`` where ``x == value`` exactly, 0 elsewhere (the
+    next float either side included) and at NaN, as jFuzzyLogic's ``in == value``.
+
+    The compiled row is a :class:`Rectangle`'s with ``start == end == value``, the same
+    comparisons (``x >= value and x <= value``). Neither MATLAB nor fuzzylite has the term, so
+    their writers (and FML's, and the C generators) refuse it; TOML writes it (``point``) and
+    FCL reads it.
+    """
+
+    value: float
+    h: float = 1.0
+
+    def __post_init__(self) -> None:
+        self._check()
+
+    def __call__(self, x: ArrayLike) -> FloatArray:
+        x = _f64(x)
+        return _scalar(np.where((x >= self.value) & (x <= self.value), self.h, 0.0))
+
+    def kernel_row(self) -> Row:
+        """``RECTANGLE``: ``p = (value, value, h, 0, 0)``."""
+        v = float(self.value)
+        return MFKind.RECTANGLE, (v, v, float(self.h), 0.0, 0.0)
 
 
 @dataclass(frozen=True)

@@ -184,8 +184,8 @@ class Builder:
             return self.shape(term, universe)
         if term.kind == "singleton":
             raise self.error(term.line, f"term {term.name!r}: a singleton is the value of a "
-                             "COGS output, not a membership function (of an input, or of an "
-                             "output without METHOD : COGS) as here")
+                             "COGS output (or an input's Point), not a membership function of "
+                             "an output without METHOD : COGS as here")
         raise self.error(term.line, f"term {term.name!r}: FUNCTION is a COGF output term")
 
     def consequent(self, term: FclTerm, inputs: list[str], outputs: Iterable[str] = (),

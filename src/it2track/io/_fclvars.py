@@ -28,7 +28,7 @@ import dataclasses
 import itertools
 import math
 
-from ..fuzzy import MembershipFunction, Parametric, Ref
+from ..fuzzy import MembershipFunction, Parametric, Point, Ref
 from ._fclbuild import Builder
 from ._fclparse import FclTerm, FclVar, FunctionBlock
 
@@ -107,11 +107,14 @@ def universe(b: Builder, fb: FunctionBlock, var: FclVar) -> tuple[float, float]:
 
 def sets(b: Builder, fb: FunctionBlock, var: FclVar, span: tuple[float, float]
          ) -> list[tuple[str, MembershipFunction]]:
-    """The ``(name, membership)`` of each term of input ``var``."""
+    """The ``(name, membership)`` of each term of input ``var``; an input singleton
+    (``TERM t := 5;``) is a :class:`~it2track.fuzzy.Point` (jFuzzyLogic's
+    ``MembershipFunctionSingleton``: 1 at the value, 0 elsewhere)."""
     declared = {*fb.inputs, *fb.outputs}
     order = list(fb.inputs)
-    return [(t.name, _parametric(b, t, order) if names(t, declared) else b.mf(t, span))
-            for t in var.terms.values()]
+    # (the parser refuses a number out of range: a singleton's value is finite, a Point)
+    return [(t.name, _parametric(b, t, order) if names(t, declared) else Point(t.value)
+             if t.kind == "singleton" else b.mf(t, span)) for t in var.terms.values()]
 
 
 def _parametric(b: Builder, term: FclTerm, order: list[str]) -> Parametric:

@@ -21,6 +21,7 @@ from ..fuzzy import (
     LinearSShape,
     LinearZShape,
     PiShape,
+    Point,
     Ramp,
     Rectangle,
     SemiEllipse,
@@ -57,8 +58,8 @@ MF_TYPES: dict[str, tuple[type, tuple[str, ...]]] = {
 #: ``"sigmoid-difference"``), the dataclass fields as keys (``Discrete``: ``points``, an array
 #: of ``[x, y]`` pairs, read apart)
 TERMS = (Bell, Sigmoid, SigmoidDifference, SigmoidProduct, SShape, ZShape, PiShape,
-         GaussianProduct, Cosine, Spike, LinearSShape, LinearZShape, Ramp, Rectangle, Binary,
-         Concave, Arc, SemiEllipse, FootedTrapezoid)
+         GaussianProduct, Cosine, Spike, LinearSShape, LinearZShape, Ramp, Rectangle, Point,
+         Binary, Concave, Arc, SemiEllipse, FootedTrapezoid)
 for _cls in TERMS:
     MF_TYPES[re.sub(r"(?<!^)(?=[A-Z])", "-", _cls.__name__).lower()] = (
         _cls, tuple(f.name for f in dataclasses.fields(_cls)))

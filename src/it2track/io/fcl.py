@@ -41,15 +41,15 @@ What is read
   ``GBELL a b mean``, ``SIGM gain center``, ``DSIGM`` (equal gains, a plateau: jFuzzyLogic's
   ``max(s1 - s2, 0)`` is then MATLAB's ``dsigmf``), ``COSINE half_width center``; fuzzylite's
   term names (``Triangle``, ``Bell``, ..., with its parameter order); output singletons
-  ``TERM t := value``, fuzzylite's ``Constant``/``Linear``, and jFuzzyLogic's
+  ``TERM t := value`` (an input singleton is a :class:`~it2track.fuzzy.Point`:
+  jFuzzyLogic's 1 at the value, 0 elsewhere), fuzzylite's ``Constant``/``Linear``, and jFuzzyLogic's
   ``FUNCTION``: linear in the inputs (``(a * 0.6) + 1.2``) a ``Linear``, else a formula of
   the inputs parsed (never run as code) by :mod:`it2track.fuzzy.formula` in jFuzzyLogic's
   grammar (``SIN``, ``EXP``, ``^``, ...); fuzzylite's ``Function`` (so spelt) in fuzzylite's.
   jFuzzyLogic's parameters given by variables (``GAUSS meanGood stdGood``, ``(lo, 0)
   (mid, 1)``) are read on input terms, point lists and ``GAUSS``: each evaluation takes the
   inputs' values there (a :class:`~it2track.fuzzy.Parametric` term; an input read so needs
-  no FUZZIFY block; see :mod:`._fclvars`); on output terms they are refused, as are input
-  singletons.
+  no FUZZIFY block; see :mod:`._fclvars`); on output terms they are refused.
 - ``RANGE := (lo .. hi)`` in a FUZZIFY/DEFUZZIFY block or after a VAR_INPUT declaration
   (jFuzzyLogic) gives the universe; without it, jFuzzyLogic's estimate from the terms (the
   points' span, triangle and trapezoid feet, ``mean +- 4 sigma``, a bell's 0.001 level,
