@@ -229,7 +229,8 @@ def load_terms(path: str | os.PathLike[str], *, block: str | None = None
                ) -> dict[str, Input]:
     """The input variables of the file at ``path`` and their terms, by name (as
     :func:`loads_terms`; the format follows the suffix, the file is read as :func:`load`
-    reads it).
+    reads it). ``block``: the FCL function block to read (``None``: the first, with a warning
+    when the file has several), as for :func:`load`.
 
     >>> import tempfile, pathlib
     >>> text = "FUNCTION_BLOCK f VAR_INPUT x : REAL; END_VAR " \\
