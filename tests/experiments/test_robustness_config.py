@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
+import numpy as np
 import pytest
 
 from it2track.experiments.choices import DEFAULT_CHOICES, Choice
@@ -323,3 +324,21 @@ def test_a_factorial_label_names_each_moved_choice_in_its_own_words():
         ("0.28 x ts=0.001 noise_rate=100 x 1", "l = 0.28 m, Ts = 1 ms, noise at 100 Hz"),
         ("0.28 x ts=0.001 noise_rate=100 x 2",
          "l = 0.28 m, Ts = 1 ms, noise at 100 Hz, output gain 2")]
+
+
+def test_the_morris_design_is_drawn_once_per_configuration_and_handed_out_as_copies() -> None:
+    """The study sizes its progress bar with the design, then runs it: one SALib draw, the
+    same numbers both times, and a caller's edit of its copy never reaches the next caller."""
+    from it2track.experiments import sensitivity
+
+    sens = SensitivityConfig()
+    sensitivity._morris_design.cache_clear()
+    x1, points1 = sensitivity.morris_design(sens)
+    x2, points2 = sensitivity.morris_design(sens)
+    assert sensitivity._morris_design.cache_info().misses == 1
+    assert np.array_equal(x1, x2) and points1 == points2
+    x1[0, 0] = -1.0
+    points1[0].clear()
+    x3, points3 = sensitivity.morris_design(sens)
+    assert np.array_equal(x3, x2) and points3 == points2
+    assert x2.shape == (sens.trajectories * (len(sens.factors) + 1), len(sens.factors))

@@ -4,6 +4,7 @@ the paper's continuous open choices (docs/model.md#robustness).
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -99,8 +100,16 @@ def morris_design(sens: SensitivityConfig) -> tuple[np.ndarray, list[dict[str, A
     """SALib's Morris sample on the unit grid and the path values of each design point.
 
     Returns ``(X, points)``: ``X`` of shape ``(r (k + 1), k)`` in ``[0, 1]`` (grid
-    ``i / (num_levels - 1)``), ``points[j] = {path: value}``.
+    ``i / (num_levels - 1)``), ``points[j] = {path: value}``. A fresh copy each call: the
+    sample is drawn once per configuration (the study sizes its progress bar with it, then
+    runs it).
     """
+    x, points = _morris_design(sens)
+    return x.copy(), [dict(p) for p in points]
+
+
+@functools.lru_cache(maxsize=8)
+def _morris_design(sens: SensitivityConfig) -> tuple[np.ndarray, list[dict[str, Any]]]:
     from SALib.sample import morris as morris_sample
 
     problem = _problem(sens)
