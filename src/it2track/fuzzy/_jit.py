@@ -459,9 +459,11 @@ def eval_block(P, X, L, S, yl, yr, st, ext=None):
                 u = nj if dj != 0.0 else math.nan
                 yl[j] = u
                 yr[j] = u
-    elif red == EXHAUSTIVE:
-        _exhaustive(P, L, S, flb, fub, tb, ylo, -1, True, yl)
-        _exhaustive(P, L, S, flb, fub, tb, yhs, ohi, False, yr)
+    elif red == EXHAUSTIVE:  # (one call site, the side a run-time value: one compile)
+        for side in range(2):
+            left = side == 0
+            _exhaustive(P, L, S, flb, fub, tb, ylo if left else yhs, -1 if left else ohi,
+                        left, yl if left else yr)
     elif red == NIE_TAN:
         num, den = tb, tb + 1
         ym = int(P[O_YM])
@@ -482,8 +484,10 @@ def eval_block(P, X, L, S, yl, yr, st, ext=None):
     elif red == WU_MENDEL:
         _wu_mendel(P, L, S, flb, fub, tb, yl, yr)
     elif red == EIASC:  # status: the left side's failure first, as s1 if s1 != OK else s2
-        _eiasc_lanes(P, L, S, flb, fub, tb, ylo, -1, True, yl, st)
-        _eiasc_lanes(P, L, S, flb, fub, tb, yhs, ohi, False, yr, st)
+        for side in range(2):
+            left = side == 0
+            _eiasc_lanes(P, L, S, flb, fub, tb, ylo if left else yhs, -1 if left else ohi,
+                         left, yl if left else yr, st)
     else:  # KM, EKM: left then right through one call site with the side a run-time value
         # (a literal side compiles _switch_lanes, the costliest reducer to compile, twice)
         k0l = -1 if red == KM else int(P[K0_L])
