@@ -32,6 +32,7 @@ ROOT = Path(__file__).resolve().parents[1]
 COMMANDS = [
     "it2track --version",
     "python -m it2track --help",
+    "it2track compile",
     "it2track simulate --trajectory curved --controller it2 --fou 0.3 --noise-std 0.1 "
     "--seed 4",
     "it2track simulate --json --trace run.csv",

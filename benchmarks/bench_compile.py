@@ -9,7 +9,14 @@ cache in a subprocess, the way the background compile of a first run does, and p
    wall seconds *including* the functions it calls (a callee is compiled inside its caller's
    type inference), and its own share (without its callees);
 3. LLVM's share (numba's ``llvm_lock`` timer) of each entry point;
-4. the load average, since a busy machine stretches every figure.
+4. the numpy engine's rate while the kernels compile (``IT2TRACK_ENGINE=numpy``: the numpy
+   fuzzy evaluation too), the paper's IT2FLC in batches of 256 and 2048 runs, run-steps per
+   CPU second (median of 3): what ``it2track.fuzzy.kernels.NUMPY_RUN_STEPS_PER_S`` quotes,
+   which decides whether a first run waits for the compiled loop;
+5. the load average, since a busy machine stretches every figure.
+
+The closed loop (``_loop``) is what a first study waits for: a background compile releases it
+first, then compiles ``batch`` and ``scalar2`` (which reuse its ``eval_block``).
 
 Run from the repository root::
 
@@ -54,6 +61,24 @@ _CHILD = textwrap.dedent("""
     print(json.dumps({"entries": entries, "events": events}))
 """)
 
+_NUMPY_RATE = textwrap.dedent("""
+    import json, statistics, time
+    import it2track
+    from it2track.tracking import LoopConfig, run_grid, simulate_metrics, get_trajectory
+    from it2track.tracking.controllers import FuzzyHeadingController
+    c = [FuzzyHeadingController(fls=it2track.heading_fls(0.2))]
+    rates = {}
+    for n in (256, 2048):
+        runs = run_grid(1, 1, noise_stds=[0.05], seeds=n)
+        ts = []
+        for _ in range(3):
+            t = time.process_time()
+            simulate_metrics(c, [get_trajectory("curved")], runs, LoopConfig())
+            ts.append(time.process_time() - t)
+        rates[n] = n * LoopConfig().n_steps / statistics.median(ts)
+    print(json.dumps(rates))
+""")
+
 
 def _load() -> str:
     return ", ".join(f"{x:.2f}" for x in os.getloadavg())
@@ -83,6 +108,13 @@ def main() -> None:
     for name, (times, total, own) in sorted(merged.items(), key=lambda kv: -kv[1][2]):
         if own >= 0.05:
             print(f"   {name:<40} {times:5d} {total:7.2f} {own:7.2f}")
+    env = {**os.environ, "IT2TRACK_ENGINE": "numpy"}
+    rates = json.loads(subprocess.run([sys.executable, "-c", _NUMPY_RATE], env=env, check=True,
+                                      capture_output=True, text=True).stdout.splitlines()[-1])
+    print("\n4. the numpy engine (numpy fuzzy evaluation too), paper IT2FLC, curved path, "
+          "10 s at 100 Hz:")
+    for n, rate in rates.items():
+        print(f"   batches of {n:>4} runs: {rate / 1e6:.2f} M run-steps per CPU second")
     print(f"\nload average after: {_load()}")
 
 

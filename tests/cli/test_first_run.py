@@ -10,9 +10,11 @@ from __future__ import annotations
 import fcntl
 import io
 import json
+import math
 import os
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -31,12 +33,26 @@ ROOT = Path(__file__).resolve().parents[2]
 
 @pytest.fixture
 def held_lock(tmp_path):
-    """A lock file held (exclusively) by this test, as a background compile holds it."""
+    """The fuzzy kernels' lock file held (exclusively) by this test, as a background compile
+    holds it (the closed loop's lock beside it is not held)."""
     path = tmp_path / "kernels.lock"
     fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o600)
     fcntl.flock(fd, fcntl.LOCK_EX)
     yield path, fd
     os.close(fd)
+
+
+@pytest.fixture
+def held_locks(held_lock):
+    """Both locks of a background compile held by this test: the fuzzy kernels' and the closed
+    loop's (``kernels.loop.lock`` beside it)."""
+    path, fd = held_lock
+    loop = kernel_cache.loop_lock_path(path)
+    assert loop == path.parent / "kernels.loop.lock"
+    loop_fd = os.open(loop, os.O_RDWR | os.O_CREAT, 0o600)
+    fcntl.flock(loop_fd, fcntl.LOCK_EX)
+    yield path, fd, loop_fd
+    os.close(loop_fd)
 
 
 def test_a_held_lock_is_seen_and_a_released_one_is_not(held_lock, tmp_path):
@@ -51,24 +67,116 @@ def test_a_held_lock_is_seen_and_a_released_one_is_not(held_lock, tmp_path):
     assert not kernels.locked(str(link))  # a planted link is never followed
 
 
-def test_while_the_lock_is_held_the_numpy_engine_answers(held_lock, monkeypatch):
+def test_while_the_lock_is_held_the_numpy_engine_answers(held_locks, monkeypatch):
     pytest.importorskip("numba")
-    path, fd = held_lock
+    path, fd, loop_fd = held_locks
     monkeypatch.delenv(kernels.ENGINE_ENV, raising=False)
+    monkeypatch.delenv(kernels.WAIT_ENV, raising=False)
     monkeypatch.setattr(kernels, "_jit", None)  # as in a fresh command: nothing loaded yet
     x = np.linspace(-1, 1, 7)
     with kernel_cache.deferring(path):
         assert os.environ[kernels.LOCK_ENV] == str(path)  # for the workers it starts
+        assert kernels.WAIT_ENV not in os.environ
         assert kernels.load_jit() is None and compiled.load() is None
         fls = it2track.heading_fls(0.2)
         deferred = fls(x, x[::-1])
         assert "_kernel_pack" not in fls.__dict__  # asked again at the next call
+        fcntl.flock(loop_fd, fcntl.LOCK_UN)  # the closed loop is compiled, the rest is not
+        assert compiled.load() is not None and kernels.load_jit() is None
+        assert kernels.deferred("fuzzy") and not kernels.deferred("loop")
         fcntl.flock(fd, fcntl.LOCK_UN)  # the compile ends
         assert kernels.load_jit() is not None and compiled.load() is not None
         again = fls(x, x[::-1])
         assert fls.__dict__["_kernel_pack"] is not None
     assert kernels.LOCK_ENV not in os.environ and kernels._defer is None
     assert deferred.tobytes() == again.tobytes()
+
+
+def test_a_long_job_waits_for_the_closed_loop_instead_of_the_numpy_engine(held_locks,
+                                                                        monkeypatch):
+    """``wait``: the first call of the compiled loop blocks until the loop's lock is released
+    (not the fuzzy kernels' lock, still held: those stay on numpy), then gets the module."""
+    pytest.importorskip("numba")
+    path, _fd, loop_fd = held_locks
+    monkeypatch.delenv(kernels.ENGINE_ENV, raising=False)
+    monkeypatch.setattr(kernels, "_jit", None)
+    released = []
+
+    def release():
+        time.sleep(0.5)
+        released.append(time.monotonic())
+        fcntl.flock(loop_fd, fcntl.LOCK_UN)
+
+    with kernel_cache.deferring(path, wait=True):
+        assert os.environ[kernels.WAIT_ENV] == "1"  # the workers wait too
+        assert kernels.load_jit() is None  # the fuzzy kernels still compile: numpy
+        thread = threading.Thread(target=release)
+        thread.start()
+        module = compiled.load()
+        returned = time.monotonic()
+        thread.join()
+        assert module is not None and released and returned >= released[0]
+        assert kernels.deferred("fuzzy")
+    assert kernels.WAIT_ENV not in os.environ and kernels.LOCK_ENV not in os.environ
+
+
+def test_a_compile_that_never_ends_is_waited_for_a_bounded_time(held_locks, monkeypatch):
+    path, _fd, loop_fd = held_locks
+    loop = str(kernel_cache.loop_lock_path(path))
+    t0 = time.monotonic()
+    assert kernels.wait_unlocked(loop, limit_s=0.3) is False
+    assert time.monotonic() - t0 >= 0.3
+    monkeypatch.setattr(kernels, "WAIT_LIMIT_S", 0.2)
+    gate = kernels.gate(str(path), wait=True)
+    t0 = time.monotonic()
+    assert gate("loop") is True  # gives up waiting: the numpy engine computes
+    assert time.monotonic() - t0 >= 0.2
+    # a call of at most SHORT_CALL_S on numpy (0.5 s x 0.6 M run-steps/s) does not wait
+    assert kernels.SHORT_CALL_S * kernels.NUMPY_RUN_STEPS_PER_S == 3e5
+    t0 = time.monotonic()
+    assert gate("loop", 3e5) is True
+    assert time.monotonic() - t0 < 0.15
+    t0 = time.monotonic()
+    assert gate("loop", 3e5 + 1.0) is True
+    assert time.monotonic() - t0 >= 0.2
+    assert kernels.gate(str(path))("loop", math.inf) is True  # not waiting: at once
+    fcntl.flock(loop_fd, fcntl.LOCK_UN)
+    assert gate("loop") is False and kernels.wait_unlocked(loop, limit_s=0.0) is True
+    assert kernels.wait_unlocked(str(path.parent / "absent.lock"), limit_s=0.0) is True
+
+
+def test_the_background_process_releases_the_loop_first(tmp_path, monkeypatch):
+    """The compile process: the closed loop (first entry point) is compiled and recorded, its
+    lock released, and only then the fuzzy kernels are compiled; the main lock is held to
+    the end and the status file records both times."""
+    lock = tmp_path / "k.lock"
+    loop = kernel_cache.loop_lock_path(lock)
+    fds = []
+    for p in (lock, loop):
+        fds.append(os.open(p, os.O_RDWR | os.O_CREAT, 0o600))
+        fcntl.flock(fds[-1], fcntl.LOCK_EX)
+    seen = []
+
+    def loop_entry():
+        seen.append(("loop", kernels.locked(str(lock)), kernels.locked(str(loop))))
+
+    def fuzzy_entry():
+        status = json.loads(lock.with_suffix(".json").read_text())
+        seen.append(("fuzzy", kernels.locked(str(lock)), kernels.locked(str(loop)),
+                     sorted(status)))
+
+    monkeypatch.setattr(kernel_cache, "lock_path", lambda: lock)
+    monkeypatch.setattr(kernel_cache, "_entry_calls",
+                        lambda: [(loop_entry, ()), (fuzzy_entry, ())])
+    monkeypatch.setattr(os, "nice", lambda n: seen.append(("nice", n)))
+    assert kernel_cache._main(["--lock-fd", str(fds[0]), "--loop-lock-fd", str(fds[1])]) == 0
+    assert seen == [("loop", True, True), ("nice", 10),
+                    ("fuzzy", True, False, ["loop_cpu_seconds", "loop_seconds", "ok"])]
+    assert not kernels.locked(str(lock))  # released at the end
+    status = json.loads(lock.with_suffix(".json").read_text())
+    assert status["ok"] is True
+    assert status["seconds"] >= status["loop_seconds"] >= 0.0
+    assert status["cpu_seconds"] >= status["loop_cpu_seconds"] > 0.0
 
 
 def test_cached_is_true_once_compiled_and_real_runs_add_no_specialisation():
@@ -150,8 +258,48 @@ def test_the_stage_says_it_compiles_once_and_when_the_compiled_engine_takes_over
     err = capsys.readouterr().err
     assert "compiling the simulation kernels, once per install — about 12 s, in the " \
            "background; the numpy engine computes meanwhile (same numbers)" in err
-    assert "compiled the simulation kernels in 3 s: the compiled engine takes over" in err
+    assert ("compiled the closed-loop kernel in 3 s: the compiled engine takes over (the fuzzy "
+            "kernels follow in the background)") in err
     assert "keep compiling" not in err
+
+
+@pytest.mark.parametrize(("run_steps", "waits", "said"), [
+    (None, False, "the numpy engine computes meanwhile (same numbers)"),
+    # the fake compile's estimate is 12 s: 7.2e6 run-steps at 0.6e6/s on numpy
+    (7.2e6, False, "the numpy engine computes meanwhile (same numbers)"),
+    (7.2e6 + 1.0, True, "this job waits for them (on the numpy engine it would take about "
+                        "12 s)"),
+    (6e5 * 90.0, True, "would take about 2 min)"),
+    (math.inf, True, "this job waits for them (on the numpy engine it would take hours)"),
+])
+def test_a_job_longer_on_numpy_than_the_compile_waits_for_it(monkeypatch, capsys, run_steps,
+                                                             waits, said):
+    assert kernels.NUMPY_RUN_STEPS_PER_S == 6e5
+    monkeypatch.setattr(kernel_cache, "cached", lambda: False)
+    monkeypatch.setattr(kernel_cache, "start", lambda: _FakeBackground(0.2))
+    modes = []
+    real = kernel_cache.deferring
+    monkeypatch.setattr(kernel_cache, "deferring",
+                        lambda lock, wait=False: modes.append(wait) or real(lock, wait=wait))
+    with cli_kernels.kernel_stage(progress=True, run_steps=run_steps):
+        assert (os.environ.get(kernels.WAIT_ENV) == "1") is waits
+    assert modes == [waits]
+    assert said in capsys.readouterr().err
+
+
+def test_a_compile_started_early_is_the_one_the_stage_follows(monkeypatch, capsys):
+    starts = []
+    monkeypatch.setattr(kernel_cache, "cached", lambda: False)
+    monkeypatch.setattr(kernel_cache, "start",
+                        lambda: starts.append(1) or _FakeBackground(0.2))
+    early = cli_kernels.start_kernels()
+    assert not early.cached and starts == [1]
+    with cli_kernels.kernel_stage(progress=True, started=early) as stage:
+        assert stage.background is early.background
+    assert starts == [1]  # not a second one
+    assert "(by another it2track command)" not in capsys.readouterr().err
+    monkeypatch.setattr(kernel_cache, "cached", lambda: True)
+    assert cli_kernels.start_kernels().cached and starts == [1]
 
 
 def test_a_command_that_ends_first_leaves_the_compile_running_and_says_so(monkeypatch,
@@ -194,12 +342,17 @@ def test_the_estimate_is_the_last_cpu_time_stretched_by_the_load(tmp_path, monke
     monkeypatch.setattr(os, "getloadavg", lambda: (3.0, 0.0, 0.0))
     monkeypatch.setattr(os, "cpu_count", lambda: 2)
     assert kernel_cache.estimate_seconds(lock) == kernel_cache.DEFAULT_CPU_SECONDS * 2.0
-    lock.with_suffix(".json").write_text(json.dumps({"ok": True, "seconds": 99.0,
-                                                     "cpu_seconds": 10.0}))
+    # the closed loop's CPU time (what a command waits for), not the whole compile's
+    lock.with_suffix(".json").write_text(json.dumps({
+        "ok": True, "seconds": 99.0, "cpu_seconds": 14.0, "loop_seconds": 50.0,
+        "loop_cpu_seconds": 10.0}))
     assert kernel_cache.estimate_seconds(lock) == 20.0
     monkeypatch.setattr(os, "getloadavg", lambda: (0.5, 0.0, 0.0))
     assert kernel_cache.estimate_seconds(lock) == 10.0  # never below the CPU time
-    lock.with_suffix(".json").write_text(json.dumps({"ok": False, "cpu_seconds": 10.0}))
+    lock.with_suffix(".json").write_text(json.dumps({"ok": False, "loop_cpu_seconds": 10.0}))
+    assert kernel_cache.estimate_seconds(lock) == kernel_cache.DEFAULT_CPU_SECONDS
+    # a status of the version before (the whole compile's time only): the default
+    lock.with_suffix(".json").write_text(json.dumps({"ok": True, "cpu_seconds": 10.0}))
     assert kernel_cache.estimate_seconds(lock) == kernel_cache.DEFAULT_CPU_SECONDS
 
 
@@ -252,14 +405,98 @@ def test_first_simulate_in_an_empty_cache_end_to_end(tmp_path):
     assert "compiling the simulation kernels, once per install — about" in first.stderr
     reference = run(IT2TRACK_ENGINE="numpy")
     assert json.loads(first.stdout) == json.loads(reference.stdout)
-    lock = next((tmp_path / f"it2track-{os.getuid()}").glob("kernels-*.lock"))
+    locks = sorted((tmp_path / f"it2track-{os.getuid()}").glob("kernels-*.lock"))
+    assert [p.name.endswith(".loop.lock") for p in locks] == [False, True]
+    lock = locks[0]
+    assert kernel_cache.loop_lock_path(lock) == locks[1]
     deadline = time.monotonic() + 1800
     while kernels.locked(str(lock)) and time.monotonic() < deadline:
         time.sleep(1.0)
     assert not kernels.locked(str(lock)), "the background compile never finished"
+    assert not kernels.locked(str(locks[1]))
     status = json.loads(lock.with_suffix(".json").read_text())
-    assert status["ok"] is True and status["cpu_seconds"] > 0
+    assert status["ok"] is True
+    assert status["cpu_seconds"] > status["loop_cpu_seconds"] > 0
     second = run()
     assert second.returncode == 0, second.stderr
     assert "compiling" not in second.stderr
+    again = subprocess.run([sys.executable, "-m", "it2track", "compile"], env=env,
+                           capture_output=True, text=True, timeout=900, check=False)
+    assert again.returncode == 0, again.stderr
+    assert "already compiled" in again.stderr
     assert json.loads(second.stdout) == json.loads(first.stdout)
+
+
+class _FakeCompile(_FakeBackground):
+    """A background compile whose closed loop ends after ``loop_s`` and the rest after
+    ``all_s``."""
+
+    def __init__(self, loop_s, all_s, *, ok=True):
+        super().__init__(loop_s, ok=ok)
+        self.all_end = self.started + all_s
+
+    def finished(self):
+        return time.monotonic() >= self.all_end
+
+
+def _run_compile(monkeypatch, *, cached_states, background):
+    from click.testing import CliRunner
+
+    from it2track.cli.main import main
+
+    states = iter(cached_states)
+    monkeypatch.setattr(kernel_cache, "cached", lambda: next(states))
+    monkeypatch.setattr(kernel_cache, "start", lambda: background)
+    monkeypatch.setattr(kernel_cache, "estimate_seconds", lambda lock=None: 7.0)
+    return CliRunner().invoke(main, ["compile"])
+
+
+def test_compile_waits_for_the_whole_compile_and_says_what_it_did(monkeypatch):
+    fake = _FakeCompile(0.3, 1.0)
+    result = _run_compile(monkeypatch, cached_states=[False, True], background=fake)
+    assert result.exit_code == 0, result.output
+    assert time.monotonic() >= fake.all_end  # waited for the fuzzy kernels too
+    out = result.output
+    assert ("compiling the simulation kernels, once per install — about 12 s for the closed "
+            "loop, a few more for the fuzzy kernels") in out
+    assert "compiled the closed-loop kernel in 3 s; now the fuzzy kernels" in out
+    assert "the simulation kernels are compiled (1 s); every command loads them" in out
+
+
+def test_compile_follows_a_compile_another_command_started(monkeypatch):
+    fake = _FakeCompile(0.1, 0.2)
+    fake.process = None
+    result = _run_compile(monkeypatch, cached_states=[False, True], background=fake)
+    assert result.exit_code == 0, result.output
+    assert "once per install (started by another it2track command) — about" in result.output
+
+
+def test_compile_says_when_there_is_nothing_to_do(monkeypatch):
+    result = _run_compile(monkeypatch, cached_states=[True], background=None)
+    assert result.exit_code == 0
+    assert result.output == ("the simulation kernels are already compiled (numba's cache "
+                             "holds them)\n")
+    result = _run_compile(monkeypatch, cached_states=[None], background=None)
+    assert result.exit_code == 0
+    assert result.output.startswith("nothing to compile: the numpy engine computes")
+
+
+def test_compile_fails_loudly_when_the_cache_stays_empty(monkeypatch):
+    calls = []
+    monkeypatch.setattr(kernel_cache, "compile_all", lambda: calls.append(1) or 0.1)
+    fake = _FakeCompile(0.1, 0.2, ok=False)
+    result = _run_compile(monkeypatch, cached_states=[False, False], background=fake)
+    assert result.exit_code == 1
+    assert calls == [1]  # the failed compile is run here, to show its error
+    assert "the kernels are still not in numba's cache" in result.output
+    assert "NUMBA_CACHE_DIR" in result.output
+
+
+def test_compile_without_a_background_process_compiles_here(monkeypatch):
+    calls = []
+    monkeypatch.setattr(kernel_cache, "compile_all", lambda: calls.append(1) or 0.4)
+    result = _run_compile(monkeypatch, cached_states=[False, True], background=None)
+    assert result.exit_code == 0, result.output
+    assert calls == [1]
+    assert "compiling the simulation kernels, once per install — about 7 s" in result.output
+    assert "compiled the simulation kernels in 0 s" in result.output

@@ -302,10 +302,11 @@ def _register_subcommands() -> None:
     from .config import config
     from .export import export
     from .fis import fis, surface
+    from .kernels import compile_kernels
     from .reproduce import reproduce
     from .sweep import optimize, sweep
 
-    for command in (reproduce, sweep, optimize, config, fis, surface, export):
+    for command in (reproduce, sweep, optimize, config, fis, surface, export, compile_kernels):
         main.add_command(command)
 
 

@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Any
 import click
 
 from .config import ConfigFile
-from .kernels import kernel_stage
+from .kernels import kernel_stage, start_kernels
 from .outdir import _discard_staging, _fail, _make_staging, _publish
 from .reproduce_chip import _chip_lines, _chip_provenance, _ChipJob
 from .sweep import check_dask_options as _check_dask_options
@@ -108,6 +108,7 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
 
     if default_figure_workers():  # the figure workers boot while this process goes on
         start_figure_server()
+    kernels_started = start_kernels()  # (a first run's compile overlaps the preparation)
     from dataclasses import replace
 
     from tqdm import tqdm
@@ -191,7 +192,8 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
         # Figure workers start now and import matplotlib while the study runs; each figure is
         # drawn as soon as its data exist (report.render), so both cores stay busy.
         # (The kernels first: on a first run their compile starts before the workers do.)
-        with kernel_stage(progress=not no_progress) as kernels, FigureRenderer(
+        with kernel_stage(progress=not no_progress, run_steps=total * config.loop.n_steps,
+                          started=kernels_started) as kernels, FigureRenderer(
                 staging, workers=default_figure_workers(), svg=svg,
                 on_done=stages.figure_done, draft=quick) as renderer:
             with stages.stage("simulating"), tqdm(
@@ -583,15 +585,11 @@ def _command_line(ctx: click.Context) -> str:
     source says which were given (comparing values with ``param.default`` fails for flags,
     whose default is a sentinel in recent click releases).
     """
-    from click.core import ParameterSource
-
-    given = (ParameterSource.COMMANDLINE, ParameterSource.ENVIRONMENT)
     parts = [ctx.command_path]
     for param in ctx.command.params:
-        name = param.name or ""
-        if not isinstance(param, click.Option) or ctx.get_parameter_source(name) not in given:
+        if not isinstance(param, click.Option) or not _given(ctx, param.name or ""):
             continue
-        value = ctx.params.get(name)
+        value = ctx.params.get(param.name or "")
         flag = param.opts[0]
         if param.is_flag:
             if value:

@@ -10,6 +10,7 @@ the cause, not a traceback.
 from __future__ import annotations
 
 import json
+import math
 import os
 import time
 from collections.abc import Callable
@@ -202,7 +203,8 @@ def sweep(
         err=True,
     )
     try:
-        with kernel_stage(progress=progress), executor:
+        with kernel_stage(progress=progress,
+                          run_steps=plan.n_runs * plan.config.n_steps), executor:
             summary = run_sweep(plan, out, executor=executor, resume=resume,
                                 progress=progress, force=force)
     except (StoreError, ConfigError) as exc:
@@ -289,8 +291,9 @@ def optimize(
     out = Path(out_dir)
     t0 = time.perf_counter()
     try:
-        with kernel_stage(progress=progress), _executor(workers, scheduler,
-                                                        dask_settings(**dask)) as executor:
+        # (an optimisation's evaluations are open-ended: it waits for the compiled loop)
+        with kernel_stage(progress=progress, run_steps=math.inf), _executor(
+                workers, scheduler, dask_settings(**dask)) as executor:
             result = run_optimization(
                 cfg, executor=executor, progress=progress, log=lambda s: click.echo(s, err=True)
             )

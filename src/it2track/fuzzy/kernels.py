@@ -34,8 +34,10 @@ point is computed alone.
 
 from __future__ import annotations
 
+import math
 import os
 import threading
+import time
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from typing import Any
@@ -75,8 +77,12 @@ _T1, _T1_SUM = 6, 7
 _PARALLEL_MIN = 8192  # fewer points than this: the serial kernel (no thread start-up)
 _jit: Any = None
 #: Environment variable naming the lock of a background compile (it2track.tracking.kernel_cache):
-#: while another process holds it, this one uses the numpy engine (same bits).
+#: while another process holds it, this one uses the numpy engine (same bits) for the fuzzy
+#: kernels; the closed loop's own lock (:func:`loop_lock`, released first) is beside it.
 LOCK_ENV = "IT2TRACK_KERNEL_LOCK"
+#: ``1``: while the closed loop compiles, wait for it instead of running the numpy engine (a
+#: command whose job is long sets it, for itself and the worker processes it starts).
+WAIT_ENV = "IT2TRACK_KERNEL_WAIT"
 
 
 def locked(path: str) -> bool:
@@ -96,9 +102,69 @@ def locked(path: str) -> bool:
     return False
 
 
-#: While this returns True the compiled engine is not used: :func:`load_jit` answers None.
-_defer: Callable[[], bool] | None = (
-    (lambda: locked(os.environ[LOCK_ENV])) if os.environ.get(LOCK_ENV) else None)
+def loop_lock(path: str) -> str:
+    """The closed loop's lock beside the fuzzy kernels' lock ``path`` (``k.lock`` ->
+    ``k.loop.lock``): a background compile releases it as soon as the loop is cached."""
+    root, ext = os.path.splitext(path)
+    return f"{root}.loop{ext}"
+
+
+#: Seconds a job waits for the closed loop's compile at most (then it goes on with numpy).
+WAIT_LIMIT_S = 600.0
+
+
+def wait_unlocked(path: str, limit_s: float | None = None) -> bool:
+    """Wait until no process holds the lock file ``path``, at most ``limit_s`` seconds
+    (default :data:`WAIT_LIMIT_S`); whether it is free (at once if there is no such file)."""
+    deadline = time.monotonic() + (WAIT_LIMIT_S if limit_s is None else limit_s)
+    while locked(path):
+        if time.monotonic() >= deadline:
+            return False
+        time.sleep(0.05)
+    return True
+
+
+#: Run-steps a second of the numpy engine on one core while the kernels compile (the numpy
+#: fuzzy evaluation too): the paper's IT2FLC in batches of 256 runs, about 0.6 M on the
+#: reference machine, 2.9 M in batches of 2048 (``benchmarks/bench_compile.py`` prints both).
+#: Decides what waits for the compiled loop (``--quick``, 0.8 M run-steps, does not; the
+#: default study, 140 M, does, whichever rate applies).
+NUMPY_RUN_STEPS_PER_S = 0.6e6
+#: A call this short on the numpy engine (seconds) runs there even while a long job waits
+#: for the compiled loop (a study's traces for its figures, while the compile goes on).
+SHORT_CALL_S = 0.5
+
+
+def gate(path: str, *, wait: bool = False) -> Callable[[str, float], bool]:
+    """The :data:`_defer` of a background compile holding ``path`` (the fuzzy kernels) and
+    :func:`loop_lock` (the closed loop): ``gate("fuzzy", n)``/``gate("loop", n)`` is True
+    while that part compiles. ``wait``: ``gate("loop", n)`` waits until the loop is compiled
+    instead (at most :data:`WAIT_LIMIT_S`, against a compile that hangs), unless the call's
+    ``n`` run-steps take at most :data:`SHORT_CALL_S` on the numpy engine."""
+    loop = loop_lock(path)
+
+    def deferring(part: str, run_steps: float = math.inf) -> bool:
+        if part == "loop":
+            short = run_steps <= SHORT_CALL_S * NUMPY_RUN_STEPS_PER_S
+            return not wait_unlocked(loop) if wait and not short else locked(loop)
+        return locked(path)
+
+    return deferring
+
+
+#: While ``_defer(part)`` is True the compiled ``part`` (``"fuzzy"``: the batch and scalar
+#: kernels; ``"loop"``: the closed loop) is not used: :func:`load_jit` (fuzzy) and
+#: :func:`it2track.tracking.compiled.load` (loop) answer None and the numpy engine computes.
+_defer: Callable[[str, float], bool] | None = (
+    gate(os.environ[LOCK_ENV], wait=os.environ.get(WAIT_ENV) == "1")
+    if os.environ.get(LOCK_ENV) else None)
+
+
+def deferred(part: str, run_steps: float = math.inf) -> bool:
+    """Whether the compiled ``part`` (``"fuzzy"`` or ``"loop"``) is left to the numpy engine
+    for now, for a call of ``run_steps`` (a background compile holds its lock; see
+    :data:`_defer` and :func:`gate`)."""
+    return _defer is not None and _defer(part, run_steps)
 
 
 def engine() -> str:
@@ -116,20 +182,29 @@ def engine() -> str:
 
 
 def load_jit() -> Any:
-    """The compiled module (imports numba), or ``None`` if numba is missing or disabled."""
+    """The compiled module (imports numba), or ``None`` if numba is missing or disabled, or
+    its kernels are being compiled in the background (:func:`deferred`)."""
     global _jit
     if _jit is None:
-        choice = engine()
-        if choice == "numpy" or (_defer is not None and _defer()):
+        if engine() == "numpy" or deferred("fuzzy"):
             return None
-        try:
-            from . import _jit as module
-        except ImportError:
-            if choice == "compiled":
-                raise ImportError(f"{ENGINE_ENV}=compiled but numba cannot be imported") from None
-            return None
-        _jit = module
+        _jit = import_jit()
     return _jit
+
+
+def import_jit() -> Any:
+    """The compiled module whatever the background compile does (imports numba; compiles
+    nothing), or ``None`` if numba is missing or ``IT2TRACK_ENGINE=numpy``."""
+    choice = engine()
+    if choice == "numpy":
+        return None
+    try:
+        from . import _jit as module
+    except ImportError:
+        if choice == "compiled":
+            raise ImportError(f"{ENGINE_ENV}=compiled but numba cannot be imported") from None
+        return None
+    return module
 
 
 def _compiled_as(system: Any) -> str | None:

@@ -20,6 +20,7 @@ engine, which raises its own error.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
@@ -51,9 +52,13 @@ def supported(controller: HeadingController) -> str | None:
     return f"{type(controller).__name__} is not a built-in heading controller"
 
 
-def load() -> Any:
-    """The compiled loop module, or None (numba missing or ``IT2TRACK_ENGINE=numpy``)."""
-    if fuzzy_kernels.load_jit() is None:
+def load(run_steps: float = math.inf) -> Any:
+    """The compiled loop module, or None (numba missing, ``IT2TRACK_ENGINE=numpy``, or the
+    loop being compiled in the background: :func:`it2track.fuzzy.kernels.deferred`, which a
+    call of ``run_steps`` (runs x steps) may wait for)."""
+    if fuzzy_kernels.engine() == "numpy" or fuzzy_kernels.deferred("loop", run_steps):
+        return None
+    if fuzzy_kernels.import_jit() is None:
         return None
     from . import _jit
 

@@ -12,11 +12,16 @@ the same kernels again. Here instead:
   closed loop, the fuzzy batch and the scalar call, with the argument types the engines pass),
   and loads them if it does;
 * :func:`start` launches one background process (``python -m it2track.tracking.kernel_cache``)
-  that compiles them into the cache, holding an exclusive lock on :func:`lock_path` while it
-  runs (a second command finds the lock and starts none);
+  that compiles them into the cache: the closed loop first, holding an exclusive lock on
+  :func:`loop_lock_path` until it is cached, then the fuzzy batch and scalar kernels (at a
+  lower priority: the commands compute meanwhile), holding :func:`lock_path` until the end (a
+  second command finds the lock and starts none);
 * :func:`deferring` makes this process (and the worker processes it starts, through the
-  environment variable :data:`LOCK_ENV`) use the numpy engine while the lock is held; the
-  compiled engine takes over, loading from the cache, at the first call after it is released.
+  environment variables :data:`LOCK_ENV` and :data:`WAIT_ENV`) use the numpy engine for each
+  part while its lock is held -- or, for a long job (``wait``), wait for the closed loop
+  instead: the numpy engine is several times slower, and on a small machine it would take its
+  core from the compile. The compiled engine takes over, loading from the cache, at the first
+  call after a lock is released.
 
 The numpy engine and the compiled one give the same bits, so which one computed a run never
 shows in its numbers. Only the command line defers (it opts in per command); a library call or
@@ -40,25 +45,28 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from ..fuzzy.kernels import LOCK_ENV
+from ..fuzzy.kernels import LOCK_ENV, NUMPY_RUN_STEPS_PER_S, WAIT_ENV
+from ..fuzzy.kernels import gate as kernels_gate
 from ..fuzzy.kernels import locked as kernels_locked
+from ..fuzzy.kernels import loop_lock as kernels_loop_lock
 
 try:
     import fcntl
 except ImportError:  # pragma: no cover - not POSIX
     fcntl = None  # type: ignore[assignment]
 
-__all__ = ["BACKGROUND_ENV", "LOCK_ENV", "Background", "cached", "compile_all", "compiling",
-           "deferring", "lock_path", "start"]
+__all__ = ["BACKGROUND_ENV", "LOCK_ENV", "WAIT_ENV", "Background", "cached", "compile_all",
+           "compiling", "deferring", "lock_path", "loop_lock_path", "numpy_seconds", "start"]
 
 # LOCK_ENV: set (to the lock file) in the worker processes a deferring command starts: they
 # use the numpy engine while a background compile holds that lock.
 #: ``0`` turns the background compile off (the kernels then compile inline when first called).
 BACKGROUND_ENV = "IT2TRACK_BACKGROUND_COMPILE"
-#: CPU seconds the compile takes when nothing better is known: one core of the 2-core
-#: reference machine, measured by ``benchmarks/readme_figures.py`` ("kernel compile, CPU");
-#: each compile then records its own CPU time on this machine, which later estimates use.
-DEFAULT_CPU_SECONDS = 30.0
+#: CPU seconds the closed loop's compile takes when nothing better is known: one core of the
+#: 2-core reference machine, measured by ``benchmarks/bench_compile.py`` (``_loop``: 16 s quiet,
+#: up to 23 s busy); each compile then records its own CPU time on this machine, which later
+#: estimates use.
+DEFAULT_CPU_SECONDS = 24.0
 
 
 def lock_path() -> Path | None:
@@ -85,6 +93,16 @@ def lock_path() -> Path | None:
     if not stat.S_ISDIR(st.st_mode) or st.st_uid != os.getuid() or st.st_mode & 0o022:
         return None  # a link, or someone else's folder: not ours to write in
     return folder / f"kernels-{digest}.lock"
+
+
+def loop_lock_path(lock: Path) -> Path:
+    """The closed loop's lock beside ``lock`` (:func:`lock_path`)."""
+    return Path(kernels_loop_lock(str(lock)))
+
+
+def numpy_seconds(run_steps: float) -> float:
+    """About how long the numpy engine takes for ``run_steps`` (runs x steps) on one core."""
+    return run_steps / NUMPY_RUN_STEPS_PER_S
 
 
 def compiling(path: Path | str | None = None) -> bool:
@@ -121,7 +139,8 @@ class _Recorder:
 
 
 def _entry_calls() -> list[tuple[Any, tuple[Any, ...]]]:
-    """Each compiled entry point with arguments of the types the engines pass it."""
+    """Each compiled entry point with arguments of the types the engines pass it: the closed
+    loop first (a background compile releases its lock once that one is cached)."""
     import numpy as np
 
     from ..fuzzy import _jit as fuzzy_jit
@@ -211,8 +230,8 @@ def _status_path(lock: Path) -> Path:
 
 
 def estimate_seconds(lock: Path | None = None) -> float:
-    """How long a compile takes here, in wall seconds: its CPU time (the last compile's on
-    this machine, recorded beside ``lock``, default :func:`lock_path`; else
+    """How long the closed loop's compile takes here, in wall seconds: its CPU time (the last
+    compile's on this machine, recorded beside ``lock``, default :func:`lock_path`; else
     :data:`DEFAULT_CPU_SECONDS`) stretched by the load (a compile is one busy thread: on ``n``
     CPUs with load ``a``, it gets about ``n / (a + 1)`` of one)."""
     cpu = DEFAULT_CPU_SECONDS
@@ -220,7 +239,7 @@ def estimate_seconds(lock: Path | None = None) -> float:
     if lock is not None:
         try:
             status = json.loads(_status_path(lock).read_text())
-            seconds = float(status["cpu_seconds"])
+            seconds = float(status["loop_cpu_seconds"])
             if status.get("ok") and 0.0 < seconds < 3600.0:
                 cpu = seconds
         except (OSError, ValueError, KeyError, TypeError):
@@ -234,8 +253,9 @@ def estimate_seconds(lock: Path | None = None) -> float:
 
 @dataclass
 class Background:
-    """A background compile: its process (``None`` if another command started it), lock,
-    start time and the expected duration."""
+    """A background compile: its process (``None`` if another command started it), lock
+    (:func:`lock_path`; the closed loop's is :func:`loop_lock_path` beside it), start time
+    and the expected duration of the closed loop's compile."""
 
     process: subprocess.Popen[bytes] | None
     lock: Path
@@ -243,27 +263,47 @@ class Background:
     estimate_s: float
 
     def running(self) -> bool:
-        """Whether it still holds the lock."""
-        return compiling(self.lock)
+        """Whether the closed loop still compiles (it holds the loop's lock)."""
+        return compiling(loop_lock_path(self.lock))
+
+    def finished(self) -> bool:
+        """Whether the whole compile ended (the fuzzy kernels' lock is free too)."""
+        return not self.running() and not compiling(self.lock)
 
     def outcome(self) -> tuple[bool, float] | None:
-        """``(ok, seconds)`` of the finished compile, from its status file (None if unknown
-        or still running)."""
+        """``(ok, seconds)`` of the closed loop's compile, from the status file (None if
+        unknown or still running)."""
         if self.running():
             return None
         try:
             status = json.loads(_status_path(self.lock).read_text())
-            return bool(status["ok"]), float(status["seconds"])
+            return bool(status["ok"]), float(status["loop_seconds"])
         except (OSError, ValueError, KeyError, TypeError):
             return None
+
+
+def _flock(path: Path) -> int | None:
+    """An open descriptor of ``path`` holding its exclusive lock, or None if another process
+    holds it (or it cannot be opened)."""
+    try:
+        fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW, 0o600)
+    except OSError:
+        return None
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        os.close(fd)
+        return None
+    return fd
 
 
 def start() -> Background | None:
     """Start the background compile unless one is running (then return that one) or the
     background compile is off (:data:`BACKGROUND_ENV` ``=0``, no ``fcntl``: ``None``).
 
-    The lock is taken here, before the process starts, and handed to it: the caller defers
-    to the numpy engine from the first call on, and a second command sees it at once.
+    The locks are taken here, before the process starts, and handed to it: the caller
+    defers to the numpy engine (or waits) from the first call on, and a second command sees
+    them at once.
     """
     if fcntl is None or os.environ.get(BACKGROUND_ENV, "1").strip() == "0":
         return None
@@ -271,76 +311,114 @@ def start() -> Background | None:
     if lock is None:
         return None
     estimate = estimate_seconds(lock)
-    try:
-        fd = os.open(lock, os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW, 0o600)
-    except OSError:
-        return None
-    try:
+    fd = _flock(lock)
+    if fd is None:  # another command is compiling them, since the time it wrote
         try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:  # another command is compiling them, since the time it wrote
-            try:
-                since = time.time() - float(os.pread(fd, 64, 0).decode() or "nan")
-            except (OSError, ValueError):
-                since = 0.0
-            since = since if 0.0 <= since < 3600.0 else 0.0
-            return Background(None, lock, time.monotonic() - since, estimate)
+            rfd = os.open(lock, os.O_RDONLY | os.O_NOFOLLOW)
+        except OSError:
+            return None
+        try:
+            since = time.time() - float(os.pread(rfd, 64, 0).decode() or "nan")
+        except (OSError, ValueError):
+            since = 0.0
+        finally:
+            os.close(rfd)
+        since = since if 0.0 <= since < 3600.0 else 0.0
+        return Background(None, lock, time.monotonic() - since, estimate)
+    loop_fd = None
+    try:
+        # (the compile that held the main lock released this one first: it is free)
+        loop_fd = _flock(loop_lock_path(lock))
+        if loop_fd is None:
+            return None
         with contextlib.suppress(OSError):  # when it started, for the other commands
             os.ftruncate(fd, 0)
             os.pwrite(fd, repr(time.time()).encode(), 0)
-        env = {k: v for k, v in os.environ.items() if k != LOCK_ENV}
+        env = {k: v for k, v in os.environ.items() if k not in (LOCK_ENV, WAIT_ENV)}
         try:
             proc = subprocess.Popen(
                 [sys.executable, "-m", "it2track.tracking.kernel_cache", "--lock-fd",
-                 str(fd)],
-                pass_fds=(fd,), stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                 str(fd), "--loop-lock-fd", str(loop_fd)],
+                pass_fds=(fd, loop_fd), stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
                 stderr=subprocess.DEVNULL, env=env, start_new_session=True)
         except OSError:
             return None
     finally:
-        os.close(fd)  # the child's copy keeps the lock until it exits
+        os.close(fd)  # the child's copies keep the locks until it releases them
+        if loop_fd is not None:
+            os.close(loop_fd)
     return Background(proc, lock, time.monotonic(), estimate)
 
 
 @contextlib.contextmanager
-def deferring(lock: Path) -> Iterator[None]:
+def deferring(lock: Path, *, wait: bool = False) -> Iterator[None]:
     """Within: this process, and the worker processes started meanwhile, use the numpy
-    engine while a background compile holds ``lock``."""
+    engine for each part of the kernels while a background compile holds its lock (``lock``
+    and :func:`loop_lock_path`); ``wait``: wait for the closed loop instead (a long job)."""
     from ..fuzzy import kernels
 
-    saved_env = os.environ.get(LOCK_ENV)
+    saved_env = {name: os.environ.get(name) for name in (LOCK_ENV, WAIT_ENV)}
     saved_gate = kernels._defer
     os.environ[LOCK_ENV] = str(lock)
-    kernels._defer = lambda: compiling(lock)
+    if wait:
+        os.environ[WAIT_ENV] = "1"
+    else:
+        os.environ.pop(WAIT_ENV, None)
+    kernels._defer = kernels_gate(str(lock), wait=wait)
     try:
         yield
     finally:
         kernels._defer = saved_gate
-        if saved_env is None:
-            os.environ.pop(LOCK_ENV, None)
-        else:
-            os.environ[LOCK_ENV] = saved_env
+        for name, value in saved_env.items():
+            if value is None:
+                os.environ.pop(name, None)
+            else:
+                os.environ[name] = value
+
+
+def _write_status(lock: Path | None, status: dict[str, Any]) -> None:
+    if lock is None:
+        return
+    with contextlib.suppress(OSError):
+        tmp_fd, tmp = tempfile.mkstemp(dir=lock.parent, suffix=".tmp")
+        with os.fdopen(tmp_fd, "w") as fh:
+            fh.write(json.dumps(status))
+        os.replace(tmp, _status_path(lock))
 
 
 def _main(argv: list[str]) -> int:
-    """The background process: compile, record the outcome beside the lock, exit (which
-    releases the inherited lock)."""
-    fd = int(argv[argv.index("--lock-fd") + 1]) if "--lock-fd" in argv else None
+    """The background process: compile the closed loop, record it beside the lock, release
+    the loop's lock; compile the fuzzy kernels at a lower priority, record the outcome, exit
+    (which releases the main lock)."""
+
+    def fd_of(flag: str) -> int | None:
+        return int(argv[argv.index(flag) + 1]) if flag in argv else None
+
+    fd, loop_fd = fd_of("--lock-fd"), fd_of("--loop-lock-fd")
     lock = lock_path()
     started = time.perf_counter()
     ok = True
+    status: dict[str, Any] = {}
     try:
-        compile_all()
+        calls = _entry_calls()
     except Exception:  # the commands then compile inline, as without this module
-        ok = False
-    status = {"ok": ok, "seconds": round(time.perf_counter() - started, 3),
-              "cpu_seconds": round(time.process_time(), 3)}
-    if lock is not None:
-        with contextlib.suppress(OSError):
-            tmp_fd, tmp = tempfile.mkstemp(dir=lock.parent, suffix=".tmp")
-            with os.fdopen(tmp_fd, "w") as fh:
-                fh.write(json.dumps(status))
-            os.replace(tmp, _status_path(lock))
+        ok, calls = False, []
+    for n, (dispatcher, args) in enumerate(calls):
+        try:
+            dispatcher(*args)
+        except Exception:  # the commands then compile inline, as without this module
+            ok = False
+        if n == 0:  # the closed loop (the first entry point): the commands may use it now
+            status = {"ok": ok, "loop_seconds": round(time.perf_counter() - started, 3),
+                      "loop_cpu_seconds": round(time.process_time(), 3)}
+            _write_status(lock, status)
+            if loop_fd is not None:
+                os.close(loop_fd)
+            with contextlib.suppress(OSError):
+                os.nice(10)  # the rest yields to the commands now computing
+    status.update(ok=ok, seconds=round(time.perf_counter() - started, 3),
+                  cpu_seconds=round(time.process_time(), 3))
+    _write_status(lock, status)
     if fd is not None:
         os.close(fd)
     return 0 if ok else 1

@@ -183,12 +183,14 @@ def _run(
     ``noise``: rows drawn beforehand for the noisy runs' seeds (else drawn here)."""
     if isinstance(engine, ReferenceEngine):
         return engine.run(controllers, runs, record=record, noise=noise)
-    jit = _compiled.load() if len(runs) and engine.drive is not None else None
-    if jit is None:
+    if not len(runs) or engine.drive is None:
         return engine.run(controllers, runs, record=record, noise=noise)
     fast = np.array([_compiled.supported(c) is None for c in controllers], dtype=bool)
     fast_run = fast[runs.controller]
-    if not fast_run.any():
+    # (the size lets a small call run on numpy while a long job waits for the compiled loop)
+    jit = (_compiled.load(run_steps=float(np.count_nonzero(fast_run)) * engine.config.n_steps)
+           if fast_run.any() else None)
+    if jit is None:
         return engine.run(controllers, runs, record=record, noise=noise)
     idx = np.flatnonzero(fast_run)
     metrics, series, status = _compiled.run(jit, engine, controllers, runs.take(idx),
