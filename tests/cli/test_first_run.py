@@ -500,3 +500,70 @@ def test_compile_without_a_background_process_compiles_here(monkeypatch):
     assert calls == [1]
     assert "compiling the simulation kernels, once per install — about 7 s" in result.output
     assert "compiled the simulation kernels in 0 s" in result.output
+
+
+def test_start_hands_both_locks_to_one_process(tmp_path, monkeypatch):
+    monkeypatch.setattr(kernel_cache.tempfile, "gettempdir", lambda: str(tmp_path))
+    monkeypatch.delenv(kernel_cache.BACKGROUND_ENV, raising=False)
+    monkeypatch.setenv(kernels.LOCK_ENV, "inherited")
+    monkeypatch.setenv(kernels.WAIT_ENV, "1")
+    seen = {}
+
+    class FakePopen:
+        def __init__(self, args, **kw):
+            lock = kernel_cache.lock_path()
+            seen.update(args=args, pass_fds=kw["pass_fds"], env=kw["env"],
+                        held=(kernels.locked(str(lock)),
+                              kernels.locked(str(kernel_cache.loop_lock_path(lock)))))
+
+    monkeypatch.setattr(kernel_cache.subprocess, "Popen", FakePopen)
+    bg = kernel_cache.start()
+    assert isinstance(bg.process, FakePopen)
+    fd, loop_fd = seen["pass_fds"]
+    assert seen["args"][-4:] == ["--lock-fd", str(fd), "--loop-lock-fd", str(loop_fd)]
+    assert seen["held"] == (True, True)  # both taken before the process starts
+    assert kernels.LOCK_ENV not in seen["env"] and kernels.WAIT_ENV not in seen["env"]
+    assert not kernels.locked(str(bg.lock))  # this process's copies are closed
+
+
+def test_start_finds_a_compile_running_or_refuses_a_planted_link(tmp_path, monkeypatch):
+    monkeypatch.setattr(kernel_cache.tempfile, "gettempdir", lambda: str(tmp_path))
+    monkeypatch.delenv(kernel_cache.BACKGROUND_ENV, raising=False)
+    monkeypatch.setattr(kernel_cache.subprocess, "Popen",
+                        lambda *a, **k: pytest.fail("no second compile"))
+    lock = kernel_cache.lock_path()
+    fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o600)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        os.pwrite(fd, repr(time.time() - 5.0).encode(), 0)
+        other = kernel_cache.start()
+        assert other is not None and other.process is None and other.lock == lock
+        assert 4.0 <= time.monotonic() - other.started < 60.0  # it started 5 s ago
+    finally:
+        os.close(fd)
+    kernel_cache.loop_lock_path(lock).symlink_to(tmp_path / "elsewhere")
+    assert kernel_cache.start() is None  # a link in the way: compile inline
+    assert not (tmp_path / "elsewhere").exists()
+
+
+def test_a_short_call_of_a_waiting_job_runs_on_numpy_at_once(held_locks, monkeypatch):
+    """simulate passes its size: 2 runs x 50 steps (100 run-steps) is a short call, run on
+    numpy at once while a long job waits; made "long" (SHORT_CALL_S below it) it waits."""
+    pytest.importorskip("numba")
+    path, _fd, _loop_fd = held_locks
+    monkeypatch.delenv(kernels.ENGINE_ENV, raising=False)
+    monkeypatch.setattr(kernels, "WAIT_LIMIT_S", 1.5)
+    args = ([PDHeadingController(kp=6.0, kd=0.2)], [get_trajectory("curved")],
+            RunTable([0, 0], [0, 0], [0.05, 0.05], [3, 4]), LoopConfig(duration=0.5))
+    reference = simulate_metrics(*args)  # (warm: imports and the compiled engine)
+    with kernel_cache.deferring(path, wait=True):
+        t0 = time.monotonic()
+        short = simulate_metrics(*args)
+        short_s = time.monotonic() - t0
+        monkeypatch.setattr(kernels, "SHORT_CALL_S", 99.0 / kernels.NUMPY_RUN_STEPS_PER_S)
+        t0 = time.monotonic()
+        simulate_metrics(*args)
+        long_s = time.monotonic() - t0
+    assert short_s < 1.5 <= long_s
+    for name, value in reference.items():
+        assert value.tobytes() == short[name].tobytes(), name

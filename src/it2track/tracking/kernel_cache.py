@@ -284,16 +284,16 @@ class Background:
 
 def _flock(path: Path) -> int | None:
     """An open descriptor of ``path`` holding its exclusive lock, or None if another process
-    holds it (or it cannot be opened)."""
-    try:
-        fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW, 0o600)
-    except OSError:
-        return None
+    holds it. Raises OSError if it cannot be opened or locked."""
+    fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW, 0o600)
     try:
         fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
     except BlockingIOError:
         os.close(fd)
         return None
+    except OSError:
+        os.close(fd)
+        raise
     return fd
 
 
@@ -311,7 +311,10 @@ def start() -> Background | None:
     if lock is None:
         return None
     estimate = estimate_seconds(lock)
-    fd = _flock(lock)
+    try:
+        fd = _flock(lock)
+    except OSError:  # no lock to be had here: the kernels compile inline
+        return None
     if fd is None:  # another command is compiling them, since the time it wrote
         try:
             rfd = os.open(lock, os.O_RDONLY | os.O_NOFOLLOW)
@@ -328,7 +331,8 @@ def start() -> Background | None:
     loop_fd = None
     try:
         # (the compile that held the main lock released this one first: it is free)
-        loop_fd = _flock(loop_lock_path(lock))
+        with contextlib.suppress(OSError):
+            loop_fd = _flock(loop_lock_path(lock))
         if loop_fd is None:
             return None
         with contextlib.suppress(OSError):  # when it started, for the other commands
