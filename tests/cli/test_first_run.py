@@ -567,3 +567,39 @@ def test_a_short_call_of_a_waiting_job_runs_on_numpy_at_once(held_locks, monkeyp
     assert short_s < 1.5 <= long_s
     for name, value in reference.items():
         assert value.tobytes() == short[name].tobytes(), name
+
+
+def test_the_gate_travels_to_figure_workers_started_before_it(held_lock, monkeypatch):
+    """Figure workers fork from a server started before the compile: each job carries the
+    command's gate, so a figure that evaluates a fuzzy system (the dead-zone slice) uses the
+    numpy engine while the compile runs instead of compiling the kernels for itself."""
+    from it2track.report import plan, render
+
+    path, fd = held_lock
+    monkeypatch.setattr(kernels, "_defer", None)
+    monkeypatch.delenv(kernels.LOCK_ENV, raising=False)
+    assert kernels.current_gate() is None
+    with kernel_cache.deferring(path, wait=True):
+        state = kernels.current_gate()
+        assert state == (str(path), True)
+        submitted = []
+
+        class Pool:
+            def submit(self, fn, *args, **kw):
+                submitted.append((fn, args, kw))
+
+        monkeypatch.setattr(plan, "figure_plan", lambda result, summary: ["dead_zone"])
+        renderer = render.FigureRenderer(Path("/nonexistent"), workers=0)
+        renderer._pool = Pool()
+        assert renderer.submit(object(), []) == ["dead_zone"]
+        assert submitted[0][0] is render._timed_write
+        assert submitted[0][2] == {"kernel_gate": (str(path), True)}
+    assert kernels.current_gate() is None
+    kernels.follow_gate(state)  # in the worker
+    try:
+        assert kernels.deferred("fuzzy")
+        fcntl.flock(fd, fcntl.LOCK_UN)
+        assert not kernels.deferred("fuzzy")
+    finally:
+        kernels.follow_gate(None)
+    assert kernels._defer is None

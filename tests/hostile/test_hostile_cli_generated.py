@@ -72,6 +72,7 @@ BASE: dict[str, list[str]] = {
     "surface": ["surface", "{file}", "--points", "5", "--out", "s.png"],
     "export c": ["export", "c", "--paper", "0.2", "--out", "C"],
     "config show": ["config", "show", "{name}"],
+    "compile": ["compile"],  # (no parameter to fuzz: listed so a new one would be)
 }
 ARGUMENTS = {"file": "good.toml", "source": "good.toml", "target": "new.fis", "values": "0",
              "name": "paper"}

@@ -160,6 +160,20 @@ _defer: Callable[[str, float], bool] | None = (
     if os.environ.get(LOCK_ENV) else None)
 
 
+def current_gate() -> tuple[str, bool] | None:
+    """This process's background-compile gate (the lock and whether it waits; None: none), for
+    a worker process started before the compile began (:func:`follow_gate`)."""
+    lock = os.environ.get(LOCK_ENV)
+    return (lock, os.environ.get(WAIT_ENV) == "1") if lock else None
+
+
+def follow_gate(state: tuple[str, bool] | None) -> None:
+    """Make this process follow the gate ``state`` of :func:`current_gate` (a figure worker:
+    its fork server started before the command's compile, so its environment has none)."""
+    global _defer
+    _defer = None if state is None else gate(state[0], wait=state[1])
+
+
 def deferred(part: str, run_steps: float = math.inf) -> bool:
     """Whether the compiled ``part`` (``"fuzzy"`` or ``"loop"``) is left to the numpy engine
     for now, for a call of ``run_steps`` (a background compile holds its lock; see

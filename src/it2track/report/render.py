@@ -48,13 +48,28 @@ def default_figure_workers() -> int:
 
 
 def _timed_write(key: str, result: StudyResult, summary: Sequence[Mapping[str, Any]],
-                 out_dir: Path, svg: bool, draft: bool = False) -> tuple[Path, float]:
-    """Worker job: write one figure; returns its PNG and the CPU seconds it took."""
+                 out_dir: Path, svg: bool, draft: bool = False,
+                 kernel_gate: tuple[str, bool] | None = None) -> tuple[Path, float]:
+    """Worker job: write one figure; returns its PNG and the CPU seconds it took.
+    ``kernel_gate``: the command's background compile at submission (a figure that evaluates
+    a fuzzy system uses the numpy engine while it runs, instead of compiling for itself)."""
+    from ..fuzzy import kernels
     from .figures import write_figure
 
+    kernels.follow_gate(kernel_gate)
     started = time.process_time()
     png = write_figure(key, result, summary, out_dir, svg=svg, draft=draft)
     return png, time.process_time() - started
+
+
+#: A figure job's arguments: key, result, summary, folder, svg, draft.
+_Args = tuple[str, StudyResult, Sequence[Mapping[str, Any]], Path, bool, bool]
+
+
+def _gate() -> tuple[str, bool] | None:
+    from ..fuzzy import kernels
+
+    return kernels.current_gate()
 
 
 def _warm_up() -> None:
@@ -129,7 +144,7 @@ class FigureRenderer:
         self._start_error: BaseException | None = None
         self._lock = threading.Lock()
         self._starting = False
-        self._deferred: list[tuple[str, tuple[Any, ...]]] = []
+        self._deferred: list[tuple[str, _Args, tuple[str, bool] | None]] = []
         self._futures: dict[str, Future[tuple[Path, float]]] = {}
         self._done: dict[str, Path] = {}
         self._reported: set[str] = set()
@@ -157,8 +172,8 @@ class FigureRenderer:
         with self._lock:
             self._starting = False
             if self._start_error is None:
-                for key, args in self._deferred:
-                    self._futures[key] = pool.submit(_timed_write, *args)
+                for key, args, gate in self._deferred:
+                    self._futures[key] = pool.submit(_timed_write, *args, kernel_gate=gate)
                 self._deferred.clear()
 
     def _join_starter(self) -> None:
@@ -181,7 +196,7 @@ class FigureRenderer:
     def submitted(self) -> list[str]:
         """Keys of the figures submitted so far, in submission order."""
         with self._lock:
-            waiting = [k for k, _ in self._deferred]
+            waiting = [k for k, _, _ in self._deferred]
             return [*self._done, *(k for k in self._futures if k not in self._done), *waiting]
 
     def submit(self, result: StudyResult, summary: Sequence[Mapping[str, Any]]) -> list[str]:
@@ -197,7 +212,7 @@ class FigureRenderer:
 
         keys = [k for k in figure_plan(result, summary) if k not in self.submitted]
         for key in keys:
-            args = (key, result, summary, self.out_dir, self.svg, self.draft)
+            args: _Args = (key, result, summary, self.out_dir, self.svg, self.draft)
             if self._pool is None:
                 png, seconds = self._write_here(*args)
                 self._done[key] = png
@@ -205,9 +220,9 @@ class FigureRenderer:
                 continue
             with self._lock:
                 if self._starting:  # never block on the workers' start-up
-                    self._deferred.append((key, args))
+                    self._deferred.append((key, args, _gate()))
                 else:
-                    self._futures[key] = self._pool.submit(_timed_write, *args)
+                    self._futures[key] = self._pool.submit(_timed_write, *args, kernel_gate=_gate())
         return keys
 
     def _write_here(self, key: str, result: StudyResult, summary: Sequence[Mapping[str, Any]],
