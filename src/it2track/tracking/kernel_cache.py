@@ -63,10 +63,10 @@ __all__ = ["BACKGROUND_ENV", "LOCK_ENV", "WAIT_ENV", "Background", "cached", "co
 #: ``0`` turns the background compile off (the kernels then compile inline when first called).
 BACKGROUND_ENV = "IT2TRACK_BACKGROUND_COMPILE"
 #: CPU seconds the closed loop's compile takes when nothing better is known: one core of the
-#: 2-core reference machine, measured by ``benchmarks/bench_compile.py`` (``_loop``: 16 s quiet,
-#: up to 23 s busy); each compile then records its own CPU time on this machine, which later
-#: estimates use.
-DEFAULT_CPU_SECONDS = 24.0
+#: 2-core reference machine, measured by ``benchmarks/bench_compile.py`` (``_loop``, quiet;
+#: the load average stretches the estimate); each compile then records its own CPU time on
+#: this machine, which later estimates use.
+DEFAULT_CPU_SECONDS = 16.0
 
 
 def lock_path() -> Path | None:
