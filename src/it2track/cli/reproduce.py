@@ -108,7 +108,6 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
 
     if default_figure_workers():  # the figure workers boot while this process goes on
         start_figure_server()
-    kernels_started = start_kernels()  # (a first run's compile overlaps the preparation)
     from dataclasses import replace
 
     from tqdm import tqdm
@@ -157,6 +156,7 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
     if workers and scheduler:
         _fail("give either --workers or --scheduler, not both")
     _preflight_study(config, config_path)
+    kernels_started = start_kernels()  # (a first run's compile overlaps the preparation)
     total = study_run_count(config)
     out = Path(out_dir)
     svg = (not quick) if svg is None else svg
