@@ -33,7 +33,8 @@ _COMPILING_FORMAT = ("{desc}: {percentage:3.0f}%|{bar}| {n_fmt}/{total_fmt} [{el
 
 class KernelStage:
     """What :func:`kernel_stage` found: ``status`` is ``"cached"`` (loaded, or numba not
-    used), ``"background"`` (compiling in another process, numpy engine meanwhile) or
+    used), ``"background"`` (compiling in another process; the numpy engine computes, or a
+    long job waits, meanwhile) or
     ``"inline"`` (compiled here, before the work)."""
 
     #: What :meth:`_finish` says when the followed compile ends ({s}: its seconds).
@@ -149,8 +150,9 @@ class KernelStart:
 def start_kernels() -> KernelStart:
     """Look at numba's cache and, if it lacks the kernels, start their background compile now.
 
-    A command calls this first thing (a first run's compile then overlaps the command's own
-    preparation) and hands the result to :func:`kernel_stage`, which says and shows it.
+    A command calls this as soon as its inputs are checked (a first run's compile then
+    overlaps the command's own preparation) and hands the result to :func:`kernel_stage`,
+    which says and shows it.
     """
     from ..tracking import kernel_cache
 
