@@ -5,6 +5,7 @@ are checked before simulating without importing matplotlib here."""
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 from dataclasses import replace
@@ -145,3 +146,29 @@ def test_figures_submitted_while_the_workers_start_are_not_lost(study, tmp_path)
         assert renderer.submitted == first
         figures = renderer.results(study)
     assert list(figures) == first and all(p.is_file() for p in figures.values())
+
+
+def test_the_figure_workers_draw_on_the_numpy_engine_unless_told(study, tmp_path, monkeypatch):
+    """The dead zone's slices are evaluated in the figure worker on the numpy engine: no numba
+    imported there (about 0.5 s of CPU at the end of a run); the files are the same bits as
+    the compiled engine's (test_workers_write_the_same_files_in_report_order). An engine the
+    user names is kept."""
+    from it2track.fuzzy.kernels import ENGINE_ENV
+    from it2track.report import render
+
+    monkeypatch.setenv(ENGINE_ENV, "auto")
+    monkeypatch.delenv(ENGINE_ENV)  # (restored as it was after the test)
+    with FigureRenderer(tmp_path, workers=1, svg=False) as renderer:
+        assert "dead_zone" in renderer.submit(study, summarise(study.rows))
+        renderer.results(study)
+        pool = renderer._pool
+        assert pool is not None
+        assert pool.submit(eval, f"__import__('os').environ[{ENGINE_ENV!r}]").result() == "numpy"
+        assert pool.submit(eval, "'numba' in __import__('sys').modules").result() is False
+    assert ENGINE_ENV not in os.environ, "this process's engine is untouched"
+    monkeypatch.setenv(ENGINE_ENV, "compiled")
+    render._init_worker()
+    assert os.environ[ENGINE_ENV] == "compiled"
+    monkeypatch.delenv(ENGINE_ENV)
+    render._init_worker()
+    assert os.environ[ENGINE_ENV] == "numpy"

@@ -57,6 +57,16 @@ def _timed_write(key: str, result: StudyResult, summary: Sequence[Mapping[str, A
     return png, time.process_time() - started
 
 
+def _init_worker() -> None:
+    """Figure worker start: the numpy engine for the fuzzy evaluations a figure makes (the dead
+    zone's slices, 2001 points per controller), unless ``IT2TRACK_ENGINE`` says otherwise. The
+    same bits as the compiled kernels, without importing numba and loading them (about 0.5 s
+    of CPU in the worker that draws the dead zone, at the end of a run)."""
+    from ..fuzzy.kernels import ENGINE_ENV
+
+    os.environ.setdefault(ENGINE_ENV, "numpy")
+
+
 def _warm_up() -> None:
     """Worker job: import the figure modules (and matplotlib) before the first figure."""
     import importlib
@@ -136,7 +146,8 @@ class FigureRenderer:
 
     def __enter__(self) -> FigureRenderer:
         if self.workers:
-            self._pool = ProcessPoolExecutor(self.workers, mp_context=_context())
+            self._pool = ProcessPoolExecutor(self.workers, mp_context=_context(),
+                                             initializer=_init_worker)
             # Start the workers now, while the study runs, from a thread: the first start
             # waits for the fork server to import matplotlib and the figures (seconds).
             # Figures submitted meanwhile are handed over by that thread once it is done.
