@@ -23,9 +23,10 @@ from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import Executor, Future, ProcessPoolExecutor, wait
 from pathlib import Path
 from types import TracebackType
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from ..experiments.study import StudyResult
+if TYPE_CHECKING:  # (not imported here: start_figure_server runs before the study's imports)
+    from ..experiments.study import StudyResult
 
 __all__ = ["FigureError", "FigureRenderer", "default_figure_workers", "start_figure_server"]
 
