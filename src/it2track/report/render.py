@@ -32,6 +32,8 @@ __all__ = ["FigureError", "FigureRenderer", "default_figure_workers", "start_fig
 
 #: Module the figure workers import before their first job: the figures, warmed up.
 _PRELOAD = "it2track.report._figure_preload"
+#: The fork server's own first preload: it ends at once when its last client has gone.
+_SERVER = "it2track.report._fork_server"
 
 
 class FigureError(RuntimeError):
@@ -94,7 +96,7 @@ def start_figure_server() -> bool:
 def _context() -> Any:
     if "forkserver" in multiprocessing.get_all_start_methods():
         ctx = multiprocessing.get_context("forkserver")
-        ctx.set_forkserver_preload([_PRELOAD])
+        ctx.set_forkserver_preload([_SERVER, _PRELOAD])
         return ctx
     return multiprocessing.get_context("spawn")  # pragma: no cover - no forkserver here
 
