@@ -208,3 +208,30 @@ def test_the_fork_server_ends_at_once_when_its_clients_have_gone():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          timeout=300)
     assert (out.returncode, out.stdout, out.stderr) == (0, "flushed", "also flushed")
+
+
+def test_the_rows_figures_start_before_the_verdicts_and_are_the_same(tmp_path):
+    """run_study hands the result so far to rows_ready once its rows are final (reproduce draws
+    their figures while the verdicts are judged): the same rows object, no verdicts yet, and
+    every figure its rows give -- all but the robustness ones -- byte-identical to the one
+    drawn from the whole result."""
+    from it2track.cli.reproduce import _quick
+    from it2track.report.figures import figure_plan, write_figure
+
+    seen: list[StudyResult] = []
+    result = run_study(_quick(StudyConfig()), rows_ready=seen.append)
+    assert len(seen) == 1
+    so_far = seen[0]
+    assert so_far.rows is result.rows
+    assert (so_far.pd, so_far.tuned, so_far.pd_tuning) == (result.pd, result.tuned,
+                                                           result.pd_tuning)
+    assert so_far.robustness is None and so_far.claims == [] and so_far.verdict_rows == []
+    summary = summarise(result.rows)
+    early = figure_plan(so_far, summarise(so_far.rows))
+    assert early == [k for k in figure_plan(result, summary)
+                     if k not in ("robustness", "sensitivity")]
+    assert {"integral_errors", "noise_sweep", "fou_sweep", "win_rates"} <= set(early)
+    for key in early:
+        a = write_figure(key, so_far, summary, tmp_path / "so_far", svg=False, draft=True)
+        b = write_figure(key, result, summary, tmp_path / "whole", svg=False, draft=True)
+        assert a.read_bytes() == b.read_bytes(), key
