@@ -5,6 +5,7 @@ are checked before simulating without importing matplotlib here."""
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 from dataclasses import replace
@@ -100,6 +101,19 @@ def test_the_main_process_does_not_import_matplotlib():
     assert out.stdout.strip() == "False"
 
 
+def test_the_figure_server_starts_before_the_study_is_imported():
+    """``reproduce`` starts the figure workers' fork server first thing: the module that starts
+    it imports none of the study (0.2 s that delayed the workers' imports)."""
+    code = ("import sys\n"
+            "import it2track.cli.main\n"
+            "before = set(sys.modules)\n"
+            "from it2track.report.render import default_figure_workers, start_figure_server\n"
+            "print(sorted(m for m in set(sys.modules) - before if m.startswith('it2track')))\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True, timeout=300)
+    assert out.stdout.strip() == "['it2track.report', 'it2track.report.render']"
+
+
 def test_quick_reports_its_stages_and_writes_svg_on_request(tmp_path):
     result = CliRunner().invoke(main, ["reproduce", "--quick", "--svg", "--out",
                                        str(tmp_path)])
@@ -145,3 +159,79 @@ def test_figures_submitted_while_the_workers_start_are_not_lost(study, tmp_path)
         assert renderer.submitted == first
         figures = renderer.results(study)
     assert list(figures) == first and all(p.is_file() for p in figures.values())
+
+
+def test_the_figure_workers_draw_on_the_numpy_engine_unless_told(study, tmp_path, monkeypatch):
+    """The dead zone's slices are evaluated in the figure worker on the numpy engine: no numba
+    imported there (about 0.5 s of CPU at the end of a run); the files are the same bits as
+    the compiled engine's (test_workers_write_the_same_files_in_report_order). An engine the
+    user names is kept."""
+    from it2track.fuzzy.kernels import ENGINE_ENV
+    from it2track.report import render
+
+    monkeypatch.setenv(ENGINE_ENV, "auto")
+    monkeypatch.delenv(ENGINE_ENV)  # (restored as it was after the test)
+    with FigureRenderer(tmp_path, workers=1, svg=False) as renderer:
+        assert "dead_zone" in renderer.submit(study, summarise(study.rows))
+        renderer.results(study)
+        pool = renderer._pool
+        assert pool is not None
+        assert pool.submit(eval, f"__import__('os').environ[{ENGINE_ENV!r}]").result() == "numpy"
+        assert pool.submit(eval, "'numba' in __import__('sys').modules").result() is False
+    assert ENGINE_ENV not in os.environ, "this process's engine is untouched"
+    monkeypatch.setenv(ENGINE_ENV, "compiled")
+    render._init_worker()
+    assert os.environ[ENGINE_ENV] == "compiled"
+    monkeypatch.delenv(ENGINE_ENV)
+    render._init_worker()
+    assert os.environ[ENGINE_ENV] == "numpy"
+
+
+def test_the_fork_server_ends_at_once_when_its_clients_have_gone():
+    """The fork server preloads report._fork_server before the figures; once its loop ends
+    (SystemExit: no client left) that module ends the process on the spot, status 0, with its
+    output flushed: no teardown of what the server imported (0.3 s quiet, 1-2 s busy, during
+    which the command's stdout and stderr stayed open for whoever reads them). Earlier exit
+    handlers, the interpreter's teardown, do not run."""
+    from it2track.report import render
+
+    render._context()
+    import multiprocessing.forkserver as forkserver
+
+    assert forkserver._forkserver._preload_modules == [render._SERVER, render._PRELOAD]
+    code = ("import atexit, sys\n"
+            "atexit.register(print, 'teardown ran')\n"
+            "import it2track.report._fork_server\n"
+            "print('flushed', end='')\n"
+            "sys.stderr.write('also flushed')\n"
+            "raise SystemExit(3)\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=300)
+    assert (out.returncode, out.stdout, out.stderr) == (0, "flushed", "also flushed")
+
+
+def test_the_rows_figures_start_before_the_verdicts_and_are_the_same(tmp_path):
+    """run_study hands the result so far to rows_ready once its rows are final (reproduce draws
+    their figures while the verdicts are judged): the same rows object, no verdicts yet, and
+    every figure its rows give -- all but the robustness ones -- byte-identical to the one
+    drawn from the whole result."""
+    from it2track.cli.reproduce import _quick
+    from it2track.report.figures import figure_plan, write_figure
+
+    seen: list[StudyResult] = []
+    result = run_study(_quick(StudyConfig()), rows_ready=seen.append)
+    assert len(seen) == 1
+    so_far = seen[0]
+    assert so_far.rows is result.rows
+    assert (so_far.pd, so_far.tuned, so_far.pd_tuning) == (result.pd, result.tuned,
+                                                           result.pd_tuning)
+    assert so_far.robustness is None and so_far.claims == [] and so_far.verdict_rows == []
+    summary = summarise(result.rows)
+    early = figure_plan(so_far, summarise(so_far.rows))
+    assert early == [k for k in figure_plan(result, summary)
+                     if k not in ("robustness", "sensitivity")]
+    assert {"integral_errors", "noise_sweep", "fou_sweep", "win_rates"} <= set(early)
+    for key in early:
+        a = write_figure(key, so_far, summary, tmp_path / "so_far", svg=False, draft=True)
+        b = write_figure(key, result, summary, tmp_path / "whole", svg=False, draft=True)
+        assert a.read_bytes() == b.read_bytes(), key

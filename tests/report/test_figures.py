@@ -355,11 +355,47 @@ def test_a_draft_draws_the_first_trajectory_of_a_per_trajectory_figure(study):
             assert len(draft.axes) < len(full.axes), key
             assert note in texts(draft) and note not in texts(full), key
             assert next(t for t in draft.texts if t.get_text() == note).get_color() == "#b00000"
-        else:
+        elif key != "control_surfaces":  # (its draft: the next test)
             assert len(draft.axes) == len(full.axes), key
             assert texts(draft) == texts(full), key
     assert PER_TRAJECTORY == {"fou_comparison", "integral_errors", "noise_sweep", "fou_sweep",
                               "win_rates", "robustness"}
+
+
+def test_a_draft_of_the_control_surfaces_draws_their_first_row(study):
+    """A draft draws the surfaces of the FLC and the IT2FLCs only (half the figure's CPU, at
+    the end of a smoke run), in the full figure's order, and says how many it left out; a study
+    whose surfaces fill one row gets the whole figure and no note."""
+    summary = summarise(study.rows)
+
+    def panels(fig):
+        return [a.get_title().split("\n")[0] for a in fig.axes if a.images]
+
+    full = draw_figure("control_surfaces", study, summary)
+    draft = draw_figure("control_surfaces", study, summary, draft=True)
+    fous = study.config.fous
+    assert panels(full)[:1 + len(fous)] == panels(draft) == [
+        "FLC", *(f"IT2FLC FoU {w:g}" for w in fous)]
+    left = len(panels(full)) - len(panels(draft))
+    assert left == 2 * len(fous)  # the dead-zone- and slope-matched type-1 FLCs
+    note = [t for t in draft.texts if t.get_text().startswith("draft")]
+    assert [t.get_text() for t in note] == [
+        f"draft (reproduce --quick): the first row only; {left} more surfaces in the full run"]
+    assert note[0].get_color() == "#b00000"
+    assert draft.get_size_inches()[1] < full.get_size_inches()[1]
+    assert not [t for t in full.texts if t.get_text().startswith("draft")]
+
+    one_row = replace(study, surfaces={k: v for k, v in study.surfaces.items()
+                                       if k in panels(draft)})
+    whole = draw_figure("control_surfaces", one_row, summary, draft=True)
+    assert panels(whole) == panels(draft)
+    assert not [t for t in whole.texts if t.get_text().startswith("draft")]
+    one = replace(study, surfaces={k: v for k, v in study.surfaces.items()
+                                   if k in ("FLC", "T1 slope-matched 0.2")})
+    assert [t.get_text() for t in draw_figure("control_surfaces", one, summary,
+                                              draft=True).texts if t.get_text().startswith(
+        "draft")] == ["draft (reproduce --quick): the first row only; 1 more surface in the "
+                      "full run"]
 
 
 def test_a_draft_has_the_fixed_spacing_and_no_constrained_layout(tmp_path):

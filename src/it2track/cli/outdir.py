@@ -20,6 +20,7 @@ import click
 
 __all__ = [
     "_discard_staging",
+    "_drop_cache",
     "_make_staging",
     "_publish",
     "check_output_file",
@@ -349,3 +350,19 @@ def _publish(staging: Path, out: Path, *, force: bool = False) -> None:
             f"{', '.join(sorted(kept))}",
             err=True,
         )
+
+
+def _drop_cache(folder: Path) -> None:
+    """Remove the physics check's cache (``reproduce``'s ``OUT/.physics-cache``) after a
+    published run: only its own files, then the folder if that left it empty."""
+    from ..experiments.physics import RowCache
+
+    if not folder.is_dir() or folder.is_symlink():
+        return
+    for p in RowCache(folder).files():
+        if p.is_file() and not p.is_symlink():
+            p.unlink()
+    try:
+        folder.rmdir()
+    except OSError:
+        pass  # something else is in it: not ours to remove

@@ -18,7 +18,7 @@ import click
 
 from .config import ConfigFile
 from .kernels import kernel_stage, start_kernels
-from .outdir import _discard_staging, _fail, _make_staging, _publish
+from .outdir import _discard_staging, _drop_cache, _fail, _make_staging, _publish
 from .reproduce_chip import _chip_lines, _chip_provenance, _ChipJob
 from .sweep import check_dask_options as _check_dask_options
 from .sweep import check_scheduler as _check_scheduler
@@ -109,6 +109,7 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
     if default_figure_workers():  # the figure workers boot while this process goes on
         start_figure_server()
     from dataclasses import replace
+    from functools import partial
 
     from tqdm import tqdm
 
@@ -210,19 +211,25 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
                         bar.total += n
                         bar.refresh()
 
+                    rows: list[Any] = []  # the rows' figures start while the verdicts are judged
+
+                    def rows_ready(so_far: Any) -> None:
+                        rows[:] = [so_far.rows, summarise(so_far.rows)]
+                        renderer.submit(so_far, rows[1])
+
+                    run = partial(run_study, config, progress=bar.update, early=early,
+                                  grow=grow, rows_ready=rows_ready)
                     if workers or scheduler:
                         with make_executor(workers=workers or None, scheduler=scheduler,
                                            **_dask_settings(**dask)) as ex:
-                            result = run_study(config, progress=bar.update, executor=ex,
-                                               early=early, grow=grow)
+                            result = run(executor=ex)
                     else:
-                        result = run_study(config, progress=bar.update, early=early,
-                                           grow=grow)
+                        result = run()
                 except (ValueError, OSError, ExecutorError, BrokenExecutor) as exc:
                     _fail(f"the study stopped: {type(exc).__name__}: {exc}; nothing was "
                           "written")
             with stages.stage("statistics and verdicts"):
-                summary = summarise(result.rows)
+                summary = rows[1] if rows and rows[0] is result.rows else summarise(result.rows)
                 if quick:  # every verdict a smoke run prints says what it is
                     result = _mark_smoke(result)
                 claims = result.claims
@@ -292,7 +299,7 @@ def reproduce(out_dir: str, config_path: str | None, seeds: int | None,
         outputs.write_json(staging / "manifest.json", manifest)
         _publish(staging, out, force=force)
         if check is not None:
-            _drop_cache(out)
+            _drop_cache(out / PHYSICS_CACHE)
     finally:
         try:
             chip_job.cancel()
@@ -395,23 +402,6 @@ def _run_physics(config: Any, check: Any, result: Any, staging: Path, out: Path,
         write_physics_files(staging, outcome, config, result.verdict_rows,
                             frames=PHYSICS_GIF_FRAMES)
     return outcome
-
-
-def _drop_cache(out: Path) -> None:
-    """Remove the physics check's cache after a published run: only its own files, then the
-    folder if that left it empty."""
-    from ..experiments.physics import RowCache
-
-    folder = out / PHYSICS_CACHE
-    if not folder.is_dir() or folder.is_symlink():
-        return
-    for p in RowCache(folder).files():
-        if p.is_file() and not p.is_symlink():
-            p.unlink()
-    try:
-        folder.rmdir()
-    except OSError:
-        pass  # something else is in it: not ours to remove
 
 
 #: The terminal's line above a --quick run's verdicts.

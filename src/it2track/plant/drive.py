@@ -32,6 +32,7 @@ import numpy as np
 import scipy.linalg
 from numpy.typing import ArrayLike, NDArray
 
+from .._blas import single_threaded_blas
 from ._sincos import _N_WORK, _sincos, _sincos_small
 from .motor import MotorParams, _check_period
 
@@ -418,23 +419,26 @@ class DifferentialDrive:
         gen = _augmented_motor_matrix(params.motor)  # state (i, w, int i, int w, V)
         check_stiffness(params, ts)
 
-        # One period: wheel state (exact ZOH) and heading increment (exact).
-        e = scipy.linalg.expm(gen * ts)
-        self._wheel = tuple(
-            float(e[a, b]) for a, b in ((0, 0), (0, 1), (0, 4), (1, 0), (1, 1), (1, 4))
-        )
-        self._heading = tuple(float(turn * e[3, b]) for b in (0, 1, 4))
+        # ~30 exponentials of 5x5 matrices, without BLAS threads (the same bits, without
+        # waiting for a busy core at each: see it2track._blas)
+        with single_threaded_blas():
+            # One period: wheel state (exact ZOH) and heading increment (exact).
+            e = scipy.linalg.expm(gen * ts)
+            self._wheel = tuple(
+                float(e[a, b]) for a, b in ((0, 0), (0, 1), (0, 4), (1, 0), (1, 1), (1, 4))
+            )
+            self._heading = tuple(float(turn * e[3, b]) for b in (0, 1, 4))
 
-        # Quadrature nodes on (0, 1) and per-node linear maps; the maps act on the wheel
-        # sums (i_R+i_L, w_R+w_L, V_R+V_L) for v and differences for theta.
-        x, _ = np.polynomial.legendre.leggauss(n)
-        self.nodes = (x + 1.0) / 2.0
-        self.nodes.setflags(write=False)
-        heading_nodes = np.empty((3, n))
-        for j, frac in enumerate(self.nodes):
-            ej = scipy.linalg.expm(gen * (frac * ts))
-            heading_nodes[:, j] = turn * ej[3, 0], turn * ej[3, 1], turn * ej[3, 4]
-        mom = _product_weights(gen[[0, 1, 4]][:, [0, 1, 4]], ts, self.nodes)  # (n, 3, 3)
+            # Quadrature nodes on (0, 1) and per-node linear maps; the maps act on the wheel
+            # sums (i_R+i_L, w_R+w_L, V_R+V_L) for v and differences for theta.
+            x, _ = np.polynomial.legendre.leggauss(n)
+            self.nodes = (x + 1.0) / 2.0
+            self.nodes.setflags(write=False)
+            heading_nodes = np.empty((3, n))
+            for j, frac in enumerate(self.nodes):
+                ej = scipy.linalg.expm(gen * (frac * ts))
+                heading_nodes[:, j] = turn * ej[3, 0], turn * ej[3, 1], turn * ej[3, 4]
+            mom = _product_weights(gen[[0, 1, 4]][:, [0, 1, 4]], ts, self.nodes)  # (n, 3, 3)
         speed_nodes = (r / 2.0) * mom[:, 1, :].T  # row of omega -> v per unit wheel sum
         self._node_speed = tuple(tuple(float(c) for c in col) for col in speed_nodes.T)
         self._node_heading = tuple(tuple(float(c) for c in col) for col in heading_nodes.T)

@@ -23,14 +23,17 @@ from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import Executor, Future, ProcessPoolExecutor, wait
 from pathlib import Path
 from types import TracebackType
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from ..experiments.study import StudyResult
+if TYPE_CHECKING:  # (not imported here: start_figure_server runs before the study's imports)
+    from ..experiments.study import StudyResult
 
 __all__ = ["FigureError", "FigureRenderer", "default_figure_workers", "start_figure_server"]
 
 #: Module the figure workers import before their first job: the figures, warmed up.
 _PRELOAD = "it2track.report._figure_preload"
+#: The fork server's own first preload: it ends at once when its last client has gone.
+_SERVER = "it2track.report._fork_server"
 
 
 class FigureError(RuntimeError):
@@ -62,14 +65,25 @@ def _timed_write(key: str, result: StudyResult, summary: Sequence[Mapping[str, A
     return png, time.process_time() - started
 
 
-#: A figure job's arguments: key, result, summary, folder, svg, draft.
-_Args = tuple[str, StudyResult, Sequence[Mapping[str, Any]], Path, bool, bool]
+if TYPE_CHECKING:
+    #: A figure job's arguments: key, result, summary, folder, svg, draft.
+    _Args = tuple[str, StudyResult, Sequence[Mapping[str, Any]], Path, bool, bool]
 
 
 def _gate() -> tuple[str, bool] | None:
     from ..fuzzy import kernels
 
     return kernels.current_gate()
+
+
+def _init_worker() -> None:
+    """Figure worker start: the numpy engine for the fuzzy evaluations a figure makes (the dead
+    zone's slices, 2001 points per controller), unless ``IT2TRACK_ENGINE`` says otherwise. The
+    same bits as the compiled kernels, without importing numba and loading them (about 0.5 s
+    of CPU in the worker that draws the dead zone, at the end of a run)."""
+    from ..fuzzy.kernels import ENGINE_ENV
+
+    os.environ.setdefault(ENGINE_ENV, "numpy")
 
 
 def _warm_up() -> None:
@@ -98,7 +112,7 @@ def start_figure_server() -> bool:
 def _context() -> Any:
     if "forkserver" in multiprocessing.get_all_start_methods():
         ctx = multiprocessing.get_context("forkserver")
-        ctx.set_forkserver_preload([_PRELOAD])
+        ctx.set_forkserver_preload([_SERVER, _PRELOAD])
         return ctx
     return multiprocessing.get_context("spawn")  # pragma: no cover - no forkserver here
 
@@ -151,7 +165,8 @@ class FigureRenderer:
 
     def __enter__(self) -> FigureRenderer:
         if self.workers:
-            self._pool = ProcessPoolExecutor(self.workers, mp_context=_context())
+            self._pool = ProcessPoolExecutor(self.workers, mp_context=_context(),
+                                             initializer=_init_worker)
             # Start the workers now, while the study runs, from a thread: the first start
             # waits for the fork server to import matplotlib and the figures (seconds).
             # Figures submitted meanwhile are handed over by that thread once it is done.

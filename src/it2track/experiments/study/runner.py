@@ -113,6 +113,7 @@ def run_study(
     executor: Executor | None = None,
     early: StudyResult | None = None,
     grow: Callable[[int], object] | None = None,
+    rows_ready: Callable[[StudyResult], object] | None = None,
 ) -> StudyResult:
     """Run every experiment of the study (see the module docstring).
 
@@ -136,6 +137,10 @@ def run_study(
     grow : callable, optional
         Called with the number of runs an extension round of the sequential design adds,
         before they are simulated (to grow a progress bar).
+    rows_ready : callable, optional
+        Called once the rows are final, before the verdicts are judged, with the result so far
+        (rows, tuning, traces and surfaces; no claims or robustness): ``it2track reproduce``
+        draws the figures of the rows meanwhile. The returned result has the same rows.
     """
     if early is not None and not isinstance(early, StudyResult):
         raise ValueError(f"run_study: early= must be figure_data(config), got {early!r:.80}")
@@ -158,6 +163,10 @@ def run_study(
     is_noise = rows["experiment"] == "noise"
     rows = concat_rows([{k: v[~is_noise] for k, v in rows.items()}, settled.rows])
     design = config.verdicts
+    base = early if early is not None else figure_data(config)
+    if rows_ready is not None:
+        rows_ready(replace(base, rows=rows, pd=pd, pd_tuning=pd_record, tuned=tuned,
+                           tuning=tuning_records))
 
     robustness = None
     if config.robustness is not None:
@@ -198,7 +207,7 @@ def run_study(
     ordering = ordering_probability(rows, fous=config.fous, trajectories=config.trajectories)
 
     return replace(
-        early if early is not None else figure_data(config), rows=rows, pd=pd,
+        base, rows=rows, pd=pd,
         pd_tuning=pd_record, tuned=tuned, tuning=tuning_records, tuned_claims=tuned_claims,
         ordering=ordering, robustness=robustness, claims=settled.claims,
         verdict_rows=verdict_rows(defs, settled.claims),

@@ -85,6 +85,7 @@ class _Inputs:
     ctrls: Mapping[str, _Ctrl]
     pal: _Palette
     trajs: tuple[str, ...]
+    draft: bool = False
 
     @classmethod
     def of(cls, result: StudyResult, summary: Sequence[Mapping[str, Any]], *,
@@ -92,7 +93,7 @@ class _Inputs:
         ctrls = _controller_table(result)
         trajs = tuple(result.config.trajectories)
         return cls(result, _Summary(summary), ctrls, _Palette(result.config.fous, ctrls.values()),
-                   trajs[:1] if draft else trajs)
+                   trajs[:1] if draft else trajs, draft)
 
 
 _DRAW: dict[str, Callable[[_Inputs], Figure]] = {
@@ -100,7 +101,7 @@ _DRAW: dict[str, Callable[[_Inputs], Figure]] = {
     "integral_errors": lambda i: _fig_integral_errors(i.result, i.summ, i.ctrls, i.pal, i.trajs),
     "noise_sweep": lambda i: _fig_noise_sweep(i.result, i.summ, i.ctrls, i.pal, i.trajs),
     "fou_sweep": lambda i: _fig_fou_sweep(i.result, i.summ, i.ctrls, i.pal, i.trajs),
-    "control_surfaces": lambda i: _fig_control_surfaces(i.result, i.ctrls),
+    "control_surfaces": lambda i: _fig_control_surfaces(i.result, i.ctrls, draft=i.draft),
     "dead_zone": lambda i: _fig_dead_zone(i.result, i.ctrls, i.pal),
     "win_rates": lambda i: _fig_win_rates(i.result, i.summ, i.ctrls, i.trajs),
     "robustness": lambda i: _fig_robustness(i.result.robustness, i.trajs),
@@ -118,7 +119,8 @@ def draw_figure(key: str, result: StudyResult,
 
     Call it inside ``matplotlib.rc_context(figures.style._RC)`` for the study's look;
     :func:`write_figure` does. ``draft``: a smoke run's figure, whose panels per trajectory
-    (:data:`PER_TRAJECTORY`) show the study's first trajectory only, and a note says so.
+    (:data:`PER_TRAJECTORY`) show the study's first trajectory only, and whose control surfaces
+    the first row only (the FLC and the IT2FLCs), and a note says so.
 
     Raises
     ------

@@ -156,7 +156,8 @@ def _save(fig: Figure, out_dir: Path, stem: str, *, svg: bool = True,
         fig.set_layout_engine("none")
         with atomic_open(out_dir / f"{stem}.svg", "wb") as fh:
             fig.savefig(fh, format="svg", metadata={"Date": None, "Creator": None})
-    fig.clear()
+    # (no fig.clear(): it resets every axes to a fresh one, about 5 % of a figure's CPU, for
+    # a figure that nothing refers to any more)
     return png
 
 

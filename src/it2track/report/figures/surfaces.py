@@ -67,8 +67,17 @@ def _input_names(c: _Ctrl) -> tuple[str, str]:
     return f"Ke·e (Ke = {spec.ke:g})", f"Kde·Δe (Kde = {spec.kde:g})"
 
 
-def _fig_control_surfaces(result: StudyResult, ctrls: Mapping[str, _Ctrl]) -> Figure:
+def _fig_control_surfaces(result: StudyResult, ctrls: Mapping[str, _Ctrl], *,
+                          draft: bool = False) -> Figure:
+    """The surfaces on :func:`_surface_layout`'s grid; a ``draft`` (``reproduce --quick``)
+    draws its first row only (half the figure's CPU at the end of a smoke run) and says so."""
     grid = _surface_layout(result, ctrls)
+    left_out = 0
+    if draft:
+        first = next(row for row in grid if any(lb is not None for lb in row))
+        left_out = sum(lb is not None for row in grid for lb in row) - sum(
+            lb is not None for lb in first)
+        grid = [first]
     nrow, ncol = len(grid), len(grid[0])
     fig = Figure(figsize=(2.9 * ncol + 1.0, 2.8 * nrow + 0.6), layout="constrained")
     ax = np.asarray(fig.subplots(nrow, ncol, squeeze=False))
@@ -108,6 +117,10 @@ def _fig_control_surfaces(result: StudyResult, ctrls: Mapping[str, _Ctrl]) -> Fi
                  else f"Ke = {gains[0]:g}, Kde = {gains[1]:g}")
     fig.suptitle(f"Control surfaces u(e, Δe) ({gain_text}; contours every {step:.3g} V; dashed "
                  "square: only the Z×Z rule fires, u = 0)", fontsize=10)
+    if left_out:
+        fig.text(0.995, 0.005, f"draft (reproduce --quick): the first row only; {left_out} more "
+                 f"surface{'s' if left_out > 1 else ''} in the full run", ha="right",
+                 va="bottom", fontsize=8, color="#b00000")
     return fig
 
 
