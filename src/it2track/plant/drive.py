@@ -27,12 +27,12 @@ import math
 import threading
 from dataclasses import dataclass, field
 from numbers import Integral, Real
+from typing import Any
 
 import numpy as np
 import scipy.linalg
 from numpy.typing import ArrayLike, NDArray
 
-from .._blas import single_threaded_blas
 from ._sincos import _N_WORK, _sincos, _sincos_small
 from .motor import MotorParams, _check_period
 
@@ -52,6 +52,25 @@ __all__ = [
 #: degree < n and already at rounding level with a handful (4 is the default); the
 #: precomputation costs O(n^2) time and memory, so a million nodes would need terabytes.
 MAX_QUADRATURE_NODES = 64
+
+
+@functools.cache
+def _blas_controller() -> Any:
+    from threadpoolctl import ThreadpoolController
+
+    return ThreadpoolController()  # (the BLAS libraries loaded now: numpy's and scipy's)
+
+
+def single_threaded_blas() -> Any:
+    """A context in which BLAS runs on the calling thread alone (threadpoolctl).
+
+    OpenBLAS hands part of even a 5x5 LAPACK solve to its helper threads (its row
+    interchanges have no size threshold), and ``scipy.linalg.expm`` solves one per call. When
+    every core is busy -- ``it2track reproduce`` runs its figure workers beside the
+    simulation -- each hand-over waits for a time slice: a robot's ~30 exponentials took
+    0.3-0.5 s there instead of 2 ms. The numbers are the same bits (the helper threads only
+    split the columns a row interchange moves). For small matrices only."""
+    return _blas_controller().limit(limits=1, user_api="blas")
 
 
 #: Range of ``half_track`` and ``wheel_radius`` accepted, m: from a micrometre to a thousand
@@ -420,7 +439,7 @@ class DifferentialDrive:
         check_stiffness(params, ts)
 
         # ~30 exponentials of 5x5 matrices, without BLAS threads (the same bits, without
-        # waiting for a busy core at each: see it2track._blas)
+        # waiting for a busy core at each: see single_threaded_blas)
         with single_threaded_blas():
             # One period: wheel state (exact ZOH) and heading increment (exact).
             e = scipy.linalg.expm(gen * ts)
