@@ -133,12 +133,17 @@ def test_a_compile_that_never_ends_is_waited_for_a_bounded_time(held_locks, monk
     assert time.monotonic() - t0 >= 0.2
     # a call of at most SHORT_CALL_S on numpy (0.5 s x 0.6 M run-steps/s) does not wait
     assert kernels.SHORT_CALL_S * kernels.NUMPY_RUN_STEPS_PER_S == 3e5
+    gate = kernels.gate(str(path), wait=True)
     t0 = time.monotonic()
     assert gate("loop", 3e5) is True
     assert time.monotonic() - t0 < 0.15
+    gate = kernels.gate(str(path), wait=True)
     t0 = time.monotonic()
     assert gate("loop", 3e5 + 1.0) is True
     assert time.monotonic() - t0 >= 0.2
+    t0 = time.monotonic()
+    assert gate("loop") is True  # it gave up once: not again at every call
+    assert time.monotonic() - t0 < 0.15
     assert kernels.gate(str(path))("loop", math.inf) is True  # not waiting: at once
     fcntl.flock(loop_fd, fcntl.LOCK_UN)
     assert gate("loop") is False and kernels.wait_unlocked(loop, limit_s=0.0) is True

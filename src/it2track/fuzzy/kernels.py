@@ -142,11 +142,17 @@ def gate(path: str, *, wait: bool = False) -> Callable[[str, float], bool]:
     instead (at most :data:`WAIT_LIMIT_S`, against a compile that hangs), unless the call's
     ``n`` run-steps take at most :data:`SHORT_CALL_S` on the numpy engine."""
     loop = loop_lock(path)
+    gave_up: list[bool] = []  # (a wait that timed out is not repeated at every call)
 
     def deferring(part: str, run_steps: float = math.inf) -> bool:
         if part == "loop":
             short = run_steps <= SHORT_CALL_S * NUMPY_RUN_STEPS_PER_S
-            return not wait_unlocked(loop) if wait and not short else locked(loop)
+            if wait and not short and not gave_up:
+                if wait_unlocked(loop):
+                    return False
+                gave_up.append(True)
+                return True
+            return locked(loop)
         return locked(path)
 
     return deferring
