@@ -125,10 +125,11 @@ def wait_unlocked(path: str, limit_s: float | None = None) -> bool:
 
 
 #: Run-steps a second of the numpy engine on one core while the kernels compile (the numpy
-#: fuzzy evaluation too): the paper's IT2FLC in batches of 256 runs, about 0.6 M on the
-#: reference machine, 2.9 M in batches of 2048 (``benchmarks/bench_compile.py`` prints both).
-#: Decides what waits for the compiled loop (``--quick``, 0.8 M run-steps, does not; the
-#: default study, 140 M, does, whichever rate applies).
+#: fuzzy evaluation too), rounded down: the paper's IT2FLC in batches of 256 runs, 0.77 M per
+#: CPU second on the reference machine, 3.35 M in batches of 2048 (``benchmarks/
+#: bench_compile.py`` section 4 prints both). Decides what waits for the compiled loop
+#: (``--quick``, 0.8 M run-steps, does not; the default study, 140 M, does, whichever rate
+#: applies).
 NUMPY_RUN_STEPS_PER_S = 0.6e6
 #: A call this short on the numpy engine (seconds) runs there even while a long job waits
 #: for the compiled loop (a study's traces for its figures, while the compile goes on).
