@@ -497,6 +497,18 @@ def test_compile_fails_loudly_when_the_cache_stays_empty(monkeypatch):
     assert "NUMBA_CACHE_DIR" in result.output
 
 
+def test_compile_names_the_error_of_a_failed_compile(monkeypatch):
+    def fail():
+        raise RuntimeError("LLVM ERROR: out of memory")
+
+    monkeypatch.setattr(kernel_cache, "compile_all", fail)
+    result = _run_compile(monkeypatch, cached_states=[False, False],
+                          background=_FakeCompile(0.1, 0.2, ok=False))
+    assert result.exit_code == 1
+    assert ("the simulation kernels failed to compile: RuntimeError: LLVM ERROR: out of "
+            "memory") in result.output
+
+
 def test_compile_without_a_background_process_compiles_here(monkeypatch):
     calls = []
     monkeypatch.setattr(kernel_cache, "compile_all", lambda: calls.append(1) or 0.4)

@@ -297,9 +297,15 @@ def compile_kernels() -> None:
             stage.close()
         outcome = background.outcome()
         if outcome is not None and not outcome[0]:
-            kernel_cache.compile_all()  # raises what failed, for the message below
+            try:  # again here, for its error
+                kernel_cache.compile_all()
+            except Exception as exc:
+                raise click.ClickException(f"the simulation kernels failed to compile: "
+                                           f"{type(exc).__name__}: {exc}") from exc
     if kernel_cache.cached() is not True:
-        raise click.ClickException("the kernels are still not in numba's cache: see the "
-                                   "error above, or set NUMBA_CACHE_DIR to a writable folder")
+        raise click.ClickException("the kernels are still not in numba's cache: numba could "
+                                   "not write it (set NUMBA_CACHE_DIR to a writable folder) or "
+                                   "the compile failed (run `it2track simulate` to see its "
+                                   "error)")
     click.echo(f"the simulation kernels are compiled ({time.monotonic() - t0:.0f} s); every "
                "command loads them from numba's cache from now on", err=True)
