@@ -260,8 +260,8 @@ def compile_kernels() -> None:
     """Compile the simulation kernels into numba's cache now, once per install.
 
     Otherwise the first simulating command after installing compiles them (in the
-    background, about 20 s of one core, and a first study takes that much longer); after
-    this one every command starts with them. Waits for a compile another command started
+    background, about 20 s of one core, which a first study partly waits for); after this
+    one every command starts with them. Waits for a compile another command started
     rather than doing it twice. Nothing to do when the cache holds them, or when numba is
     not used (not installed, or IT2TRACK_ENGINE=numpy).
     """
