@@ -275,6 +275,9 @@ def test_the_stage_says_it_compiles_once_and_when_the_compiled_engine_takes_over
     (7.2e6 + 1.0, True, "this job waits for them (on the numpy engine it would take about "
                         "12 s)"),
     (6e5 * 90.0, True, "would take about 2 min)"),
+    (6e5 * 89.0, True, "would take about 89 s)"),
+    (6e5 * 3599.0, True, "would take about 60 min)"),
+    (6e5 * 3600.0, True, "would take hours)"),
     (math.inf, True, "this job waits for them (on the numpy engine it would take hours)"),
 ])
 def test_a_job_longer_on_numpy_than_the_compile_waits_for_it(monkeypatch, capsys, run_steps,
